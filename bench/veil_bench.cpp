@@ -1,0 +1,114 @@
+// veil-bench: renders a scene N frames after warm-up and writes per-pass median/min/max GPU
+// times as JSON. Links the core only (no OpenImageIO, no VTK) so it travels to the GPU
+// machine (GPU-DEVICE.md). Times are GL_TIME_ELAPSED queries where the driver has them.
+#include "base/atomic_file.h"
+#include "base/error.h"
+#include "frame/renderer.h"
+#include "gpu/context.h"
+#include "scene/scene.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace {
+
+void usage() {
+    std::puts("usage: veil-bench <scene.json> [--width W] [--height H] [--frames N] [--warmup N]\n"
+              "                  [--oit NAME] [--set key=value]... [--json out.json]");
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+} // namespace
+
+int main(int argc, char** argv) try {
+    std::string scenePath, jsonPath, oit;
+    int width = 1920, height = 1080, frames = 100, warmup = 20;
+    std::vector<std::string> overrides;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto next = [&]() -> std::string {
+            VEIL_CHECK(i + 1 < argc, "{} needs a value", a);
+            return argv[++i];
+        };
+        if (a == "--width") width = std::stoi(next());
+        else if (a == "--height") height = std::stoi(next());
+        else if (a == "--frames") frames = std::stoi(next());
+        else if (a == "--warmup") warmup = std::stoi(next());
+        else if (a == "--oit") oit = next();
+        else if (a == "--set") overrides.push_back(next());
+        else if (a == "--json") jsonPath = next();
+        else if (a == "-h" || a == "--help") { usage(); return 0; }
+        else if (!a.empty() && a[0] == '-') throw veil::Error("unknown option " + a);
+        else scenePath = a;
+    }
+    if (scenePath.empty()) {
+        usage();
+        return 2;
+    }
+    VEIL_CHECK(frames > 0 && warmup >= 0, "--frames must be > 0 and --warmup >= 0");
+    const veil::scene::Scene scene = veil::scene::loadScene(scenePath, overrides);
+    veil::gpu::HeadlessContext context;
+    veil::frame::Renderer renderer(scene, context.info(), {width, height, {}, oit});
+    for (int i = 0; i < warmup; ++i) renderer.render();
+    std::map<std::string, std::vector<double>> samples;
+    std::vector<std::string> order;
+    std::vector<double> totals;
+    for (int i = 0; i < frames; ++i) {
+        renderer.render();
+        double total = 0.0;
+        for (const auto& p : renderer.passTimes()) {
+            if (!samples.count(p.name)) order.push_back(p.name);
+            samples[p.name].push_back(p.milliseconds);
+            total += p.milliseconds;
+        }
+        totals.push_back(total);
+    }
+    nlohmann::json out;
+    out["scene"] = scenePath;
+    out["width"] = width;
+    out["height"] = height;
+    out["frames"] = frames;
+    out["warmup"] = warmup;
+    out["oit"] = renderer.oitName();
+    out["renderer"] = context.info().renderer;
+    out["gl_version"] = context.info().version;
+    out["timer"] = renderer.timerMode() == veil::gpu::GpuTimer::Mode::Query ? "GL_TIME_ELAPSED"
+                                                                            : "glFinish+cpu";
+    std::size_t triangles = 0;
+    for (const auto& o : scene.objects) triangles += scene.meshes.at(o.mesh).triangleCount();
+    out["triangles"] = triangles;
+    nlohmann::json passes = nlohmann::json::array();
+    for (const auto& name : order) {
+        const auto& v = samples[name];
+        passes.push_back({{"name", name},
+                          {"median_ms", median(v)},
+                          {"min_ms", *std::min_element(v.begin(), v.end())},
+                          {"max_ms", *std::max_element(v.begin(), v.end())}});
+    }
+    out["passes"] = passes;
+    out["total_median_ms"] = median(totals);
+    const std::string text = out.dump(2);
+    if (!jsonPath.empty())
+        veil::writeFileAtomically(jsonPath, [&](const std::filesystem::path& tmp) {
+            std::ofstream f(tmp);
+            f << text << "\n";
+        });
+    std::cout << text << "\n";
+    return 0;
+} catch (const std::exception& e) {
+    std::fprintf(stderr, "veil-bench: error: %s\n", e.what());
+    return 1;
+}

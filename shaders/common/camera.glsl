@@ -1,0 +1,10 @@
+#include "bindings.h"
+layout(std140, binding = VEIL_UBO_CAMERA) uniform CameraBlock {
+    mat4 view;
+    mat4 projection;
+    mat4 viewProjection;
+    vec4 cameraPosition; // xyz world position
+    vec4 cameraRight;    // xyz world right vector (billboards)
+    vec4 cameraUp;       // xyz world up vector (billboards)
+    vec4 viewport;       // width, height, near, far
+} camera;

@@ -1,0 +1,32 @@
+// Per-draw material uniforms (scene::Material) and the view-dependent shading inputs.
+#include "../common/lights.glsl"
+
+uniform vec3 baseColor;
+uniform float roughness;
+uniform float metalness;
+uniform vec3 emission;
+uniform float coverage;      // coverage alpha
+uniform vec3 transmission;   // T, 000 Eq. 2
+uniform bool billboard;
+
+in vec3 vWorldPos;
+in vec3 vNormal;
+in vec2 vUv;
+in float vViewDepth;
+
+SurfaceMaterial currentMaterial() {
+    SurfaceMaterial m;
+    m.baseColor = baseColor;
+    m.roughness = roughness;
+    m.metalness = metalness;
+    m.emission = emission;
+    m.alpha = coverage;
+    m.transmission = transmission;
+    return m;
+}
+
+// Shading normal facing the viewer (two-sided for thin transparent surfaces).
+vec3 facingNormal(vec3 V) {
+    vec3 N = normalize(vNormal);
+    return dot(N, V) < 0.0 ? -N : N;
+}

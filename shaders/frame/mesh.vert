@@ -1,0 +1,34 @@
+#version 450 core
+// Vertex stage shared by the opaque, transparent and shadow passes.
+#include "../common/camera.glsl"
+
+layout(location = VEIL_ATTR_POSITION) in vec3 inPosition;
+layout(location = VEIL_ATTR_NORMAL) in vec3 inNormal;
+layout(location = VEIL_ATTR_UV) in vec2 inUv;
+layout(location = VEIL_ATTR_SIZE) in float inSize;
+
+uniform mat4 model;
+uniform mat3 normalMatrix;
+uniform bool billboard;      // quad particles: expand toward the camera
+uniform mat4 viewProjection; // overrides the camera's (shadow pass) when useOverride
+uniform bool useOverride;
+
+out vec3 vWorldPos;
+out vec3 vNormal;
+out vec2 vUv;
+out float vViewDepth;
+
+void main() {
+    vec3 world = (model * vec4(inPosition, 1.0)).xyz;
+    vec3 normal = normalize(normalMatrix * inNormal);
+    if (billboard) {
+        world += (camera.cameraRight.xyz * inUv.x + camera.cameraUp.xyz * inUv.y) * inSize;
+        normal = normalize(camera.cameraPosition.xyz - world);
+    }
+    vWorldPos = world;
+    vNormal = normal;
+    vUv = inUv;
+    vec4 viewPos = camera.view * vec4(world, 1.0);
+    vViewDepth = -viewPos.z;
+    gl_Position = (useOverride ? viewProjection : camera.viewProjection) * vec4(world, 1.0);
+}

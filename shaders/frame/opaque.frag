@@ -1,0 +1,12 @@
+#version 450 core
+// Opaque forward pass: Lambert + GGX with Schlick Fresnel, emission, shadowed lights.
+#include "../common/camera.glsl"
+#include "material.glsl"
+
+layout(location = 0) out vec4 outColor;
+
+void main() {
+    vec3 V = normalize(camera.cameraPosition.xyz - vWorldPos);
+    vec3 N = facingNormal(V);
+    outColor = vec4(shadeSurface(currentMaterial(), vWorldPos, N, V, 1.0), 1.0);
+}

@@ -1,0 +1,24 @@
+#version 450 core
+// Transparent surfaces: shaded as in the opaque pass, then handed to the active OIT
+// technique's oitEmit() (DESIGN.md "How fog and surfaces share one transparency technique").
+#include "../common/camera.glsl"
+#include "material.glsl"
+#include "veil:oit_emit"
+
+void main() {
+    vec3 V = normalize(camera.cameraPosition.xyz - vWorldPos);
+    vec3 N = facingNormal(V);
+    SurfaceMaterial m = currentMaterial();
+    float alpha = m.alpha;
+    if (billboard) {
+        // Soft round particle: Gaussian falloff of coverage over the quad.
+        float r2 = dot(vUv, vUv);
+        if (r2 > 1.0) discard;
+        alpha *= exp(-4.0 * r2);
+    }
+    if (alpha <= 0.0) discard;
+    // Light that is transmitted is not diffusely reflected.
+    float diffuseWeight = 1.0 - maxComponent(m.transmission);
+    vec3 reflected = shadeSurface(m, vWorldPos, N, V, diffuseWeight);
+    oitEmit(reflected * alpha, alpha, m.transmission, vViewDepth);
+}

@@ -1,0 +1,14 @@
+// Subcommands of the `veil` program.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+
+namespace veil::app {
+
+// Each adds its subcommand to `app`; the callback it sets runs the command and may throw.
+void addRenderCommand(CLI::App& app);
+void addInfoCommand(CLI::App& app);
+
+} // namespace veil::app

@@ -1,0 +1,223 @@
+#include "frame/renderer.h"
+
+#include "base/error.h"
+#include "base/log.h"
+#include "frame/frame_uniforms.h"
+
+#include <glm/gtc/matrix_inverse.hpp>
+
+#include <cmath>
+
+namespace veil::frame {
+
+namespace {
+gpu::GpuTimer::Mode timerModeFor(const gpu::ContextInfo& context) {
+    // llvmpipe's timer queries read zero: time there with glFinish and the CPU clock.
+    return (context.softwareRenderer || context.timerQueryBits == 0)
+               ? gpu::GpuTimer::Mode::CpuFinish
+               : gpu::GpuTimer::Mode::Query;
+}
+} // namespace
+
+Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
+                   const RendererOptions& options)
+    : scene_(scene), context_(context), timer_(timerModeFor(context)) {
+    width_ = options.width > 0 ? options.width : scene.render.width;
+    height_ = options.height > 0 ? options.height : scene.render.height;
+    VEIL_CHECK(width_ > 0 && height_ > 0 && width_ <= 16384 && height_ <= 16384,
+               "image size {}x{} out of range 1..16384", width_, height_);
+    camera_ = scene.camera(options.camera.empty() ? scene.render.camera : options.camera);
+    oitName_ = options.oit.empty() ? scene.render.oit : options.oit;
+    oit_ = oit::Registry::instance().create(oitName_, context_, programs_);
+    scene.bounds(boundsLo_, boundsHi_);
+
+    using gpu::ProgramDesc;
+    opaqueProgram_ = programs_.add(ProgramDesc::graphics("frame/mesh.vert", "frame/opaque.frag"));
+    shadowProgram_ = programs_.add(ProgramDesc::graphics("frame/mesh.vert", "frame/shadow.frag"));
+    transparentProgram_ = programs_.add(ProgramDesc::graphics(
+        "frame/mesh.vert", "frame/transparent.frag", oit_->defines(),
+        {{"veil:oit_emit", oit_->emitInclude()}}));
+    tonemapProgram_ = programs_.add(ProgramDesc::compute("frame/tonemap.comp"));
+
+    meshes_.reserve(scene.meshes.size());
+    for (const auto& mesh : scene.meshes) meshes_.emplace_back(mesh);
+
+    for (std::size_t i = 0; i < scene.lights.size() && i < VEIL_MAX_LIGHTS; ++i) {
+        const auto& light = scene.lights[i];
+        if (light.castShadows && light.type != scene::LightType::Point) {
+            shadowLight_ = static_cast<int>(i);
+            break;
+        }
+    }
+    if (scene.lights.size() > VEIL_MAX_LIGHTS)
+        log::warn("scene has {} lights; only the first {} are used", scene.lights.size(),
+                  VEIL_MAX_LIGHTS);
+    if (shadowLight_ >= 0) shadowMap_.emplace(scene.render.shadowMapSize);
+
+    cameraUbo_ = gpu::Buffer();
+    cameraUbo_.setStorage(sizeof(CameraBlock), nullptr);
+    lightsUbo_ = gpu::Buffer();
+    lightsUbo_.setStorage(sizeof(LightsBlock), nullptr);
+    createTargets();
+}
+
+Renderer::~Renderer() = default;
+
+void Renderer::createTargets() {
+    hdr_ = gpu::Texture(GL_TEXTURE_2D);
+    hdr_.storage2D(1, GL_RGBA16F, width_, height_)
+        .parameter(GL_TEXTURE_MIN_FILTER, GL_LINEAR)
+        .parameter(GL_TEXTURE_MAG_FILTER, GL_LINEAR)
+        .parameter(GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE)
+        .parameter(GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    depth_ = gpu::Texture(GL_TEXTURE_2D);
+    depth_.storage2D(1, GL_DEPTH_COMPONENT32F, width_, height_)
+        .parameter(GL_TEXTURE_MIN_FILTER, GL_NEAREST)
+        .parameter(GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    ldr_ = gpu::Texture(GL_TEXTURE_2D);
+    ldr_.storage2D(1, GL_RGBA8, width_, height_);
+    opaqueFbo_ = gpu::Framebuffer();
+    opaqueFbo_.attach(GL_COLOR_ATTACHMENT0, hdr_)
+        .attach(GL_DEPTH_ATTACHMENT, depth_)
+        .drawBuffers({GL_COLOR_ATTACHMENT0});
+    opaqueFbo_.checkComplete("opaque");
+    targets_ = {width_, height_, &hdr_, &depth_, scene_.render.seed};
+    oit_->resize(targets_);
+}
+
+void Renderer::updateUniforms() {
+    const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
+    CameraBlock cam{};
+    cam.view = camera_.view();
+    cam.projection = camera_.projection(aspect);
+    cam.viewProjection = cam.projection * cam.view;
+    const glm::mat4 invView = glm::inverse(cam.view);
+    cam.cameraPosition = glm::vec4(glm::vec3(invView[3]), 1.0f);
+    cam.cameraRight = glm::vec4(glm::vec3(invView[0]), 0.0f);
+    cam.cameraUp = glm::vec4(glm::vec3(invView[1]), 0.0f);
+    cam.viewport = {width_, height_, camera_.nearPlane, camera_.farPlane};
+    cameraUbo_.setSubData(0, sizeof(cam), &cam);
+
+    LightsBlock block{};
+    int count = 0;
+    for (const auto& light : scene_.lights) {
+        if (count == VEIL_MAX_LIGHTS) break;
+        LightEntry& e = block.lights[count];
+        const int type = light.type == scene::LightType::Directional ? VEIL_LIGHT_DIRECTIONAL
+                         : light.type == scene::LightType::Spot      ? VEIL_LIGHT_SPOT
+                                                                     : VEIL_LIGHT_POINT;
+        e.positionType = glm::vec4(light.position, static_cast<float>(type));
+        e.directionShadow =
+            glm::vec4(glm::normalize(light.direction), count == shadowLight_ ? 1.0f : 0.0f);
+        e.radiance = glm::vec4(light.color * light.intensity, 0.0f);
+        e.cone = glm::vec4(std::cos(glm::radians(light.innerConeDegrees)),
+                           std::cos(glm::radians(light.outerConeDegrees)), 0.0f, 0.0f);
+        ++count;
+    }
+    block.lightCount = glm::ivec4(count, 0, 0, 0);
+    block.ambient = glm::vec4(scene_.render.ambient, 0.0f);
+    if (shadowMap_) {
+        block.shadowMatrix = shadowMap_->textureMatrix();
+        block.shadowView = shadowMap_->view();
+        block.shadowDepthRange = glm::vec4(shadowMap_->nearPlane(), shadowMap_->farPlane(), 0, 0);
+        block.shadowParams = glm::vec4(scene_.render.shadowBias,
+                                       static_cast<float>(scene_.render.pcfRadius),
+                                       1.0f / static_cast<float>(shadowMap_->size()), 1.0f);
+    }
+    lightsUbo_.setSubData(0, sizeof(block), &block);
+}
+
+void Renderer::drawObjects(const gpu::Program& program, Subset subset) const {
+    program.use();
+    for (const auto& object : scene_.objects) {
+        const scene::Material& m = scene_.materials.at(object.material);
+        const bool transparent = m.isTransparent();
+        if (subset == Subset::Opaque && transparent) continue;
+        if (subset == Subset::Transparent && !transparent) continue;
+        if (subset == Subset::ShadowCasters && (transparent || !object.castShadows)) continue;
+        const GpuMesh& mesh = meshes_.at(object.mesh);
+        program.set("model", object.transform)
+            .set("normalMatrix", glm::inverseTranspose(glm::mat3(object.transform)))
+            .set("billboard", mesh.billboard() ? 1 : 0)
+            .set("baseColor", m.baseColor)
+            .set("roughness", m.roughness)
+            .set("metalness", m.metalness)
+            .set("emission", m.emission)
+            .set("coverage", m.alpha)
+            .set("transmission", m.transmission);
+        mesh.draw();
+    }
+    glBindVertexArray(0);
+}
+
+void Renderer::render() {
+    // Fit the shadow map first: updateUniforms() reads its matrix.
+    if (shadowMap_) shadowMap_->fit(scene_.lights[shadowLight_], boundsLo_, boundsHi_);
+    updateUniforms();
+    cameraUbo_.bindBase(GL_UNIFORM_BUFFER, VEIL_UBO_CAMERA);
+    lightsUbo_.bindBase(GL_UNIFORM_BUFFER, VEIL_UBO_LIGHTS);
+
+    if (shadowMap_) {
+        gpu::TimerScope t(timer_, "shadow");
+        const gpu::Program& program = programs_.get(shadowProgram_);
+        program.set("useOverride", 1).set("viewProjection", shadowMap_->viewProjection());
+        shadowMap_->render([&] { drawObjects(program, Subset::ShadowCasters); });
+    }
+    if (shadowMap_) shadowMap_->texture().bind(VEIL_TEX_SHADOW_MAP);
+
+    {
+        gpu::TimerScope t(timer_, "opaque");
+        opaqueFbo_.bind();
+        glViewport(0, 0, width_, height_);
+        const glm::vec4 bg(scene_.render.background, 1.0f);
+        const float one = 1.0f;
+        glClearNamedFramebufferfv(opaqueFbo_.id(), GL_COLOR, 0, &bg.x);
+        glClearNamedFramebufferfv(opaqueFbo_.id(), GL_DEPTH, 0, &one);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+        glDepthMask(GL_TRUE);
+        glDisable(GL_BLEND);
+        glDisable(GL_CULL_FACE);
+        const gpu::Program& program = programs_.get(opaqueProgram_);
+        program.set("useOverride", 0);
+        drawObjects(program, Subset::Opaque);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
+    {
+        gpu::TimerScope t(timer_, "transparent");
+        oit_->beginAccumulate(targets_);
+        const gpu::Program& program = programs_.get(transparentProgram_);
+        program.set("useOverride", 0);
+        drawObjects(program, Subset::Transparent);
+        oit_->endAccumulate();
+    }
+    {
+        gpu::TimerScope t(timer_, "resolve");
+        oit_->resolve(targets_);
+    }
+    {
+        gpu::TimerScope t(timer_, "tonemap");
+        const gpu::Program& program = programs_.get(tonemapProgram_);
+        program.use();
+        program.set("exposure", scene_.render.exposure)
+            .set("operatorId", scene_.render.tonemap == "clamp" ? 1 : 0);
+        hdr_.bind(VEIL_TEX_HDR);
+        glBindImageTexture(VEIL_IMG_OUTPUT, ldr_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+        glDispatchCompute((width_ + 7) / 8, (height_ + 7) / 8, 1);
+        glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    }
+    passTimes_ = timer_.collect();
+}
+
+gpu::ImageF Renderer::readHdr() const { return gpu::readTexture(hdr_); }
+gpu::ImageF Renderer::readLdr() const { return gpu::readTexture(ldr_); }
+
+std::size_t Renderer::gpuBytes() const {
+    std::size_t bytes = static_cast<std::size_t>(width_) * height_ * (8 + 4 + 4);
+    for (const auto& m : meshes_) bytes += m.gpuBytes();
+    if (shadowMap_) bytes += static_cast<std::size_t>(shadowMap_->size()) * shadowMap_->size() * 4;
+    bytes += static_cast<std::size_t>(width_) * height_ * oit_->bytesPerPixel();
+    return bytes;
+}
+
+} // namespace veil::frame

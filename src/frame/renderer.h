@@ -1,0 +1,86 @@
+// The frame: an ordered list of passes with per-pass GPU times (DESIGN.md "One frame").
+//   shadow      Williams shadow map of opaque casters (first shadowed spot/directional light)
+//   opaque      forward shading into the HDR target with depth
+//   transparent transparent surfaces through the active OIT technique's oitEmit()
+//   resolve     the technique's composite over the opaque image
+//   tonemap     exposure + operator + sRGB into the LDR target (compute)
+#pragma once
+
+#include "frame/gpu_mesh.h"
+#include "gpu/context.h"
+#include "gpu/readback.h"
+#include "gpu/shader.h"
+#include "gpu/timer.h"
+#include "oit/technique.h"
+#include "scene/scene.h"
+#include "shadows/shadow_map/shadow_map.h"
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace veil::frame {
+
+struct RendererOptions {
+    int width = 0;      // 0 = the scene's render.width
+    int height = 0;     // 0 = the scene's render.height
+    std::string camera; // empty = the scene's render.camera
+    std::string oit;    // empty = the scene's render.oit
+};
+
+class Renderer {
+public:
+    Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
+             const RendererOptions& options = {});
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    void render();
+    // Times of the passes of the last render().
+    const std::vector<gpu::PassTime>& passTimes() const { return passTimes_; }
+
+    gpu::ImageF readHdr() const; // linear radiance, RGBA float, top row first
+    gpu::ImageF readLdr() const; // tone-mapped sRGB in [0,1], RGBA
+    const gpu::Texture& hdrTexture() const { return hdr_; }
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+    const std::string& oitName() const { return oitName_; }
+    const scene::Camera& camera() const { return camera_; }
+    void setCamera(const scene::Camera& camera) { camera_ = camera; }
+    gpu::GpuTimer::Mode timerMode() const { return timer_.mode(); }
+    std::size_t gpuBytes() const;
+    // Recompiles every shader from disk; failing programs keep their previous version.
+    int reloadShaders() { return programs_.reloadAll(); }
+
+private:
+    void createTargets();
+    void updateUniforms();
+    enum class Subset { Opaque, Transparent, ShadowCasters };
+    void drawObjects(const gpu::Program& program, Subset subset) const;
+
+    const scene::Scene& scene_;
+    gpu::ContextInfo context_;
+    scene::Camera camera_;
+    int width_ = 0, height_ = 0;
+    std::string oitName_;
+    glm::vec3 boundsLo_{0.0f}, boundsHi_{0.0f};
+
+    gpu::ProgramManager programs_;
+    gpu::ProgramHandle opaqueProgram_, shadowProgram_, transparentProgram_, tonemapProgram_;
+    std::vector<GpuMesh> meshes_;
+    std::unique_ptr<oit::Technique> oit_;
+    std::optional<shadows::ShadowMap> shadowMap_;
+    int shadowLight_ = -1;
+
+    gpu::Buffer cameraUbo_{gpu::NoCreate}, lightsUbo_{gpu::NoCreate};
+    gpu::Texture hdr_{gpu::NoCreate}, depth_{gpu::NoCreate}, ldr_{gpu::NoCreate};
+    gpu::Framebuffer opaqueFbo_{gpu::NoCreate};
+    oit::OitFrameTargets targets_;
+    gpu::GpuTimer timer_;
+    std::vector<gpu::PassTime> passTimes_;
+};
+
+} // namespace veil::frame

@@ -1,0 +1,48 @@
+#include "gpu/timer.h"
+
+#include "base/error.h"
+
+namespace veil::gpu {
+
+void GpuTimer::begin(const std::string& name) {
+    VEIL_CHECK(!open_, "GPU timer scope '{}' opened inside another", name);
+    open_ = true;
+    Scope scope;
+    scope.name = name;
+    if (mode_ == Mode::Query) {
+        scope.query = Query(GL_TIME_ELAPSED);
+        glBeginQuery(GL_TIME_ELAPSED, scope.query.id());
+    } else {
+        glFinish();
+        scope.start = std::chrono::steady_clock::now();
+    }
+    scopes_.push_back(std::move(scope));
+}
+
+void GpuTimer::end() {
+    VEIL_CHECK(open_, "GPU timer end() without begin()");
+    open_ = false;
+    Scope& scope = scopes_.back();
+    if (mode_ == Mode::Query) {
+        glEndQuery(GL_TIME_ELAPSED);
+    } else {
+        glFinish();
+        scope.cpuMs =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - scope.start)
+                .count();
+    }
+}
+
+std::vector<PassTime> GpuTimer::collect() {
+    VEIL_CHECK(!open_, "GPU timer collect() inside an open scope");
+    std::vector<PassTime> times;
+    times.reserve(scopes_.size());
+    for (const Scope& scope : scopes_) {
+        const double ms = mode_ == Mode::Query ? scope.query.result() * 1e-6 : scope.cpuMs;
+        times.push_back({scope.name, ms});
+    }
+    scopes_.clear();
+    return times;
+}
+
+} // namespace veil::gpu

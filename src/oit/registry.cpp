@@ -1,0 +1,52 @@
+#include "oit/technique.h"
+
+#include "base/error.h"
+#include "oit/blend/blend.h"
+
+#include <fmt/ranges.h>
+
+namespace veil::oit {
+
+namespace {
+void registerBuiltinTechniques(Registry& registry) { registerBlend(registry); }
+} // namespace
+
+Registry& Registry::instance() {
+    static Registry* registry = [] {
+        auto* r = new Registry();
+        registerBuiltinTechniques(*r);
+        return r;
+    }();
+    return *registry;
+}
+
+void Registry::add(TechniqueInfo info) {
+    VEIL_CHECK(!find(info.name), "OIT technique '{}' registered twice", info.name);
+    techniques_.push_back(std::move(info));
+}
+
+const TechniqueInfo* Registry::find(const std::string& name) const {
+    for (const auto& t : techniques_)
+        if (t.name == name) return &t;
+    return nullptr;
+}
+
+std::vector<std::string> Registry::names() const {
+    std::vector<std::string> n;
+    for (const auto& t : techniques_) n.push_back(t.name);
+    return n;
+}
+
+std::unique_ptr<Technique> Registry::create(const std::string& name,
+                                            const gpu::ContextInfo& context,
+                                            gpu::ProgramManager& programs) const {
+    const TechniqueInfo* info = find(name);
+    VEIL_CHECK(info, "unknown OIT technique '{}' (known: {})", name,
+               fmt::join(names(), ", "));
+    VEIL_CHECK(!info->isAvailable || info->isAvailable(context),
+               "OIT technique '{}' is not available on this GL driver ({})", name,
+               context.renderer);
+    return info->create(programs);
+}
+
+} // namespace veil::oit

@@ -1,0 +1,77 @@
+// The transparency interface (DESIGN.md): a technique owns its accumulation targets, blend
+// state and resolve, and provides the GLSL file defining
+//     void oitEmit(vec3 radiance, float alpha, vec3 transmission, float viewDepth);
+// which surface shaders call per fragment (and the fog marcher per pixel, once, with what it
+// accumulated in registers). `radiance` is premultiplied by coverage alpha; the background
+// behind the contribution is modulated by (1 - alpha + alpha * transmission) (000 Eq. 2).
+#pragma once
+
+#include "gpu/context.h"
+#include "gpu/objects.h"
+#include "gpu/shader.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace veil::oit {
+
+// What the frame gives a technique. hdrColor holds the opaque image and receives the
+// composite; depth is the opaque depth (techniques test against it, never write it).
+struct OitFrameTargets {
+    int width = 0;
+    int height = 0;
+    const gpu::Texture* hdrColor = nullptr; // RGBA16F/32F
+    const gpu::Texture* depth = nullptr;    // DEPTH_COMPONENT32F
+    std::uint32_t seed = 1;
+};
+
+class Technique {
+public:
+    virtual ~Technique() = default;
+    virtual std::string name() const = 0;
+    // GLSL file (relative to shaders/) defining oitEmit(); included as "veil:oit_emit".
+    virtual std::filesystem::path emitInclude() const = 0;
+    virtual std::vector<std::string> defines() const { return {}; }
+    // Called when the frame targets are (re)created.
+    virtual void resize(const OitFrameTargets& targets) = 0;
+    // Binds the accumulation targets and blend state for the transparent draws.
+    virtual void beginAccumulate(const OitFrameTargets& targets) = 0;
+    // Restores default state (blending off, depth writes on).
+    virtual void endAccumulate() = 0;
+    // Composites the accumulation over targets.hdrColor.
+    virtual void resolve(const OitFrameTargets& targets) = 0;
+    // Bytes of technique-owned storage per pixel (memory reports, benchmarks).
+    virtual std::size_t bytesPerPixel() const = 0;
+};
+
+struct TechniqueInfo {
+    std::string name;
+    std::string description;
+    std::function<bool(const gpu::ContextInfo&)> isAvailable;
+    std::function<std::unique_ptr<Technique>(gpu::ProgramManager&)> create;
+};
+
+// Technique ids in one registry (nvpro's renderer registry: STYLE.md). Built-in techniques
+// are added explicitly by registerBuiltinTechniques() (static initialisers in static
+// libraries are dropped by the linker).
+class Registry {
+public:
+    static Registry& instance();
+    void add(TechniqueInfo info);
+    const TechniqueInfo* find(const std::string& name) const;
+    const std::vector<TechniqueInfo>& all() const { return techniques_; }
+    std::vector<std::string> names() const;
+    // Throws veil::Error listing the known names, or saying why it is unavailable here.
+    std::unique_ptr<Technique> create(const std::string& name, const gpu::ContextInfo& context,
+                                      gpu::ProgramManager& programs) const;
+
+private:
+    std::vector<TechniqueInfo> techniques_;
+};
+
+} // namespace veil::oit

@@ -1,0 +1,31 @@
+// Surface material parameters, shared by procedural scenes and files loaded through assimp.
+// Kept apart from scene.h so mesh.h (LoadedMesh) can hold one by value.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <string>
+
+namespace veil::scene {
+
+// Surface material (000 section 3 / 001 section 3 parameters for the transmissive part).
+struct Material {
+    std::string name = "default";
+    glm::vec3 baseColor{0.8f};
+    float roughness = 0.5f;
+    float metalness = 0.0f;
+    glm::vec3 emission{0.0f};
+    float alpha = 1.0f;           // coverage alpha
+    glm::vec3 transmission{0.0f}; // T(lambda): transmission at normal incidence, 000 Eq. 2
+    float collimation = 1.0f;     // c in [0,1], 000 section 3
+    float ior = 1.5f;             // eta
+    // glTF KHR_materials_volume, kept for thickness-aware techniques (voxelize issue).
+    glm::vec3 attenuationColor{1.0f};
+    float attenuationDistance = 0.0f; // 0 = infinite
+    float thickness = 0.0f;
+
+    // Drawn in the transparent pass (coverage below one or any transmission).
+    bool isTransparent() const;
+};
+
+} // namespace veil::scene

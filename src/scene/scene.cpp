@@ -1,0 +1,149 @@
+// Camera matrices, material classification, scene queries, command-line overrides and
+// loading a scene file. The JSON schema itself is parsed in scene_json.cpp.
+#include "scene/scene.h"
+
+#include "base/error.h"
+#include "base/log.h"
+#include "scene/scene_json.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <charconv>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+namespace veil::scene {
+
+glm::mat4 Camera::view() const { return glm::lookAt(position, target, up); }
+
+glm::mat4 Camera::projection(float aspect) const {
+    if (type == CameraType::Orthographic) {
+        float h = 0.5f * orthoHeight;
+        return glm::ortho(-h * aspect, h * aspect, -h, h, nearPlane, farPlane);
+    }
+    return glm::perspective(glm::radians(fovYDegrees), aspect, nearPlane, farPlane);
+}
+
+bool Material::isTransparent() const {
+    return alpha < 1.0f || std::max({transmission.x, transmission.y, transmission.z}) > 0.0f;
+}
+
+const Camera& Scene::camera(const std::string& name) const {
+    VEIL_CHECK(!cameras.empty(), "scene '{}' has no camera", sourcePath.string());
+    const std::string& wanted = name.empty() ? render.camera : name;
+    if (wanted.empty()) return cameras.front();
+    for (const Camera& c : cameras)
+        if (c.name == wanted) return c;
+    std::string known;
+    for (const Camera& c : cameras)
+        known += (known.empty() ? "" : ", ") + c.name;
+    throw Error(fmt::format("scene '{}': no camera named '{}' (cameras: {})", sourcePath.string(),
+                            wanted, known));
+}
+
+void Scene::bounds(glm::vec3& lo, glm::vec3& hi) const {
+    lo = glm::vec3(std::numeric_limits<float>::max());
+    hi = glm::vec3(std::numeric_limits<float>::lowest());
+    bool any = false;
+    for (const Object& o : objects) {
+        if (o.mesh >= meshes.size() || meshes[o.mesh].positions.empty()) continue;
+        glm::vec3 mlo, mhi;
+        meshes[o.mesh].bounds(mlo, mhi);
+        for (int corner = 0; corner < 8; ++corner) {
+            glm::vec3 p((corner & 1) ? mhi.x : mlo.x, (corner & 2) ? mhi.y : mlo.y,
+                        (corner & 4) ? mhi.z : mlo.z);
+            glm::vec3 w = glm::vec3(o.transform * glm::vec4(p, 1.0f));
+            lo = glm::min(lo, w);
+            hi = glm::max(hi, w);
+        }
+        any = true;
+    }
+    if (!any) lo = hi = glm::vec3(0.0f);
+}
+
+namespace {
+
+bool parseIndex(const std::string& s, std::size_t& out) {
+    if (s.empty()) return false;
+    auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+    return ec == std::errc() && ptr == s.data() + s.size();
+}
+
+} // namespace
+
+void applyOverrides(nlohmann::json& doc, const std::vector<std::string>& overrides) {
+    for (const std::string& ov : overrides) {
+        auto eq = ov.find('=');
+        VEIL_CHECK(eq != std::string::npos,
+                   "override '{}': expected key=value, for example render.width=320", ov);
+        std::string key = ov.substr(0, eq), text = ov.substr(eq + 1);
+        VEIL_CHECK(!key.empty(), "override '{}': empty key before '='", ov);
+
+        std::vector<std::string> parts;
+        std::stringstream ss(key);
+        for (std::string part; std::getline(ss, part, '.');)
+            parts.push_back(part);
+        if (key.back() == '.') parts.emplace_back();
+
+        nlohmann::json* node = &doc;
+        std::string walked;
+        for (const std::string& part : parts) {
+            VEIL_CHECK(!part.empty(), "override '{}': empty component in key '{}'", ov, key);
+            if (node->is_array()) {
+                std::size_t index = 0;
+                VEIL_CHECK(parseIndex(part, index),
+                           "override '{}': '{}' is an array, '{}' is not an index", ov, walked,
+                           part);
+                VEIL_CHECK(index < node->size(),
+                           "override '{}': index {} out of range, '{}' has {} elements", ov, index,
+                           walked, node->size());
+                node = &(*node)[index];
+            } else {
+                VEIL_CHECK(node->is_object() || node->is_null(),
+                           "override '{}': '{}' is a {}, not an object or array", ov, walked,
+                           node->type_name());
+                node = &(*node)[part]; // creates missing object keys
+            }
+            walked += (walked.empty() ? "" : ".") + part;
+        }
+        // The value is JSON when it parses as JSON (numbers, true, [1,2,3]); else a string.
+        nlohmann::json value = nlohmann::json::parse(text, nullptr, false);
+        if (value.is_discarded()) value = text;
+        *node = std::move(value);
+        log::debug("override {} = {}", key, node->dump());
+    }
+}
+
+Scene parseScene(const nlohmann::json& doc, const std::filesystem::path& baseDir) {
+    return detail::parseSceneDocument(doc, baseDir, "<scene>");
+}
+
+Scene loadScene(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
+    std::ifstream in(path, std::ios::binary);
+    VEIL_CHECK(in.good() && !std::filesystem::is_directory(path), "cannot open scene file '{}'",
+               path.string());
+    std::stringstream text;
+    text << in.rdbuf();
+
+    nlohmann::json doc;
+    try {
+        // Comments (// and /* */) are allowed so example scenes can explain themselves.
+        doc = nlohmann::json::parse(text.str(), nullptr, true, true);
+    } catch (const nlohmann::json::parse_error& e) {
+        throw Error(fmt::format("{}: invalid JSON: {}", path.string(), e.what()));
+    }
+    try {
+        applyOverrides(doc, overrides);
+    } catch (const Error& e) {
+        throw Error(fmt::format("{}: {}", path.string(), e.what()));
+    }
+    std::filesystem::path absolute = std::filesystem::absolute(path);
+    Scene scene = detail::parseSceneDocument(doc, absolute.parent_path(), path.string());
+    scene.sourcePath = absolute;
+    return scene;
+}
+
+} // namespace veil::scene

@@ -1,0 +1,113 @@
+// The scene: cameras, lights, materials, meshes, volume references and render settings,
+// loaded from the JSON format documented in docs/scene-format.md.
+#pragma once
+
+#include "scene/material.h"
+#include "scene/mesh.h"
+
+#include <glm/glm.hpp>
+#include <nlohmann/json_fwd.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace veil::scene {
+
+enum class CameraType { Perspective, Orthographic };
+
+struct Camera {
+    std::string name = "default";
+    CameraType type = CameraType::Perspective;
+    glm::vec3 position{0.0f, 1.0f, 5.0f};
+    glm::vec3 target{0.0f};
+    glm::vec3 up{0.0f, 1.0f, 0.0f};
+    float fovYDegrees = 45.0f; // perspective: full vertical field of view
+    float orthoHeight = 2.0f;  // orthographic: full height of the view volume in world units
+    float nearPlane = 0.05f;
+    float farPlane = 100.0f;
+
+    glm::mat4 view() const;
+    glm::mat4 projection(float aspect) const; // OpenGL clip space, depth -1..1
+};
+
+enum class LightType { Directional, Spot, Point };
+
+// Units: a directional light's intensity is the irradiance it gives a surface facing it;
+// point and spot intensities are radiant intensity, falling off with 1/d^2.
+struct Light {
+    std::string name;
+    LightType type = LightType::Directional;
+    glm::vec3 color{1.0f};
+    float intensity = 1.0f;
+    glm::vec3 position{0.0f, 5.0f, 0.0f}; // spot, point
+    glm::vec3 direction{0.0f, -1.0f,
+                        0.0f};      // directional, spot: direction light travels (normalized)
+    float innerConeDegrees = 20.0f; // spot: half-angle of full intensity
+    float outerConeDegrees = 30.0f; // spot: half-angle where intensity reaches zero
+    bool castShadows = true;
+};
+
+struct Object {
+    std::string name;
+    std::uint32_t mesh = 0;     // index into Scene::meshes
+    std::uint32_t material = 0; // index into Scene::materials
+    glm::mat4 transform{1.0f};  // object to world
+    bool castShadows = true;
+};
+
+// A density field referenced by the scene; loaded and rendered by src/volume.
+struct VolumeRef {
+    std::string name;
+    std::filesystem::path path; // absolute (resolved against the scene file's folder)
+    std::string grid = "density";
+    glm::mat4 transform{1.0f};
+    float densityScale = 1.0f;
+    glm::vec3 albedo{0.8f};
+    float anisotropy = 0.0f; // Henyey-Greenstein g in (-1,1)
+    glm::vec3 emission{0.0f};
+};
+
+struct RenderSettings {
+    int width = 640;
+    int height = 360;
+    std::string camera;        // name; empty = first camera
+    std::string oit = "blend"; // OIT technique name (registry of src/oit)
+    std::uint32_t seed = 1;
+    glm::vec3 ambient{0.03f};   // constant ambient irradiance term (times base color)
+    glm::vec3 background{0.0f}; // radiance where nothing is drawn
+    float exposure = 1.0f;
+    std::string tonemap = "aces"; // "aces" (Narkowicz fit) or "clamp"
+    int shadowMapSize = 2048;
+    float shadowBias = 0.01f;      // world units along the light axis, slope-scaled in the shader
+    int pcfRadius = 1;          // PCF kernel is (2r+1)^2 taps
+};
+
+struct Scene {
+    std::filesystem::path sourcePath;
+    std::vector<Camera> cameras;
+    std::vector<Light> lights;
+    std::vector<Material> materials;
+    std::vector<MeshData> meshes;
+    std::vector<Object> objects;
+    std::vector<VolumeRef> volumes;
+    RenderSettings render;
+
+    const Camera& camera(const std::string& name = {}) const; // throws if not found
+    // World-space bounds of all objects.
+    void bounds(glm::vec3& lo, glm::vec3& hi) const;
+};
+
+// Applies "key=value" overrides (key is a dotted JSON path such as render.width or
+// lights.0.intensity; value is parsed as JSON, else taken as a string) to the document.
+void applyOverrides(nlohmann::json& doc, const std::vector<std::string>& overrides);
+
+// Parses a scene document. Relative file paths are resolved against baseDir. Unknown keys
+// and bad values throw veil::Error naming the JSON path (e.g. "/objects/2/material").
+Scene parseScene(const nlohmann::json& doc, const std::filesystem::path& baseDir);
+
+// Reads and parses a scene file, applying overrides first.
+Scene loadScene(const std::filesystem::path& path, const std::vector<std::string>& overrides = {});
+
+} // namespace veil::scene

@@ -1,0 +1,586 @@
+// The JSON scene format (docs/scene-format.md). Every object declares its keys up front, so
+// a misspelt key is reported with the keys that would have been accepted; every error names
+// the file and the JSON pointer of the offending value.
+#include "scene/scene_json.h"
+
+#include "base/error.h"
+#include "base/log.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <optional>
+#include <system_error>
+
+namespace veil::scene::detail {
+
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct Context {
+    std::string source; // file name for messages
+    fs::path baseDir;
+};
+
+[[noreturn]] void fail(const Context& ctx, const std::string& ptr, const std::string& problem) {
+    throw Error(fmt::format("{}: {}: {}", ctx.source, ptr.empty() ? "/" : ptr, problem));
+}
+
+// Runs f and prefixes any veil::Error it throws with the file and pointer.
+template <typename F>
+auto at(const Context& ctx, const std::string& ptr, F&& f) {
+    try {
+        return f();
+    } catch (const Error& e) {
+        fail(ctx, ptr, e.what());
+    }
+}
+
+std::string child(const std::string& ptr, const std::string& key) {
+    std::string escaped; // RFC 6901
+    for (char c : key)
+        escaped += c == '~' ? "~0" : c == '/' ? "~1" : std::string(1, c);
+    return ptr + "/" + escaped;
+}
+std::string child(const std::string& ptr, std::size_t index) {
+    return ptr + "/" + std::to_string(index);
+}
+
+std::string show(const json& v) {
+    if (v.is_number_float() && !std::isfinite(v.get<double>()))
+        return fmt::format("{}", v.get<double>());
+    std::string s = v.dump();
+    return s.size() > 60 ? s.substr(0, 57) + "..." : s;
+}
+
+std::string joined(const std::vector<std::string>& names) {
+    std::string out;
+    for (const std::string& n : names)
+        out += (out.empty() ? "" : ", ") + n;
+    return out;
+}
+
+// Numeric range; open ends exclude the bound.
+struct Range {
+    double lo = -kInf, hi = kInf;
+    bool loOpen = false, hiOpen = false;
+    bool contains(double v) const {
+        return (loOpen ? v > lo : v >= lo) && (hiOpen ? v < hi : v <= hi);
+    }
+    std::string str() const {
+        return fmt::format("{}{}, {}{}", loOpen ? '(' : '[', lo, hi, hiOpen ? ')' : ']');
+    }
+};
+const Range kAny{};
+const Range kUnit{0.0, 1.0};
+const Range kNonNegative{0.0, kInf};
+const Range kPositive{0.0, kInf, true};
+
+double number(const Context& ctx, const json& v, const std::string& ptr, Range r) {
+    if (!v.is_number()) fail(ctx, ptr, fmt::format("expected a number, got {}", show(v)));
+    double d = v.get<double>();
+    if (!std::isfinite(d)) fail(ctx, ptr, fmt::format("value {} is not a finite number", d));
+    if (!r.contains(d)) fail(ctx, ptr, fmt::format("value {} out of range {}", show(v), r.str()));
+    return d;
+}
+
+long long integer(const Context& ctx, const json& v, const std::string& ptr, long long lo,
+                  long long hi) {
+    bool integral =
+        v.is_number_integer() || (v.is_number_float() && std::isfinite(v.get<double>()) &&
+                                  std::floor(v.get<double>()) == v.get<double>());
+    if (!integral) fail(ctx, ptr, fmt::format("expected an integer, got {}", show(v)));
+    double d = v.get<double>(); // exact enough for the ranges used here (at most 2^32)
+    if (d < double(lo) || d > double(hi))
+        fail(ctx, ptr, fmt::format("value {} out of range [{}, {}]", show(v), lo, hi));
+    return v.is_number_integer() ? v.get<long long>() : (long long)d;
+}
+
+template <int N>
+glm::vec<N, float> vec(const Context& ctx, const json& v, const std::string& ptr, Range r,
+                       bool allowScalar) {
+    if (allowScalar && v.is_number()) return glm::vec<N, float>(float(number(ctx, v, ptr, r)));
+    if (!v.is_array() || v.size() != N)
+        fail(ctx, ptr,
+             fmt::format("expected an array of {} numbers{}, got {}", N,
+                         allowScalar ? " or a number" : "", show(v)));
+    glm::vec<N, float> out;
+    for (int i = 0; i < N; ++i)
+        out[i] = float(number(ctx, v[i], child(ptr, i), r));
+    return out;
+}
+
+// A JSON object whose accepted keys are declared when it is opened.
+class Obj {
+public:
+    Obj(const Context& ctx, const json& j, std::string ptr, std::vector<std::string> known)
+        : ctx_(ctx), j_(j), ptr_(std::move(ptr)), known_(std::move(known)) {
+        if (!j_.is_object()) fail(ctx_, ptr_, fmt::format("expected an object, got {}", show(j_)));
+        for (const auto& item : j_.items()) {
+            if (std::find(known_.begin(), known_.end(), item.key()) == known_.end())
+                fail(ctx_, child(ptr_, item.key()),
+                     fmt::format("unknown key (known: {})", joined(known_)));
+        }
+    }
+
+    const Context& ctx() const { return ctx_; }
+    const std::string& ptr() const { return ptr_; }
+    std::string ptr(const std::string& key) const { return child(ptr_, key); }
+    const json* get(const std::string& key) const {
+        auto it = j_.find(key);
+        return it == j_.end() ? nullptr : &*it;
+    }
+    bool has(const std::string& key) const { return get(key) != nullptr; }
+    const json& require(const std::string& key) const {
+        const json* v = get(key);
+        if (!v) fail(ctx_, ptr_, fmt::format("missing required key '{}'", key));
+        return *v;
+    }
+
+    float num(const std::string& key, float def, Range r = kAny) const {
+        const json* v = get(key);
+        return v ? float(number(ctx_, *v, ptr(key), r)) : def;
+    }
+    long long integer(const std::string& key, long long def, long long lo, long long hi) const {
+        const json* v = get(key);
+        return v ? detail::integer(ctx_, *v, ptr(key), lo, hi) : def;
+    }
+    bool boolean(const std::string& key, bool def) const {
+        const json* v = get(key);
+        if (!v) return def;
+        if (!v->is_boolean())
+            fail(ctx_, ptr(key), fmt::format("expected true or false, got {}", show(*v)));
+        return v->get<bool>();
+    }
+    std::string str(const std::string& key, const std::string& def,
+                    const std::vector<std::string>& allowed = {}) const {
+        const json* v = get(key);
+        if (!v) return def;
+        if (!v->is_string())
+            fail(ctx_, ptr(key), fmt::format("expected a string, got {}", show(*v)));
+        std::string s = v->get<std::string>();
+        if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), s) == allowed.end())
+            fail(ctx_, ptr(key),
+                 fmt::format("unknown value '{}' (allowed: {})", s, joined(allowed)));
+        return s;
+    }
+    template <int N>
+    glm::vec<N, float> vec(const std::string& key, glm::vec<N, float> def, Range r = kAny,
+                           bool allowScalar = false) const {
+        const json* v = get(key);
+        return v ? detail::vec<N>(ctx_, *v, ptr(key), r, allowScalar) : def;
+    }
+    // Colors: non-negative RGB, a single number meaning grey.
+    glm::vec3 color(const std::string& key, glm::vec3 def, Range r = kNonNegative) const {
+        return vec<3>(key, def, r, true);
+    }
+
+private:
+    const Context& ctx_;
+    const json& j_;
+    std::string ptr_;
+    std::vector<std::string> known_;
+};
+
+// Iterates a JSON array at `key` (absent = empty) as (element, pointer) pairs.
+template <typename F>
+void forEach(const Obj& parent, const std::string& key, F&& f) {
+    const json* arr = parent.get(key);
+    if (!arr) return;
+    if (!arr->is_array())
+        fail(parent.ctx(), parent.ptr(key), fmt::format("expected an array, got {}", show(*arr)));
+    for (std::size_t i = 0; i < arr->size(); ++i)
+        f((*arr)[i], child(parent.ptr(key), i), i);
+}
+
+fs::path resolvePath(const Obj& o, const std::string& key, const char* what) {
+    std::string s = o.str(key, "");
+    if (s.empty()) fail(o.ctx(), o.ptr(key), fmt::format("{} path must not be empty", what));
+    fs::path p(s);
+    if (p.is_relative()) p = o.ctx().baseDir / p;
+    p = p.lexically_normal();
+    std::error_code ec;
+    if (!fs::is_regular_file(p, ec))
+        fail(o.ctx(), o.ptr(key), fmt::format("{} '{}' does not exist", what, p.string()));
+    return p;
+}
+
+// T * Rz * Ry * Rx * S (rotations applied X, then Y, then Z), or a column-major matrix.
+glm::mat4 parseTransform(const Context& ctx, const json& j, const std::string& ptr) {
+    if (j.is_object() && j.contains("matrix") && j.size() > 1)
+        fail(ctx, ptr, "'matrix' cannot be combined with translate/rotate/scale");
+    if (j.is_object() && j.contains("matrix")) {
+        Obj o(ctx, j, ptr, {"matrix"});
+        const json& m = o.require("matrix");
+        if (!m.is_array() || m.size() != 16)
+            fail(ctx, o.ptr("matrix"),
+                 fmt::format("expected an array of 16 numbers, got {}", show(m)));
+        float values[16];
+        for (int i = 0; i < 16; ++i)
+            values[i] = float(number(ctx, m[i], child(o.ptr("matrix"), i), kAny));
+        return glm::make_mat4(values);
+    }
+    Obj o(ctx, j, ptr, {"translate", "rotate", "scale"});
+    glm::vec3 t = o.vec<3>("translate", glm::vec3(0.0f));
+    glm::vec3 r = o.vec<3>("rotate", glm::vec3(0.0f));
+    glm::vec3 s = o.vec<3>("scale", glm::vec3(1.0f), kAny, true);
+    if (s.x == 0.0f || s.y == 0.0f || s.z == 0.0f)
+        fail(ctx, o.ptr("scale"), "scale components must not be zero");
+    glm::mat4 m = glm::translate(glm::mat4(1.0f), t);
+    m = glm::rotate(m, glm::radians(r.z), glm::vec3(0, 0, 1));
+    m = glm::rotate(m, glm::radians(r.y), glm::vec3(0, 1, 0));
+    m = glm::rotate(m, glm::radians(r.x), glm::vec3(1, 0, 0));
+    return glm::scale(m, s);
+}
+
+void parseRender(const Obj& o, RenderSettings& r) {
+    r.width = int(o.integer("width", r.width, 1, 16384));
+    r.height = int(o.integer("height", r.height, 1, 16384));
+    r.camera = o.str("camera", r.camera);
+    r.oit = o.str("oit", r.oit);
+    if (r.oit.empty()) fail(o.ctx(), o.ptr("oit"), "technique name must not be empty");
+    r.seed = std::uint32_t(o.integer("seed", r.seed, 0, std::numeric_limits<std::uint32_t>::max()));
+    r.ambient = o.color("ambient", r.ambient);
+    r.background = o.color("background", r.background);
+    r.exposure = o.num("exposure", r.exposure, kPositive);
+    r.tonemap = o.str("tonemap", r.tonemap, {"aces", "clamp"});
+    r.shadowMapSize = int(o.integer("shadow_map_size", r.shadowMapSize, 16, 16384));
+    r.shadowBias = o.num("shadow_bias", r.shadowBias, kNonNegative);
+    r.pcfRadius = int(o.integer("pcf_radius", r.pcfRadius, 0, 16));
+}
+
+Camera parseCamera(const Context& ctx, const json& j, const std::string& ptr, std::size_t i) {
+    Camera c;
+    c.name = fmt::format("camera{}", i);
+    std::string type = j.is_object() && j.contains("type") && j["type"].is_string()
+                           ? j["type"].get<std::string>()
+                           : "perspective";
+    std::vector<std::string> keys = {"name", "type", "position", "target", "up", "near", "far"};
+    keys.push_back(type == "orthographic" ? "ortho_height" : "fov_y");
+    Obj o(ctx, j, ptr, keys);
+    c.name = o.str("name", c.name);
+    c.type = o.str("type", "perspective", {"perspective", "orthographic"}) == "orthographic"
+                 ? CameraType::Orthographic
+                 : CameraType::Perspective;
+    c.position = o.vec<3>("position", c.position);
+    c.target = o.vec<3>("target", c.target);
+    c.up = o.vec<3>("up", c.up);
+    c.fovYDegrees = o.num("fov_y", c.fovYDegrees, Range{0.0, 180.0, true, true});
+    c.orthoHeight = o.num("ortho_height", c.orthoHeight, kPositive);
+    c.nearPlane = o.num("near", c.nearPlane, kPositive);
+    c.farPlane = o.num("far", c.farPlane, kPositive);
+    if (c.farPlane <= c.nearPlane)
+        fail(ctx, o.ptr("far"),
+             fmt::format("far ({}) must be greater than near ({})", c.farPlane, c.nearPlane));
+    glm::vec3 dir = c.target - c.position;
+    if (glm::length(dir) == 0.0f) fail(ctx, o.ptr("target"), "target equals position");
+    if (glm::length(c.up) == 0.0f ||
+        glm::length(glm::cross(glm::normalize(dir), glm::normalize(c.up))) < 1e-6f)
+        fail(ctx, o.ptr("up"), "up must be non-zero and not parallel to the view direction");
+    return c;
+}
+
+Light parseLight(const Context& ctx, const json& j, const std::string& ptr, std::size_t i) {
+    Light l;
+    l.name = fmt::format("light{}", i);
+    std::string type = j.is_object() && j.contains("type") && j["type"].is_string()
+                           ? j["type"].get<std::string>()
+                           : "directional";
+    std::vector<std::string> keys = {"name", "type", "color", "intensity", "shadows", "position"};
+    if (type != "point") keys.insert(keys.end(), {"direction", "target"});
+    if (type == "spot") keys.insert(keys.end(), {"inner_cone", "outer_cone"});
+    Obj o(ctx, j, ptr, keys);
+    l.name = o.str("name", l.name);
+    std::string t = o.str("type", "directional", {"directional", "spot", "point"});
+    l.type = t == "spot"    ? LightType::Spot
+             : t == "point" ? LightType::Point
+                            : LightType::Directional;
+    l.color = o.color("color", l.color);
+    l.intensity = o.num("intensity", l.intensity, kNonNegative);
+    l.castShadows = o.boolean("shadows", l.castShadows);
+    l.position = o.vec<3>("position", l.position);
+    if (o.has("direction") && o.has("target"))
+        fail(ctx, o.ptr("target"), "give either direction or target, not both");
+    if (o.has("target")) {
+        glm::vec3 d = o.vec<3>("target", glm::vec3(0.0f)) - l.position;
+        if (glm::length(d) == 0.0f) fail(ctx, o.ptr("target"), "target equals position");
+        l.direction = glm::normalize(d);
+    } else if (o.has("direction")) {
+        glm::vec3 d = o.vec<3>("direction", l.direction);
+        if (glm::length(d) == 0.0f) fail(ctx, o.ptr("direction"), "direction must not be zero");
+        l.direction = glm::normalize(d);
+    }
+    l.innerConeDegrees = o.num("inner_cone", l.innerConeDegrees, Range{0.0, 90.0});
+    l.outerConeDegrees = o.num("outer_cone", l.outerConeDegrees, Range{0.0, 90.0});
+    if (l.outerConeDegrees < l.innerConeDegrees)
+        fail(ctx, o.ptr("outer_cone"),
+             fmt::format("outer_cone ({}) must be >= inner_cone ({})", l.outerConeDegrees,
+                         l.innerConeDegrees));
+    return l;
+}
+
+Material parseMaterial(const Context& ctx, const json& j, const std::string& ptr,
+                       const std::string& name) {
+    Obj o(ctx, j, ptr,
+          {"base_color", "roughness", "metalness", "emission", "alpha", "transmission",
+           "collimation", "ior", "attenuation_color", "attenuation_distance", "thickness"});
+    Material m;
+    m.name = name;
+    m.baseColor = o.color("base_color", m.baseColor);
+    m.roughness = o.num("roughness", m.roughness, kUnit);
+    m.metalness = o.num("metalness", m.metalness, kUnit);
+    m.emission = o.color("emission", m.emission);
+    m.alpha = o.num("alpha", m.alpha, kUnit);
+    m.transmission = o.color("transmission", m.transmission, kUnit);
+    m.collimation = o.num("collimation", m.collimation, kUnit);
+    m.ior = o.num("ior", m.ior, Range{1.0, kInf});
+    m.attenuationColor = o.color("attenuation_color", m.attenuationColor);
+    m.attenuationDistance = o.num("attenuation_distance", m.attenuationDistance, kNonNegative);
+    m.thickness = o.num("thickness", m.thickness, kNonNegative);
+    return m;
+}
+
+MeshData parseShape(const Context& ctx, const json& j, const std::string& ptr) {
+    static const std::vector<std::string> types = {"plane", "box", "sphere", "torus", "particles"};
+    if (!j.is_object()) fail(ctx, ptr, fmt::format("expected an object, got {}", show(j)));
+    if (!j.contains("type"))
+        fail(ctx, ptr, fmt::format("missing required key 'type' ({})", joined(types)));
+    // The type decides which keys are known, so it is checked before the object is opened.
+    const json& t = j["type"];
+    if (!t.is_string())
+        fail(ctx, child(ptr, "type"), fmt::format("expected a string, got {}", show(t)));
+    const std::string type = t.get<std::string>();
+    if (std::find(types.begin(), types.end(), type) == types.end())
+        fail(ctx, child(ptr, "type"),
+             fmt::format("unknown value '{}' (allowed: {})", type, joined(types)));
+    const int kMaxSeg = 4096;
+    if (type == "plane") {
+        Obj o(ctx, j, ptr, {"type", "size", "subdivisions"});
+        glm::vec2 size = o.vec<2>("size", glm::vec2(1.0f), kPositive, true);
+        int sub = int(o.integer("subdivisions", 1, 1, kMaxSeg));
+        return at(ctx, ptr, [&] { return makePlane(size, sub); });
+    }
+    if (type == "box") {
+        Obj o(ctx, j, ptr, {"type", "size"});
+        glm::vec3 size = o.vec<3>("size", glm::vec3(1.0f), kPositive, true);
+        return at(ctx, ptr, [&] { return makeBox(size); });
+    }
+    if (type == "sphere") {
+        Obj o(ctx, j, ptr, {"type", "radius", "segments", "rings"});
+        float r = o.num("radius", 1.0f, kPositive);
+        int seg = int(o.integer("segments", 48, 3, kMaxSeg));
+        int rings = int(o.integer("rings", 24, 2, kMaxSeg));
+        return at(ctx, ptr, [&] { return makeSphere(r, seg, rings); });
+    }
+    if (type == "torus") {
+        Obj o(ctx, j, ptr,
+              {"type", "major_radius", "minor_radius", "major_segments", "minor_segments"});
+        float major = o.num("major_radius", 1.0f, kPositive);
+        float minor = o.num("minor_radius", 0.25f, kPositive);
+        if (minor >= major)
+            fail(
+                ctx, o.ptr("minor_radius"),
+                fmt::format("minor_radius ({}) must be less than major_radius ({})", minor, major));
+        int ms = int(o.integer("major_segments", 48, 3, kMaxSeg));
+        int ns = int(o.integer("minor_segments", 24, 3, kMaxSeg));
+        return at(ctx, ptr, [&] { return makeTorus(major, minor, ms, ns); });
+    }
+    Obj o(ctx, j, ptr, {"type", "count", "radius", "particle_size", "seed"});
+    int count = int(o.integer("count", 1000, 1, 1 << 26));
+    float radius = o.num("radius", 1.0f, kPositive);
+    float size = o.num("particle_size", 0.02f, kPositive);
+    auto seed = std::uint32_t(o.integer("seed", 1, 0, std::numeric_limits<std::uint32_t>::max()));
+    return at(ctx, ptr, [&] { return makeParticleCloud(count, radius, size, seed); });
+}
+
+// Scene assembly state shared by the object parser.
+struct Builder {
+    Scene& scene;
+    std::map<std::string, std::uint32_t> materialIndex;
+    // Mesh files already loaded: (mesh index, name, material name or empty) per file mesh.
+    struct FileMesh {
+        std::uint32_t mesh;
+        std::string name;
+        std::string material;
+    };
+    std::map<std::string, std::vector<FileMesh>> files;
+
+    std::uint32_t addMaterial(Material m) {
+        auto it = materialIndex.find(m.name);
+        if (it != materialIndex.end()) return it->second;
+        auto index = std::uint32_t(scene.materials.size());
+        materialIndex[m.name] = index;
+        scene.materials.push_back(std::move(m));
+        return index;
+    }
+};
+
+void parseObject(const Context& ctx, const json& j, const std::string& ptr, std::size_t i,
+                 Builder& b) {
+    Obj o(ctx, j, ptr, {"name", "shape", "mesh", "material", "transform", "shadows"});
+    if (o.has("shape") == o.has("mesh"))
+        fail(ctx, ptr, "an object needs exactly one of 'shape' and 'mesh'");
+    Object base;
+    base.name = o.str("name", fmt::format("object{}", i));
+    base.castShadows = o.boolean("shadows", true);
+    if (const json* t = o.get("transform"))
+        base.transform = parseTransform(ctx, *t, o.ptr("transform"));
+
+    std::optional<std::uint32_t> material;
+    if (o.has("material")) {
+        std::string name = o.str("material", "");
+        auto it = b.materialIndex.find(name);
+        if (it == b.materialIndex.end()) {
+            std::vector<std::string> known;
+            for (const auto& [n, idx] : b.materialIndex)
+                known.push_back(n);
+            fail(ctx, o.ptr("material"),
+                 fmt::format("unknown material '{}' (materials: {})", name,
+                             known.empty() ? "none" : joined(known)));
+        }
+        material = it->second;
+    }
+
+    if (const json* shape = o.get("shape")) {
+        if (!material) fail(ctx, ptr, "missing required key 'material' (required for shapes)");
+        base.mesh = std::uint32_t(b.scene.meshes.size());
+        base.material = *material;
+        b.scene.meshes.push_back(parseShape(ctx, *shape, o.ptr("shape")));
+        b.scene.objects.push_back(base);
+        return;
+    }
+
+    fs::path path = resolvePath(o, "mesh", "mesh file");
+    auto cached = b.files.find(path.string());
+    if (cached == b.files.end()) {
+        std::vector<LoadedMesh> loaded = at(ctx, o.ptr("mesh"), [&] { return loadMeshFile(path); });
+        std::vector<Builder::FileMesh> entries;
+        const std::string stem = path.stem().string();
+        for (LoadedMesh& lm : loaded) {
+            Builder::FileMesh fm{std::uint32_t(b.scene.meshes.size()), lm.mesh.name, {}};
+            if (lm.material) {
+                fm.material = stem + "/" + lm.material->name;
+                // A scene material of the same name takes precedence over the file's.
+                if (!b.materialIndex.count(fm.material)) {
+                    Material m = *lm.material;
+                    m.name = fm.material;
+                    b.addMaterial(std::move(m));
+                }
+            }
+            b.scene.meshes.push_back(std::move(lm.mesh));
+            entries.push_back(std::move(fm));
+        }
+        cached = b.files.emplace(path.string(), std::move(entries)).first;
+    }
+    for (const Builder::FileMesh& fm : cached->second) {
+        Object obj = base;
+        obj.mesh = fm.mesh;
+        if (cached->second.size() > 1) obj.name = base.name + "/" + fm.name;
+        if (material)
+            obj.material = *material;
+        else if (!fm.material.empty())
+            obj.material = b.materialIndex.at(fm.material);
+        else
+            obj.material = b.addMaterial(Material{}); // "default", or the scene's "default"
+        b.scene.objects.push_back(std::move(obj));
+    }
+}
+
+VolumeRef parseVolume(const Context& ctx, const json& j, const std::string& ptr, std::size_t i) {
+    Obj o(
+        ctx, j, ptr,
+        {"name", "path", "grid", "transform", "density_scale", "albedo", "anisotropy", "emission"});
+    VolumeRef v;
+    v.name = o.str("name", fmt::format("volume{}", i));
+    o.require("path");
+    v.path = resolvePath(o, "path", "volume file");
+    v.grid = o.str("grid", v.grid);
+    if (v.grid.empty()) fail(ctx, o.ptr("grid"), "grid name must not be empty");
+    if (const json* t = o.get("transform"))
+        v.transform = parseTransform(ctx, *t, o.ptr("transform"));
+    v.densityScale = o.num("density_scale", v.densityScale, kNonNegative);
+    v.albedo = o.color("albedo", v.albedo, kUnit);
+    v.anisotropy = o.num("anisotropy", v.anisotropy, Range{-1.0, 1.0, true, true});
+    v.emission = o.color("emission", v.emission);
+    return v;
+}
+
+template <typename T>
+void checkUniqueNames(const Context& ctx, const std::vector<T>& items, const std::string& ptr) {
+    for (std::size_t a = 0; a < items.size(); ++a)
+        for (std::size_t c = 0; c < a; ++c)
+            if (items[a].name == items[c].name)
+                fail(ctx, child(child(ptr, a), "name"),
+                     fmt::format("duplicate name '{}' (also {})", items[a].name, child(ptr, c)));
+}
+
+} // namespace
+
+Scene parseSceneDocument(const json& doc, const fs::path& baseDir, const std::string& source) {
+    Context ctx{source, baseDir};
+    Scene scene;
+    Obj root(ctx, doc, "", {"render", "cameras", "lights", "materials", "objects", "volumes"});
+
+    if (const json* r = root.get("render"))
+        parseRender(Obj(ctx, *r, root.ptr("render"),
+                        {"width", "height", "camera", "oit", "seed", "ambient", "background",
+                         "exposure", "tonemap", "shadow_map_size", "shadow_bias", "pcf_radius"}),
+                    scene.render);
+
+    forEach(root, "cameras", [&](const json& j, const std::string& p, std::size_t i) {
+        scene.cameras.push_back(parseCamera(ctx, j, p, i));
+    });
+    if (scene.cameras.empty())
+        fail(ctx, root.ptr("cameras"), "the scene needs at least one camera");
+    checkUniqueNames(ctx, scene.cameras, root.ptr("cameras"));
+    if (!scene.render.camera.empty()) {
+        bool found = std::any_of(scene.cameras.begin(), scene.cameras.end(),
+                                 [&](const Camera& c) { return c.name == scene.render.camera; });
+        if (!found) {
+            std::vector<std::string> names;
+            for (const Camera& c : scene.cameras)
+                names.push_back(c.name);
+            fail(ctx, "/render/camera",
+                 fmt::format("unknown camera '{}' (cameras: {})", scene.render.camera,
+                             joined(names)));
+        }
+    }
+
+    forEach(root, "lights", [&](const json& j, const std::string& p, std::size_t i) {
+        scene.lights.push_back(parseLight(ctx, j, p, i));
+    });
+
+    Builder builder{scene, {}, {}};
+    if (const json* mats = root.get("materials")) {
+        if (!mats->is_object())
+            fail(ctx, root.ptr("materials"),
+                 fmt::format("expected an object of name: material, got {}", show(*mats)));
+        for (const auto& item : mats->items()) {
+            if (item.key().empty())
+                fail(ctx, child(root.ptr("materials"), ""), "material name must not be empty");
+            builder.addMaterial(parseMaterial(
+                ctx, item.value(), child(root.ptr("materials"), item.key()), item.key()));
+        }
+    }
+
+    forEach(root, "objects", [&](const json& j, const std::string& p, std::size_t i) {
+        parseObject(ctx, j, p, i, builder);
+    });
+    forEach(root, "volumes", [&](const json& j, const std::string& p, std::size_t i) {
+        scene.volumes.push_back(parseVolume(ctx, j, p, i));
+    });
+    log::debug("{}: {} cameras, {} lights, {} materials, {} objects, {} meshes, {} volumes", source,
+               scene.cameras.size(), scene.lights.size(), scene.materials.size(),
+               scene.objects.size(), scene.meshes.size(), scene.volumes.size());
+    return scene;
+}
+
+} // namespace veil::scene::detail

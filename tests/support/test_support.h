@@ -1,0 +1,37 @@
+// Helpers shared by the test suites: paths, image comparison, running the veil command.
+#pragma once
+
+#include "base/image.h"
+
+#include <filesystem>
+#include <string>
+
+namespace veil::test {
+
+std::filesystem::path sourceDir();  // repository root
+std::filesystem::path sharedDir();  // ../shared (third-party data)
+std::filesystem::path outputDir();  // build/test-output, created on demand
+
+struct ImageDiff {
+    double maxAbs = 0.0; // largest per-channel absolute difference
+    double rmse = 0.0;   // root mean square over all compared channels
+};
+
+// Compares the first `channels` channels; sizes must match (else maxAbs = rmse = inf).
+ImageDiff compareImages(const ImageF& a, const ImageF& b, int channels = 3);
+
+// Writes <name>-render.exr, <name>-reference.exr and <name>-diff.exr (|a-b|) into outputDir()
+// and returns the folder, for a failing image test to point at.
+std::string writeFailureImages(const std::string& name, const ImageF& render,
+                               const ImageF& reference);
+
+struct CommandResult {
+    int exitCode = -1;
+    std::string output; // stdout and stderr together
+};
+// Runs a shell command line, capturing its output.
+CommandResult runCommand(const std::string& commandLine);
+// Path of the built veil executable.
+std::string veilExe();
+
+} // namespace veil::test

@@ -1,0 +1,279 @@
+// Procedural shapes (winding, closure, area against the analytic surface) and mesh files
+// loaded through assimp (triangle counts and material mapping of the third-party data).
+#include "base/error.h"
+#include "scene/mesh.h"
+
+#include <glm/gtc/constants.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <tuple>
+
+namespace fs = std::filesystem;
+using namespace veil::scene;
+
+namespace {
+
+const std::string kThirdParty = VEIL_SHARED_DIR "/datasets/third_party";
+constexpr double kPi = glm::pi<double>();
+
+fs::path outputDir() {
+    fs::path dir = fs::path(VEIL_TEST_OUTPUT_DIR) / "mesh_test";
+    fs::create_directories(dir);
+    return dir;
+}
+
+glm::dvec3 corner(const MeshData& m, std::size_t t, int k) {
+    return glm::dvec3(m.positions[m.indices[3 * t + k]]);
+}
+glm::dvec3 faceCross(const MeshData& m, std::size_t t) {
+    return glm::cross(corner(m, t, 1) - corner(m, t, 0), corner(m, t, 2) - corner(m, t, 0));
+}
+
+double area(const MeshData& m) {
+    double a = 0.0;
+    for (std::size_t t = 0; t < m.triangleCount(); ++t)
+        a += 0.5 * glm::length(faceCross(m, t));
+    return a;
+}
+
+// Signed volume by the divergence theorem; positive for a closed mesh with outward winding.
+double volume(const MeshData& m) {
+    double v = 0.0;
+    for (std::size_t t = 0; t < m.triangleCount(); ++t)
+        v += glm::dot(corner(m, t, 0), glm::cross(corner(m, t, 1), corner(m, t, 2))) / 6.0;
+    return v;
+}
+
+// Closed: every edge (keyed by quantized positions, since seams duplicate vertices) is used
+// by exactly two triangles, once in each direction.
+bool isClosed(const MeshData& m) {
+    using Key = std::tuple<long, long, long>;
+    auto key = [](glm::dvec3 p) {
+        return Key{std::lround(p.x * 1e4), std::lround(p.y * 1e4), std::lround(p.z * 1e4)};
+    };
+    std::map<std::pair<Key, Key>, int> directed;
+    for (std::size_t t = 0; t < m.triangleCount(); ++t)
+        for (int k = 0; k < 3; ++k)
+            ++directed[{key(corner(m, t, k)), key(corner(m, t, (k + 1) % 3))}];
+    for (const auto& [edge, count] : directed) {
+        if (edge.first == edge.second) continue; // degenerate
+        auto reverse = directed.find({edge.second, edge.first});
+        if (count != 1 || reverse == directed.end() || reverse->second != 1) return false;
+    }
+    return true;
+}
+
+// Every vertex normal is unit length and every triangle's winding agrees with its normals.
+void expectConsistentNormals(const MeshData& m) {
+    ASSERT_EQ(m.normals.size(), m.positions.size());
+    ASSERT_EQ(m.uvs.size(), m.positions.size());
+    for (const glm::vec3& n : m.normals)
+        ASSERT_NEAR(glm::length(n), 1.0f, 1e-4f);
+    for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+        glm::dvec3 avg(0.0);
+        for (int k = 0; k < 3; ++k)
+            avg += glm::dvec3(m.normals[m.indices[3 * t + k]]);
+        ASSERT_GT(glm::dot(faceCross(m, t), avg), 0.0) << m.name << " triangle " << t;
+    }
+}
+
+void writeFile(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+std::string errorOf(const fs::path& path) {
+    try {
+        loadMeshFile(path);
+    } catch (const veil::Error& e) {
+        return e.what();
+    }
+    return {};
+}
+
+} // namespace
+
+TEST(MeshTest, PlaneIsSubdividedAndFacesUp) {
+    MeshData m = makePlane({4.0f, 2.0f}, 3);
+    EXPECT_EQ(m.positions.size(), 16u);
+    EXPECT_EQ(m.triangleCount(), 18u);
+    EXPECT_NEAR(area(m), 8.0, 1e-5);
+    expectConsistentNormals(m);
+    for (std::size_t t = 0; t < m.triangleCount(); ++t)
+        EXPECT_GT(faceCross(m, t).y, 0.0); // CCW seen from +y
+    glm::vec3 lo, hi;
+    m.bounds(lo, hi);
+    EXPECT_EQ(lo, glm::vec3(-2.0f, 0.0f, -1.0f));
+    EXPECT_EQ(hi, glm::vec3(2.0f, 0.0f, 1.0f));
+}
+
+TEST(MeshTest, BoxHasTwelveTrianglesAndIsClosed) {
+    MeshData m = makeBox({1.0f, 2.0f, 3.0f});
+    EXPECT_EQ(m.positions.size(), 24u);
+    EXPECT_EQ(m.triangleCount(), 12u);
+    EXPECT_TRUE(isClosed(m));
+    expectConsistentNormals(m);
+    EXPECT_NEAR(volume(m), 6.0, 1e-5);
+    EXPECT_NEAR(area(m), 2.0 * (2.0 + 3.0 + 6.0), 1e-5);
+    for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+        glm::dvec3 centroid = (corner(m, t, 0) + corner(m, t, 1) + corner(m, t, 2)) / 3.0;
+        EXPECT_GT(glm::dot(faceCross(m, t), centroid), 0.0); // outward for a convex shape
+    }
+}
+
+TEST(MeshTest, SphereAreaNormalsAndClosure) {
+    const double r = 1.5;
+    MeshData m = makeSphere(float(r));
+    EXPECT_EQ(m.triangleCount(), std::size_t(2 * 48 * 24 - 2 * 48));
+    EXPECT_NEAR(area(m) / (4.0 * kPi * r * r), 1.0, 0.01);
+    EXPECT_NEAR(volume(m) / (4.0 / 3.0 * kPi * r * r * r), 1.0, 0.02);
+    EXPECT_TRUE(isClosed(m));
+    expectConsistentNormals(m);
+    for (std::size_t i = 0; i < m.positions.size(); ++i) {
+        EXPECT_NEAR(glm::length(m.positions[i]), r, 1e-5);
+        EXPECT_GT(glm::dot(m.normals[i], glm::normalize(m.positions[i])), 0.9999f); // outward
+    }
+}
+
+TEST(MeshTest, TorusAreaAndClosure) {
+    const double R = 2.0, r = 0.5;
+    MeshData m = makeTorus(float(R), float(r));
+    EXPECT_EQ(m.triangleCount(), std::size_t(2 * 48 * 24));
+    EXPECT_NEAR(area(m) / (4.0 * kPi * kPi * R * r), 1.0, 0.01);
+    EXPECT_NEAR(volume(m) / (2.0 * kPi * kPi * R * r * r), 1.0, 0.02);
+    EXPECT_TRUE(isClosed(m));
+    expectConsistentNormals(m);
+}
+
+TEST(MeshTest, ParticleCloudIsDeterministicBillboards) {
+    MeshData a = makeParticleCloud(500, 2.0f, 0.05f, 7);
+    MeshData b = makeParticleCloud(500, 2.0f, 0.05f, 7);
+    MeshData c = makeParticleCloud(500, 2.0f, 0.05f, 8);
+    EXPECT_TRUE(a.billboard);
+    EXPECT_EQ(a.positions.size(), 2000u);
+    EXPECT_EQ(a.indices.size(), 3000u);
+    EXPECT_EQ(a.billboardSize.size(), 2000u);
+    EXPECT_EQ(a.positions, b.positions);
+    EXPECT_NE(a.positions, c.positions);
+    glm::dvec3 mean(0.0);
+    for (std::size_t p = 0; p < 500; ++p) {
+        const glm::vec3 centre = a.positions[4 * p];
+        for (int k = 1; k < 4; ++k)
+            ASSERT_EQ(a.positions[4 * p + k], centre);
+        ASSERT_LE(glm::length(centre), 2.0f + 1e-5f);
+        EXPECT_EQ(a.uvs[4 * p + 2], glm::vec2(1.0f, 1.0f));
+        EXPECT_EQ(a.normals[4 * p], glm::vec3(0.0f, 0.0f, 1.0f));
+        mean += glm::dvec3(centre);
+    }
+    mean /= 500.0;
+    EXPECT_LT(glm::length(mean), 0.15); // centred
+    glm::vec3 lo, hi;
+    a.bounds(lo, hi);
+    EXPECT_LE(hi.x, 2.05f + 1e-5f);
+    glm::vec3 maxCentre(-1e9f);
+    for (const glm::vec3& p : a.positions)
+        maxCentre = glm::max(maxCentre, p);
+    EXPECT_FLOAT_EQ(hi.x, maxCentre.x + 0.05f); // bounds include the particle size
+}
+
+TEST(MeshTest, BadShapeParametersThrow) {
+    EXPECT_THROW(makeSphere(-1.0f), veil::Error);
+    EXPECT_THROW(makeTorus(1.0f, 2.0f), veil::Error);
+    EXPECT_THROW(makePlane({1.0f, 1.0f}, 0), veil::Error);
+    EXPECT_THROW(makeParticleCloud(0, 1.0f, 0.1f, 1), veil::Error);
+}
+
+TEST(MeshTest, LoadsTeapotObj) {
+    auto meshes = loadMeshFile(kThirdParty + "/utah-teapot/teapot.obj");
+    std::size_t triangles = 0;
+    for (const LoadedMesh& lm : meshes) {
+        triangles += lm.mesh.triangleCount();
+        EXPECT_FALSE(lm.material.has_value()); // no .mtl: assimp's default is not kept
+        expectConsistentNormals(lm.mesh);
+    }
+    EXPECT_EQ(triangles, 4032u);
+    glm::vec3 lo, hi;
+    meshes.at(0).mesh.bounds(lo, hi);
+    EXPECT_NEAR(hi.x - lo.x, 1.0f, 1e-3f);
+}
+
+TEST(MeshTest, LoadsBunnyPlyWithoutNormals) {
+    auto meshes = loadMeshFile(kThirdParty + "/stanford-bunny/bun_zipper.ply");
+    ASSERT_EQ(meshes.size(), 1u);
+    const MeshData& m = meshes[0].mesh;
+    EXPECT_EQ(m.triangleCount(), 69451u);
+    EXPECT_FALSE(meshes[0].material.has_value());
+    for (const glm::vec3& n : m.normals)
+        ASSERT_NEAR(glm::length(n), 1.0f, 1e-3f);
+    glm::vec3 lo, hi;
+    m.bounds(lo, hi);
+    EXPECT_NEAR(lo.y, 0.033f, 2e-3f);
+    EXPECT_NEAR(hi.y, 0.187f, 2e-3f);
+}
+
+TEST(MeshTest, GlassVaseMaterialsMapAlphaBlendAndTransmission) {
+    auto meshes = loadMeshFile(kThirdParty + "/gltf-GlassVaseFlowers/GlassVaseFlowers.glb");
+    std::map<std::string, Material> byName;
+    for (const LoadedMesh& lm : meshes) {
+        ASSERT_TRUE(lm.material.has_value()) << lm.mesh.name;
+        byName[lm.material->name] = *lm.material;
+    }
+    ASSERT_TRUE(byName.count("GlassAlpha"));
+    ASSERT_TRUE(byName.count("GlassTransmission"));
+    ASSERT_TRUE(byName.count("Flowers"));
+    const Material& alpha = byName["GlassAlpha"];
+    EXPECT_NEAR(alpha.alpha, 0.3f, 1e-4f); // alphaMode BLEND
+    EXPECT_EQ(alpha.transmission, glm::vec3(0.0f));
+    EXPECT_TRUE(alpha.isTransparent());
+    const Material& glass = byName["GlassTransmission"];
+    EXPECT_EQ(glass.alpha, 1.0f);
+    EXPECT_GT(glass.transmission.x, 0.0f);
+    EXPECT_NEAR(glass.thickness, 0.075f, 1e-4f); // KHR_materials_volume
+    EXPECT_TRUE(glass.isTransparent());
+    EXPECT_EQ(byName["Flowers"].alpha, 1.0f); // alphaMode MASK is not coverage alpha
+    EXPECT_FALSE(byName["Flowers"].isTransparent());
+}
+
+TEST(MeshTest, TransmissionIsTintedByBaseColorAndIorIsRead) {
+    auto meshes =
+        loadMeshFile(kThirdParty + "/gltf-TransmissionRoughnessTest/TransmissionRoughnessTest.glb");
+    bool sawIor = false;
+    for (const LoadedMesh& lm : meshes) {
+        if (!lm.material || lm.material->name != "Mat_IOR_1.33") continue;
+        sawIor = true;
+        EXPECT_NEAR(lm.material->ior, 1.33f, 1e-4f);
+        EXPECT_GT(lm.material->transmission.x, 0.0f);
+        // transmission = factor * base color, so the channels keep the base color's ratios.
+        EXPECT_NEAR(lm.material->transmission.z * lm.material->baseColor.x,
+                    lm.material->transmission.x * lm.material->baseColor.z, 1e-5f);
+    }
+    EXPECT_TRUE(sawIor);
+}
+
+TEST(MeshTest, ObjWithoutNormalsGetsUnitNormals) {
+    fs::path path = outputDir() / "tetra.obj";
+    writeFile(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+    auto meshes = loadMeshFile(path);
+    ASSERT_EQ(meshes.size(), 1u);
+    EXPECT_EQ(meshes[0].mesh.triangleCount(), 4u);
+    for (const glm::vec3& n : meshes[0].mesh.normals)
+        EXPECT_NEAR(glm::length(n), 1.0f, 1e-4f);
+}
+
+TEST(MeshTest, MissingOrEmptyFilesThrowNamingTheFile) {
+    std::string missing = errorOf(outputDir() / "does_not_exist.obj");
+    EXPECT_NE(missing.find("does_not_exist.obj"), std::string::npos) << missing;
+    EXPECT_NE(missing.find("does not exist"), std::string::npos) << missing;
+
+    fs::path lines = outputDir() / "lines_only.obj";
+    writeFile(lines, "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3\n");
+    std::string empty = errorOf(lines);
+    EXPECT_NE(empty.find("lines_only.obj"), std::string::npos) << empty;
+
+    fs::path garbage = outputDir() / "garbage.glb";
+    writeFile(garbage, "this is not a glTF file");
+    std::string bad = errorOf(garbage);
+    EXPECT_NE(bad.find("garbage.glb"), std::string::npos) << bad;
+}
