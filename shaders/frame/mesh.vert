@@ -23,7 +23,7 @@ void main() {
     vec3 normal = normalize(normalMatrix * inNormal);
     if (billboard) {
         world += (camera.cameraRight.xyz * inUv.x + camera.cameraUp.xyz * inUv.y) * inSize;
-        normal = normalize(camera.cameraPosition.xyz - world);
+        normal = viewVector(world);
     }
     vWorldPos = world;
     vNormal = normal;

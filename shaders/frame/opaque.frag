@@ -6,7 +6,7 @@
 layout(location = 0) out vec4 outColor;
 
 void main() {
-    vec3 V = normalize(camera.cameraPosition.xyz - vWorldPos);
+    vec3 V = viewVector(vWorldPos);
     vec3 N = facingNormal(V);
     outColor = vec4(shadeSurface(currentMaterial(), vWorldPos, N, V, 1.0), 1.0);
 }

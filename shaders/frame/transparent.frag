@@ -6,7 +6,7 @@
 #include "veil:oit_emit"
 
 void main() {
-    vec3 V = normalize(camera.cameraPosition.xyz - vWorldPos);
+    vec3 V = viewVector(vWorldPos);
     vec3 N = facingNormal(V);
     SurfaceMaterial m = currentMaterial();
     float alpha = m.alpha;

@@ -14,9 +14,10 @@ struct CameraBlock {
     glm::vec4 cameraPosition;
     glm::vec4 cameraRight;
     glm::vec4 cameraUp;
-    glm::vec4 viewport; // width, height, near, far
+    glm::vec4 cameraForward; // w = 1 for orthographic
+    glm::vec4 viewport;      // width, height, near, far
 };
-static_assert(sizeof(CameraBlock) == 3 * 64 + 4 * 16);
+static_assert(sizeof(CameraBlock) == 3 * 64 + 5 * 16);
 
 struct LightEntry {
     glm::vec4 positionType;

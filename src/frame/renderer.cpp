@@ -95,6 +95,8 @@ void Renderer::updateUniforms() {
     cam.cameraPosition = glm::vec4(glm::vec3(invView[3]), 1.0f);
     cam.cameraRight = glm::vec4(glm::vec3(invView[0]), 0.0f);
     cam.cameraUp = glm::vec4(glm::vec3(invView[1]), 0.0f);
+    cam.cameraForward = glm::vec4(-glm::vec3(invView[2]),
+                                  camera_.type == scene::CameraType::Orthographic ? 1.0f : 0.0f);
     cam.viewport = {width_, height_, camera_.nearPlane, camera_.farPlane};
     cameraUbo_.setSubData(0, sizeof(cam), &cam);
 

@@ -66,7 +66,7 @@ TEST(SceneTest, MinimalSceneHasDefaults) {
     EXPECT_EQ(s.render.oit, "blend");
     EXPECT_EQ(s.render.tonemap, "aces");
     EXPECT_EQ(s.render.shadowMapSize, 2048);
-    EXPECT_FLOAT_EQ(s.render.shadowBias, 0.0015f);
+    EXPECT_FLOAT_EQ(s.render.shadowBias, RenderSettings{}.shadowBias);
     ASSERT_EQ(s.cameras.size(), 1u);
     EXPECT_EQ(s.cameras[0].type, CameraType::Perspective);
     EXPECT_FLOAT_EQ(s.cameras[0].fovYDegrees, 45.0f);
