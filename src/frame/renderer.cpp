@@ -34,9 +34,13 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
     using gpu::ProgramDesc;
     opaqueProgram_ = programs_.add(ProgramDesc::graphics("frame/mesh.vert", "frame/opaque.frag"));
     shadowProgram_ = programs_.add(ProgramDesc::graphics("frame/mesh.vert", "frame/shadow.frag"));
-    transparentProgram_ = programs_.add(ProgramDesc::graphics(
-        "frame/mesh.vert", "frame/transparent.frag", oit_->defines(),
-        {{"veil:oit_emit", oit_->emitInclude()}}));
+    for (int pass = 0; pass < oit_->geometryPasses(); ++pass) {
+        std::vector<std::string> defines = oit_->defines(pass);
+        defines.push_back(fmt::format("OIT_PASS {}", pass));
+        transparentPrograms_.push_back(programs_.add(
+            ProgramDesc::graphics("frame/mesh.vert", "frame/transparent.frag", std::move(defines),
+                                  {{"veil:oit_emit", oit_->emitInclude()}})));
+    }
     tonemapProgram_ = programs_.add(ProgramDesc::compute("frame/tonemap.comp"));
 
     meshes_.reserve(scene.meshes.size());
@@ -187,11 +191,13 @@ void Renderer::render() {
     }
     {
         gpu::TimerScope t(timer_, "transparent");
-        oit_->beginAccumulate(targets_);
-        const gpu::Program& program = programs_.get(transparentProgram_);
-        program.set("useOverride", 0);
-        drawObjects(program, Subset::Transparent);
-        oit_->endAccumulate();
+        for (int pass = 0; pass < oit_->geometryPasses(); ++pass) {
+            const gpu::Program& program = programs_.get(transparentPrograms_[pass]);
+            program.set("useOverride", 0);
+            oit_->beginAccumulate(pass, targets_, program);
+            drawObjects(program, Subset::Transparent);
+            oit_->endAccumulate(pass);
+        }
     }
     {
         gpu::TimerScope t(timer_, "resolve");

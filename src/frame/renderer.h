@@ -69,7 +69,8 @@ private:
     glm::vec3 boundsLo_{0.0f}, boundsHi_{0.0f};
 
     gpu::ProgramManager programs_;
-    gpu::ProgramHandle opaqueProgram_, shadowProgram_, transparentProgram_, tonemapProgram_;
+    gpu::ProgramHandle opaqueProgram_, shadowProgram_, tonemapProgram_;
+    std::vector<gpu::ProgramHandle> transparentPrograms_; // one per OIT geometry pass
     std::vector<GpuMesh> meshes_;
     std::unique_ptr<oit::Technique> oit_;
     std::optional<shadows::ShadowMap> shadowMap_;

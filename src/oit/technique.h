@@ -36,13 +36,23 @@ public:
     virtual std::string name() const = 0;
     // GLSL file (relative to shaders/) defining oitEmit(); included as "veil:oit_emit".
     virtual std::filesystem::path emitInclude() const = 0;
-    virtual std::vector<std::string> defines() const { return {}; }
+    // Defines for the transparent-surface program of geometry pass `pass`; the frame adds
+    // "OIT_PASS <pass>" itself.
+    virtual std::vector<std::string> defines(int pass) const {
+        (void)pass;
+        return {};
+    }
+    // Number of passes over the transparent geometry per frame (moment-based OIT: 2,
+    // stochastic with repeated seeds: several). Each pass gets its own program.
+    virtual int geometryPasses() const { return 1; }
     // Called when the frame targets are (re)created.
     virtual void resize(const OitFrameTargets& targets) = 0;
-    // Binds the accumulation targets and blend state for the transparent draws.
-    virtual void beginAccumulate(const OitFrameTargets& targets) = 0;
-    // Restores default state (blending off, depth writes on).
-    virtual void endAccumulate() = 0;
+    // Binds the accumulation targets and blend state for geometry pass `pass`, and sets any
+    // uniforms it needs on `program` (the pass's transparent-surface program).
+    virtual void beginAccumulate(int pass, const OitFrameTargets& targets,
+                                 const gpu::Program& program) = 0;
+    // Restores default state (blending off, depth writes on, framebuffer 0).
+    virtual void endAccumulate(int pass) = 0;
     // Composites the accumulation over targets.hdrColor.
     virtual void resolve(const OitFrameTargets& targets) = 0;
     // Bytes of technique-owned storage per pixel (memory reports, benchmarks).

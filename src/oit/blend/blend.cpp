@@ -17,7 +17,7 @@ public:
         framebuffer_.checkComplete("oit/blend");
     }
 
-    void beginAccumulate(const OitFrameTargets& targets) override {
+    void beginAccumulate(int, const OitFrameTargets& targets, const gpu::Program&) override {
         framebuffer_.bind();
         glViewport(0, 0, targets.width, targets.height);
         glEnable(GL_DEPTH_TEST);
@@ -30,7 +30,7 @@ public:
         glBlendEquation(GL_FUNC_ADD);
     }
 
-    void endAccumulate() override {
+    void endAccumulate(int) override {
         glDisable(GL_BLEND);
         glDepthMask(GL_TRUE);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
