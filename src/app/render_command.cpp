@@ -37,6 +37,13 @@ void runRender(const RenderArgs& args) {
     std::string ext = fs::path(args.output).extension().string();
     VEIL_CHECK(ext == ".png" || ext == ".exr", "output '{}' must end in .png or .exr",
                args.output);
+    if (!args.report.empty()) {
+        VEIL_CHECK(fs::path(args.report).extension() == ".json", "report '{}' must end in .json",
+                   args.report);
+        std::error_code ec;
+        VEIL_CHECK(!fs::equivalent(args.report, args.scene, ec),
+                   "report '{}' would overwrite the scene file", args.report);
+    }
     scene::Scene scene = scene::loadScene(args.scene, args.overrides);
     gpu::HeadlessContext context({args.device, args.glDebug});
     frame::RendererOptions options{args.width, args.height, args.camera, args.oit};
@@ -69,16 +76,16 @@ void runRender(const RenderArgs& args) {
     }
     report["passes"] = passes;
     report["total_ms"] = total;
-    const fs::path reportPath =
-        args.report.empty() ? fs::path(args.output).replace_extension(".json") : fs::path(args.report);
+    std::cout << "wrote " << args.output << " (" << renderer.width() << "x" << renderer.height()
+              << ", oit " << renderer.oitName() << ", " << context.info().renderer << ")\n";
+    if (args.report.empty()) return;
+    const fs::path reportPath = args.report;
     writeFileAtomically(reportPath, [&](const fs::path& tmp) {
         std::ofstream out(tmp);
         out << report.dump(2) << "\n";
         VEIL_CHECK(out.good(), "cannot write report '{}'", reportPath.string());
     });
-    std::cout << "wrote " << args.output << " (" << renderer.width() << "x" << renderer.height()
-              << ", oit " << renderer.oitName() << ", " << context.info().renderer << ")\n"
-              << "wrote " << reportPath.string() << " (per-pass GPU times)\n";
+    std::cout << "wrote " << reportPath.string() << " (per-pass GPU times)\n";
 }
 
 } // namespace
@@ -92,7 +99,7 @@ void addRenderCommand(CLI::App& app) {
                     "Output image: .png (tone-mapped sRGB) or .exr (linear HDR)")
         ->required();
     cmd->add_option("--report", args->report,
-                    "JSON report of per-pass GPU times (default: output name with .json)");
+                    "Also write a JSON report: per-pass GPU times, image size, renderer");
     cmd->add_option("--width", args->width, "Image width (default: the scene's)")
         ->check(CLI::Range(1, 16384));
     cmd->add_option("--height", args->height, "Image height (default: the scene's)")
