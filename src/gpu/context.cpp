@@ -142,16 +142,21 @@ HeadlessContext::HeadlessContext(const HeadlessOptions& options) : impl_(std::ma
         }
     }
     const char* clientExts = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-    std::string client = clientExts ? clientExts : "";
-    VEIL_CHECK(client.find("EGL_EXT_device_enumeration") != std::string::npos &&
-                   client.find("EGL_EXT_platform_device") != std::string::npos,
-               "no headless OpenGL: the EGL library lacks EGL_EXT_device_enumeration / "
-               "EGL_EXT_platform_device (install Mesa's libegl1-mesa / libgl1-mesa-dri, or an "
-               "NVIDIA driver)");
+    const std::string client = clientExts ? clientExts : "";
+    log::debug("EGL client extensions: {}", client.empty() ? "(none)" : client);
+    // Entry points through eglGetProcAddress: some glvnd setups list the device extensions
+    // only once a vendor library is loaded, so the string alone is not a reliable test.
+    auto queryDevices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(
+        eglGetProcAddress("eglQueryDevicesEXT"));
+    VEIL_CHECK(queryDevices && eglGetProcAddress("eglGetPlatformDisplayEXT"),
+               "no headless OpenGL: the EGL library has no EGL_EXT_device_enumeration / "
+               "EGL_EXT_platform_device (client extensions: '{}'; install Mesa's libegl-mesa0 "
+               "and libgl1-mesa-dri, or an NVIDIA driver)",
+               client);
     EGLint count = 0;
-    eglQueryDevicesEXT(0, nullptr, &count);
+    if (!queryDevices(0, nullptr, &count)) count = 0;
     std::vector<EGLDeviceEXT> devices(static_cast<std::size_t>(count));
-    if (count > 0) eglQueryDevicesEXT(count, devices.data(), &count);
+    if (count > 0) queryDevices(count, devices.data(), &count);
     VEIL_CHECK(count > 0, "no headless OpenGL: EGL reports no devices");
     VEIL_CHECK(wanted < count, "EGL device {} requested but only {} device(s) exist (0..{})",
                wanted, count, count - 1);
