@@ -12,6 +12,7 @@ packages=(
   libopenimageio-dev openimageio-tools
   libvtk9-dev
   libimgui-dev libspdlog-dev
+  xvfb xauth
 )
 
 missing=()

@@ -10,5 +10,6 @@ namespace veil::app {
 // Each adds its subcommand to `app`; the callback it sets runs the command and may throw.
 void addRenderCommand(CLI::App& app);
 void addInfoCommand(CLI::App& app);
+void addViewCommand(CLI::App& app);
 
 } // namespace veil::app

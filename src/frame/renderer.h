@@ -44,6 +44,7 @@ public:
     gpu::ImageF readHdr() const; // linear radiance, RGBA float, top row first
     gpu::ImageF readLdr() const; // tone-mapped sRGB in [0,1], RGBA
     const gpu::Texture& hdrTexture() const { return hdr_; }
+    const gpu::Texture& ldrTexture() const { return ldr_; }
 
     int width() const { return width_; }
     int height() const { return height_; }
