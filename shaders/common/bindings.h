@@ -12,6 +12,17 @@
 
 #define VEIL_IMG_OUTPUT 0
 
+// Fog (src/volume): marcher outputs, and per-volume textures (VEIL_MAX_VOLUMES of each)
+#define VEIL_TEX_FOG_RADIANCE 12
+#define VEIL_TEX_FOG_TRANSMITTANCE 13
+#define VEIL_TEX_VOLUME_DATA 16
+#define VEIL_TEX_VOLUME_TABLE 20
+#define VEIL_TEX_VOLUME_LIGHT 24
+#define VEIL_IMG_FOG_RADIANCE 1
+#define VEIL_IMG_FOG_TRANSMITTANCE 2
+#define VEIL_IMG_VOLUME_LIGHT 3
+#define VEIL_MAX_VOLUMES 4
+
 #define VEIL_MAX_LIGHTS 8
 
 #define VEIL_ATTR_POSITION 0

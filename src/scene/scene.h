@@ -60,7 +60,15 @@ struct Object {
 // A density field referenced by the scene; loaded and rendered by src/volume.
 struct VolumeRef {
     std::string name;
-    std::filesystem::path path; // absolute (resolved against the scene file's folder)
+    std::filesystem::path path; // absolute (resolved against the scene file's folder); or:
+    // procedural field instead of a file: "box" (density 1 in a box of `size`), "sphere"
+    // (density 1 in a ball of diameter size.x), "smoke-ball" (smooth radial falloff with
+    // noise), "noise-cloud" (thresholded fractal noise in a box of `size`), or "homogeneous"
+    // (global fog of density 1 filling all space; scaled by density_scale)
+    std::string procedural;
+    glm::vec3 size{1.0f};
+    float voxelSize = 0.05f; // procedural grids
+    std::uint32_t seed = 1;
     std::string grid = "density";
     glm::mat4 transform{1.0f};
     float densityScale = 1.0f;
@@ -82,6 +90,14 @@ struct RenderSettings {
     int shadowMapSize = 2048;
     float shadowBias = 0.01f;      // world units along the light axis, slope-scaled in the shader
     int pcfRadius = 1;          // PCF kernel is (2r+1)^2 taps
+    // Fog marcher (src/volume): steps per ray through a volume's bounds, resolution divisor
+    // (1 = full, 2 = half, 4 = quarter, joint-bilateral upsampled), jitter of the start.
+    int fogSteps = 128;
+    int fogResolution = 1;
+    bool fogJitter = true;
+    // GPU memory budget for all volumes (MiB); larger grids are coarsened or refused.
+    int volumeBudgetMiB = 1024;
+    std::string volumeOverBudget = "coarsen"; // "coarsen" or "refuse"
 };
 
 struct Scene {

@@ -254,6 +254,12 @@ void parseRender(const Obj& o, RenderSettings& r) {
     r.tonemap = o.str("tonemap", r.tonemap, {"aces", "clamp"});
     r.shadowMapSize = int(o.integer("shadow_map_size", r.shadowMapSize, 16, 16384));
     r.shadowBias = o.num("shadow_bias", r.shadowBias, kNonNegative);
+    r.fogSteps = static_cast<int>(o.integer("fog_steps", r.fogSteps, 1, 4096));
+    r.fogResolution = static_cast<int>(o.integer("fog_resolution", r.fogResolution, 1, 4));
+    if (r.fogResolution == 3) fail(o.ctx(), o.ptr("fog_resolution"), "must be 1, 2 or 4");
+    r.fogJitter = o.boolean("fog_jitter", r.fogJitter);
+    r.volumeBudgetMiB = static_cast<int>(o.integer("volume_budget_mib", r.volumeBudgetMiB, 1, 1 << 20));
+    r.volumeOverBudget = o.str("volume_over_budget", r.volumeOverBudget, {"coarsen", "refuse"});
     r.pcfRadius = int(o.integer("pcf_radius", r.pcfRadius, 0, 16));
 }
 
@@ -497,11 +503,24 @@ void parseObject(const Context& ctx, const json& j, const std::string& ptr, std:
 VolumeRef parseVolume(const Context& ctx, const json& j, const std::string& ptr, std::size_t i) {
     Obj o(
         ctx, j, ptr,
-        {"name", "path", "grid", "transform", "density_scale", "albedo", "anisotropy", "emission"});
+        {"name", "path", "procedural", "size", "voxel_size", "seed", "grid", "transform",
+         "density_scale", "albedo", "anisotropy", "emission"});
     VolumeRef v;
     v.name = o.str("name", fmt::format("volume{}", i));
-    o.require("path");
-    v.path = resolvePath(o, "path", "volume file");
+    if (o.get("path") && o.get("procedural"))
+        fail(ctx, o.ptr("procedural"), "give either path or procedural, not both");
+    if (o.get("procedural")) {
+        v.procedural =
+            o.str("procedural", "", {"box", "sphere", "smoke-ball", "noise-cloud", "homogeneous"});
+        v.size = o.vec<3>("size", v.size, kAny, true);
+        if (v.size.x <= 0 || v.size.y <= 0 || v.size.z <= 0)
+            fail(ctx, o.ptr("size"), "size must be positive");
+        v.voxelSize = o.num("voxel_size", v.voxelSize, Range{1e-4, 1e4, true, true});
+        v.seed = static_cast<std::uint32_t>(o.integer("seed", 1, 0, 1 << 30));
+    } else {
+        o.require("path");
+        v.path = resolvePath(o, "path", "volume file");
+    }
     v.grid = o.str("grid", v.grid);
     if (v.grid.empty()) fail(ctx, o.ptr("grid"), "grid name must not be empty");
     if (const json* t = o.get("transform"))
@@ -532,7 +551,9 @@ Scene parseSceneDocument(const json& doc, const fs::path& baseDir, const std::st
     if (const json* r = root.get("render"))
         parseRender(Obj(ctx, *r, root.ptr("render"),
                         {"width", "height", "camera", "oit", "seed", "ambient", "background",
-                         "exposure", "tonemap", "shadow_map_size", "shadow_bias", "pcf_radius"}),
+                         "exposure", "tonemap", "shadow_map_size", "shadow_bias", "pcf_radius",
+                         "fog_steps", "fog_resolution", "fog_jitter", "volume_budget_mib",
+                         "volume_over_budget"}),
                     scene.render);
 
     forEach(root, "cameras", [&](const json& j, const std::string& p, std::size_t i) {

@@ -1,0 +1,57 @@
+// Density volumes on the GPU (src/volume/gpu_volume.h): brick atlas + indirection, or dense.
+#include "../common/bindings.h"
+#include "../common/math.glsl"
+
+struct VolumeInfo {
+    mat4 worldToIndex;
+    mat4 worldToLight;   // world -> [0,1]^3 of this volume's light-transmittance texture
+    vec3 indexMin;       // index-space bounds of the stored data (voxel centres at integers)
+    vec3 indexMax;
+    ivec3 leafOrigin;    // leaf coordinate of indirection texel (0,0,0)
+    ivec3 bricksPerAxis; // atlas layout; (0,0,0) for the dense path
+    float densityScale;
+    vec3 albedo;
+    float anisotropy;    // Henyey-Greenstein g
+    vec3 emission;       // radiance emitted per unit length per unit density
+};
+
+uniform VolumeInfo volumes[VEIL_MAX_VOLUMES];
+uniform int volumeCount;
+
+layout(binding = VEIL_TEX_VOLUME_DATA) uniform sampler3D volumeData[VEIL_MAX_VOLUMES];
+layout(binding = VEIL_TEX_VOLUME_TABLE) uniform usampler3D volumeTable[VEIL_MAX_VOLUMES];
+
+const int kLeafSize = 8;
+const int kBrickSize = 10;
+
+// Unscaled density of volume i at index-space point p (trilinear). emptyLeaf is set where the
+// leaf holds no brick (or p is outside), so the marcher can skip the whole leaf.
+float sampleVolumeIndex(int i, vec3 p, out bool emptyLeaf) {
+    emptyLeaf = false;
+    if (any(lessThan(p, volumes[i].indexMin)) || any(greaterThanEqual(p, volumes[i].indexMax))) {
+        emptyLeaf = true;
+        return 0.0;
+    }
+    vec3 dims = vec3(textureSize(volumeData[i], 0));
+    if (volumes[i].bricksPerAxis.x == 0)
+        return texture(volumeData[i], (p - volumes[i].indexMin + 0.5) / dims).r;
+    ivec3 cell = ivec3(floor(p));
+    ivec3 leafCoord = cell >> 3; // floor division by 8, also for negative coordinates
+    uint b = texelFetch(volumeTable[i], leafCoord - volumes[i].leafOrigin, 0).r;
+    if (b == 0u) {
+        emptyLeaf = true;
+        return 0.0;
+    }
+    b -= 1u;
+    uvec3 bpa = uvec3(volumes[i].bricksPerAxis);
+    vec3 slot = vec3(b % bpa.x, (b / bpa.x) % bpa.y, b / (bpa.x * bpa.y));
+    vec3 local = p - vec3(leafCoord * kLeafSize) + 1.0; // apron of one voxel
+    return texture(volumeData[i], (slot * float(kBrickSize) + local + 0.5) / dims).r;
+}
+
+// Henyey-Greenstein phase function; cosTheta between the light's travel direction and the
+// direction toward the eye.
+float henyeyGreenstein(float cosTheta, float g) {
+    float d = 1.0 + g * g - 2.0 * g * cosTheta;
+    return (1.0 - g * g) / (4.0 * PI * d * sqrt(d));
+}

@@ -1,0 +1,251 @@
+#include "volume/density_grid.h"
+
+#include "base/atomic_file.h"
+#include "base/error.h"
+#include "base/log.h"
+
+#include <openvdb/tools/LevelSetUtil.h>
+#include <openvdb/tools/MeshToVolume.h>
+
+#include <cmath>
+#include <mutex>
+
+namespace veil::volume {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+void initOpenVdb() {
+    static std::once_flag once;
+    std::call_once(once, [] { openvdb::initialize(); });
+}
+
+openvdb::GridPtrVecPtr readAllGrids(const fs::path& path) {
+    initOpenVdb();
+    VEIL_CHECK(fs::exists(path), "cannot open volume '{}': no such file", path.string());
+    try {
+        openvdb::io::File file(path.string());
+        file.open();
+        openvdb::GridPtrVecPtr grids = file.getGrids();
+        file.close();
+        return grids;
+    } catch (const openvdb::Exception& e) {
+        throw Error(fmt::format("cannot read OpenVDB file '{}' (truncated or corrupt?): {}",
+                                path.string(), e.what()));
+    } catch (const std::exception& e) {
+        throw Error(fmt::format("cannot read OpenVDB file '{}': {}", path.string(), e.what()));
+    }
+}
+
+GridSummary summarize(const openvdb::GridBase& grid) {
+    GridSummary s;
+    s.name = grid.getName();
+    s.type = grid.valueType();
+    s.gridClass = openvdb::GridBase::gridClassToString(grid.getGridClass());
+    s.activeVoxels = grid.activeVoxelCount();
+    s.indexBounds = grid.evalActiveVoxelBoundingBox();
+    s.voxelSize = grid.voxelSize();
+    if (!s.indexBounds.empty())
+        s.worldBounds = grid.transform().indexToWorld(s.indexBounds);
+    return s;
+}
+
+// Small deterministic hash noise (value noise with smooth interpolation), independent of any
+// library's random distributions.
+float hash3(int x, int y, int z, std::uint32_t seed) {
+    std::uint32_t h = seed * 0x9E3779B1u ^ static_cast<std::uint32_t>(x) * 0x85EBCA77u ^
+                      static_cast<std::uint32_t>(y) * 0xC2B2AE3Du ^
+                      static_cast<std::uint32_t>(z) * 0x27D4EB2Fu;
+    h ^= h >> 15;
+    h *= 0x2C1B3C6Du;
+    h ^= h >> 12;
+    h *= 0x297A2D39u;
+    h ^= h >> 15;
+    return static_cast<float>(h & 0xFFFFFFu) / static_cast<float>(0xFFFFFFu);
+}
+
+float valueNoise(float x, float y, float z, std::uint32_t seed) {
+    const int ix = static_cast<int>(std::floor(x)), iy = static_cast<int>(std::floor(y)),
+              iz = static_cast<int>(std::floor(z));
+    auto smooth = [](float t) { return t * t * (3.0f - 2.0f * t); };
+    const float fx = smooth(x - ix), fy = smooth(y - iy), fz = smooth(z - iz);
+    float v = 0.0f;
+    for (int c = 0; c < 8; ++c) {
+        const int dx = c & 1, dy = (c >> 1) & 1, dz = (c >> 2) & 1;
+        const float w = (dx ? fx : 1 - fx) * (dy ? fy : 1 - fy) * (dz ? fz : 1 - fz);
+        v += w * hash3(ix + dx, iy + dy, iz + dz, seed);
+    }
+    return v;
+}
+
+float fbm(float x, float y, float z, std::uint32_t seed) {
+    float sum = 0.0f, amp = 0.5f;
+    for (int o = 0; o < 5; ++o) {
+        sum += amp * valueNoise(x, y, z, seed + static_cast<std::uint32_t>(o) * 101u);
+        x *= 2.03f;
+        y *= 2.03f;
+        z *= 2.03f;
+        amp *= 0.5f;
+    }
+    return sum; // in [0, ~0.97]
+}
+
+} // namespace
+
+std::vector<GridSummary> listGrids(const fs::path& path) {
+    std::vector<GridSummary> out;
+    for (const auto& g : *readAllGrids(path)) out.push_back(summarize(*g));
+    return out;
+}
+
+std::size_t sanitizeDensity(openvdb::FloatGrid& grid) {
+    std::size_t changed = 0;
+    for (auto it = grid.beginValueOn(); it; ++it) {
+        const float v = *it;
+        if (!std::isfinite(v) || v < 0.0f) {
+            it.setValue(0.0f);
+            ++changed;
+        }
+    }
+    const float bg = grid.background();
+    if (!std::isfinite(bg) || bg != 0.0f) {
+        // A fog density's background is empty space.
+        grid.tree().root().setBackground(0.0f, true);
+        ++changed;
+    }
+    return changed;
+}
+
+openvdb::FloatGrid::Ptr loadDensityGrid(const fs::path& path, const std::string& gridName) {
+    const openvdb::GridPtrVecPtr grids = readAllGrids(path);
+    openvdb::GridBase::Ptr found;
+    std::string names;
+    for (const auto& g : *grids) {
+        names += fmt::format("{}'{}' ({})", names.empty() ? "" : ", ", g->getName(),
+                             g->valueType());
+        if (!found && g->getName() == gridName) found = g;
+    }
+    VEIL_CHECK(found, "volume '{}' has no grid named '{}' (grids: {})", path.string(), gridName,
+               names.empty() ? "none" : names);
+    auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(found);
+    VEIL_CHECK(grid,
+               "grid '{}' of '{}' holds {} values; a density must be a scalar float grid",
+               gridName, path.string(), found->valueType());
+    VEIL_CHECK(grid->activeVoxelCount() > 0, "grid '{}' of '{}' is empty (no active voxels)",
+               gridName, path.string());
+    if (grid->getGridClass() == openvdb::GRID_LEVEL_SET) {
+        log::warn("grid '{}' of '{}' is a level set: converted to a fog volume (density 1 "
+                  "inside)",
+                  gridName, path.string());
+        grid = grid->deepCopy();
+        openvdb::tools::sdfToFogVolume(*grid);
+    }
+    if (const std::size_t bad = sanitizeDensity(*grid))
+        log::warn("grid '{}' of '{}': {} NaN, infinite or negative densities set to 0",
+                  gridName, path.string(), bad);
+    VEIL_CHECK(grid->activeVoxelCount() > 0, "grid '{}' of '{}' is empty (no active voxels)",
+               gridName, path.string());
+    return grid;
+}
+
+openvdb::FloatGrid::Ptr makeProceduralGrid(const std::string& kind, const glm::vec3& size,
+                                           float voxelSize, std::uint32_t seed) {
+    initOpenVdb();
+    VEIL_CHECK(voxelSize > 0.0f, "procedural volume: voxel size must be positive");
+    const glm::vec3 half = 0.5f * size;
+    const glm::ivec3 n = glm::ivec3(glm::ceil(half / voxelSize));
+    VEIL_CHECK(static_cast<double>(n.x) * n.y * n.z * 8.0 < 1.0e9,
+               "procedural volume of size ({}, {}, {}) at voxel size {} is too large", size.x,
+               size.y, size.z, voxelSize);
+    auto grid = openvdb::FloatGrid::create(0.0f);
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(voxelSize));
+    grid->setGridClass(openvdb::GRID_FOG_VOLUME);
+    grid->setName("density");
+    auto acc = grid->getAccessor();
+    const float radius = half.x;
+    for (int z = -n.z; z < n.z; ++z)
+        for (int y = -n.y; y < n.y; ++y)
+            for (int x = -n.x; x < n.x; ++x) {
+                // Voxel centres at (i + 0.5) h so that the field is symmetric about 0.
+                const glm::vec3 p = (glm::vec3(x, y, z) + 0.5f) * voxelSize;
+                float d = 0.0f;
+                if (kind == "box") {
+                    d = 1.0f;
+                } else if (kind == "sphere") {
+                    d = glm::length(p) <= radius ? 1.0f : 0.0f;
+                } else if (kind == "smoke-ball") {
+                    const float r = glm::length(p) / radius;
+                    const float noise = fbm(p.x / radius * 3.0f, p.y / radius * 3.0f,
+                                            p.z / radius * 3.0f, seed);
+                    d = glm::clamp((1.0f - r) * 2.0f, 0.0f, 1.0f) * (0.4f + 1.2f * noise);
+                    d = r < 1.0f ? d : 0.0f;
+                } else if (kind == "noise-cloud") {
+                    const glm::vec3 q = p / glm::max(size.x, glm::max(size.y, size.z)) * 4.0f;
+                    const float edge = glm::clamp(
+                        4.0f * glm::min(glm::min(half.x - std::abs(p.x), half.y - std::abs(p.y)),
+                                        half.z - std::abs(p.z)) /
+                            glm::min(half.x, glm::min(half.y, half.z)),
+                        0.0f, 1.0f);
+                    d = glm::clamp((fbm(q.x, q.y, q.z, seed) - 0.45f) * 4.0f, 0.0f, 1.0f) * edge;
+                } else {
+                    throw Error(fmt::format("unknown procedural volume '{}'", kind));
+                }
+                if (d > 0.0f) acc.setValue(openvdb::Coord(x, y, z), d);
+            }
+    // Index (i, j, k) has its centre at (i + 0.5) h: shift the transform by half a voxel.
+    grid->transform().postTranslate(openvdb::Vec3d(0.5 * voxelSize));
+    VEIL_CHECK(grid->activeVoxelCount() > 0, "procedural volume '{}' came out empty", kind);
+    return grid;
+}
+
+openvdb::FloatGrid::Ptr meshToFogGrid(const scene::MeshData& mesh, const glm::mat4& transform,
+                                      float voxelSize, float bandVoxels) {
+    initOpenVdb();
+    VEIL_CHECK(!mesh.billboard, "mesh '{}': particle clouds have no volume", mesh.name);
+    auto xform = openvdb::math::Transform::createLinearTransform(voxelSize);
+    std::vector<openvdb::Vec3s> points;
+    points.reserve(mesh.positions.size());
+    for (const auto& p : mesh.positions) {
+        const glm::vec3 w = glm::vec3(transform * glm::vec4(p, 1.0f));
+        const openvdb::Vec3d idx = xform->worldToIndex(openvdb::Vec3d(w.x, w.y, w.z));
+        points.emplace_back(static_cast<float>(idx.x()), static_cast<float>(idx.y()),
+                            static_cast<float>(idx.z()));
+    }
+    std::vector<openvdb::Vec3I> triangles;
+    for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3)
+        triangles.emplace_back(mesh.indices[i], mesh.indices[i + 1], mesh.indices[i + 2]);
+    openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> adapter(points,
+                                                                                       triangles);
+    auto sdf = openvdb::tools::meshToVolume<openvdb::FloatGrid>(adapter, *xform, bandVoxels,
+                                                                bandVoxels);
+    openvdb::tools::sdfToFogVolume(*sdf);
+    sdf->setName("density");
+    VEIL_CHECK(sdf->activeVoxelCount() > 0,
+               "mesh '{}' gave an empty volume (is it closed? is the voxel size {} too large?)",
+               mesh.name, voxelSize);
+    return sdf;
+}
+
+openvdb::FloatGrid::Ptr loadVolume(const scene::VolumeRef& ref) {
+    VEIL_CHECK(ref.procedural != "homogeneous",
+               "volume '{}' is homogeneous fog and has no grid", ref.name);
+    if (!ref.procedural.empty())
+        return makeProceduralGrid(ref.procedural, ref.size, ref.voxelSize, ref.seed);
+    return loadDensityGrid(ref.path, ref.grid);
+}
+
+void saveGrids(const fs::path& path, const openvdb::GridPtrVec& grids) {
+    initOpenVdb();
+    writeFileAtomically(path, [&](const fs::path& tmp) {
+        try {
+            openvdb::io::File file(tmp.string());
+            file.write(grids);
+            file.close();
+        } catch (const openvdb::Exception& e) {
+            throw Error(fmt::format("cannot write '{}': {}", path.string(), e.what()));
+        }
+    });
+}
+
+} // namespace veil::volume

@@ -1,0 +1,74 @@
+// A density grid on the GPU, following its active voxels rather than its bounding box:
+// active leaf nodes (8^3) are packed into a 3D brick atlas (R16F, 10^3 per brick: one voxel of
+// apron on every side so hardware trilinear filtering is correct across bricks) and a 3D
+// indirection texture over the leaf grid maps a leaf to its brick (0 = empty: the marcher
+// skips the whole leaf). Small grids use one dense 3D texture instead.
+//
+// Leaves are dilated by one toward -x, -y, -z: a sample whose lower trilinear corner lies in an
+// empty leaf still reaches the values of the non-empty neighbour through that leaf's brick.
+#pragma once
+
+#include "gpu/objects.h"
+#include "scene/scene.h"
+
+#include <openvdb/openvdb.h>
+
+#include <glm/glm.hpp>
+
+#include <string>
+
+namespace veil::volume {
+
+struct GpuVolumeOptions {
+    std::size_t budgetBytes = std::size_t(1024) << 20;
+    bool refuseOverBudget = false; // false: coarsen (voxel size x2 until it fits) with a warning
+    std::size_t denseVoxelLimit = std::size_t(96) * 96 * 96; // bounding boxes up to this: dense
+};
+
+struct GpuVolumeStats {
+    std::size_t gpuBytes = 0;  // textures of this volume (atlas or dense, indirection)
+    std::size_t gridBytes = 0; // openvdb's own memory for the grid
+    std::size_t bricks = 0;    // 0 for the dense path
+    bool dense = false;
+    int coarsened = 0;         // times the voxel size was doubled to fit the budget
+    openvdb::Index64 activeVoxels = 0;
+};
+
+// Bytes the GPU representation of `grid` would take (without building it).
+std::size_t estimateGpuBytes(const openvdb::FloatGrid& grid, const GpuVolumeOptions& options);
+
+class GpuVolume {
+public:
+    // `objectToWorld` is the scene entry's transform, applied after the grid's own
+    // index-to-world transform (which must be affine). Throws veil::Error when the grid does not
+    // fit the budget and refuseOverBudget is set.
+    GpuVolume(openvdb::FloatGrid::ConstPtr grid, const glm::mat4& objectToWorld,
+              const GpuVolumeOptions& options = {});
+
+    const GpuVolumeStats& stats() const { return stats_; }
+    const gpu::Texture& data() const { return data_; }             // atlas or dense R16F
+    const gpu::Texture& indirection() const { return indirection_; } // R32UI (bricks only)
+    const glm::mat4& worldToIndex() const { return worldToIndex_; }
+    const glm::mat4& indexToWorld() const { return indexToWorld_; }
+    // Index-space bounds of the stored data, voxel centres at integer coordinates.
+    glm::vec3 indexMin() const { return indexMin_; }
+    glm::vec3 indexMax() const { return indexMax_; }
+    glm::ivec3 leafOrigin() const { return leafOrigin_; } // index of leaf (0,0,0) of the table
+    glm::ivec3 bricksPerAxis() const { return bricksPerAxis_; }
+    // World-space axis-aligned bounds.
+    void worldBounds(glm::vec3& lo, glm::vec3& hi) const;
+    float voxelSize() const { return voxelSize_; } // world units (largest axis)
+
+private:
+    void buildDense(const openvdb::FloatGrid& grid, const openvdb::CoordBBox& box);
+    void buildBricks(const openvdb::FloatGrid& grid);
+
+    GpuVolumeStats stats_;
+    gpu::Texture data_{gpu::NoCreate}, indirection_{gpu::NoCreate};
+    glm::mat4 worldToIndex_{1.0f}, indexToWorld_{1.0f};
+    glm::vec3 indexMin_{0.0f}, indexMax_{0.0f};
+    glm::ivec3 leafOrigin_{0}, bricksPerAxis_{0};
+    float voxelSize_ = 1.0f;
+};
+
+} // namespace veil::volume
