@@ -12,6 +12,13 @@
 
 #define VEIL_IMG_OUTPUT 0
 
+// OIT `reference` (per-pixel linked lists) and `wboit` resolve targets.
+#define VEIL_IMG_OIT_REF_HEADS 1
+#define VEIL_IMG_OIT_REF_TARGET 2
+#define VEIL_SSBO_OIT_REF_NODES 1
+#define VEIL_SSBO_OIT_REF_COUNTERS 2
+#define VEIL_IMG_OIT_WBOIT_TARGET 3
+
 #define VEIL_MAX_LIGHTS 8
 
 #define VEIL_ATTR_POSITION 0
