@@ -8,6 +8,7 @@
 #include "frame/renderer.h"
 #include "gpu/context.h"
 #include "io/image_io.h"
+#include "oit/reference/reference.h"
 #include "oit/technique.h"
 #include "scene/scene.h"
 
@@ -50,6 +51,7 @@ struct Rendered {
     int width = 0, height = 0;
     std::string camera;
     gpu::GpuTimer::Mode timer = gpu::GpuTimer::Mode::CpuFinish;
+    nlohmann::json oitStats; // technique-specific counters (reference: fragments, pool)
 };
 
 Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, const RenderArgs& args,
@@ -69,6 +71,14 @@ Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, con
     r.height = renderer.height();
     r.camera = renderer.camera().name;
     r.timer = renderer.timerMode();
+    if (const auto* ref = dynamic_cast<const oit::ReferenceTechnique*>(&renderer.technique())) {
+        const oit::ReferenceStats& st = ref->stats();
+        r.oitStats = {{"fragments", st.fragments},
+                      {"pool_nodes", st.poolNodes},
+                      {"pool_growths", st.poolGrowths},
+                      {"accumulation_repeats", st.accumulationRepeats},
+                      {"pixel_overflow_fragments", st.pixelOverflowFragments}};
+    }
     return r;
 }
 
@@ -176,6 +186,7 @@ void runRender(const RenderArgs& args) {
                                   {"gpu_bytes", f.gpuBytes},
                                   {"passes", f.passes},
                                   {"total_ms", f.totalMs},
+                                  {"oit_stats", f.oitStats},
                                   {"compare", errorJson("reference", errors[i].second)}});
         }
         report["techniques"] = techniques;
@@ -184,6 +195,7 @@ void runRender(const RenderArgs& args) {
         report["gpu_bytes"] = main.gpuBytes;
         report["passes"] = main.passes;
         report["total_ms"] = main.totalMs;
+        if (!main.oitStats.is_null()) report["oit_stats"] = main.oitStats;
         if (!args.compareTo.empty()) {
             report["compare"] = errorJson(args.compareTo, errors.front().second);
             report["compare"]["error_image"] = fs::absolute(errorPath).string();
