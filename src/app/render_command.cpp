@@ -85,8 +85,8 @@ Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, con
 // Fails before any rendering, naming the known techniques.
 void checkKnown(const std::string& name, const char* option) {
     const auto& registry = oit::Registry::instance();
-    VEIL_CHECK(registry.find(name), "{}: unknown OIT technique '{}' (known: {}, or all)", option,
-               name, fmt::join(registry.names(), ", "));
+    VEIL_CHECK(registry.find(name), "{}: unknown OIT technique '{}' (known: {}{})", option, name,
+               fmt::join(registry.names(), ", "), std::string(option) == "--oit" ? ", or all" : "");
 }
 
 nlohmann::json errorJson(const std::string& against, const ImageError& e) {
