@@ -12,15 +12,22 @@
 
 #define VEIL_IMG_OUTPUT 0
 
+// OIT `reference` (per-pixel linked lists) and `wboit` resolve targets.
+#define VEIL_IMG_OIT_REF_HEADS 1
+#define VEIL_IMG_OIT_REF_TARGET 2
+#define VEIL_SSBO_OIT_REF_NODES 1
+#define VEIL_SSBO_OIT_REF_COUNTERS 2
+#define VEIL_IMG_OIT_WBOIT_TARGET 3
+
 // Fog (src/volume): marcher outputs, and per-volume textures (VEIL_MAX_VOLUMES of each)
 #define VEIL_TEX_FOG_RADIANCE 12
 #define VEIL_TEX_FOG_TRANSMITTANCE 13
 #define VEIL_TEX_VOLUME_DATA 16
 #define VEIL_TEX_VOLUME_TABLE 20
 #define VEIL_TEX_VOLUME_LIGHT 24
-#define VEIL_IMG_FOG_RADIANCE 1
-#define VEIL_IMG_FOG_TRANSMITTANCE 2
-#define VEIL_IMG_VOLUME_LIGHT 3
+#define VEIL_IMG_FOG_RADIANCE 4
+#define VEIL_IMG_FOG_TRANSMITTANCE 5
+#define VEIL_IMG_VOLUME_LIGHT 6
 #define VEIL_MAX_VOLUMES 4
 
 #define VEIL_MAX_LIGHTS 8

@@ -1,15 +1,22 @@
 // `veil render <scene.json> -o out.{png,exr}`: one frame headless, plus a JSON report.
 #include "app/commands.h"
 
+#include "app/compare.h"
+
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "frame/renderer.h"
 #include "gpu/context.h"
 #include "io/image_io.h"
+#include "oit/reference/reference.h"
+#include "oit/technique.h"
 #include "scene/scene.h"
 
 #include <nlohmann/json.hpp>
 
+#include <fmt/ranges.h>
+
+#include <cmath>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -31,13 +38,82 @@ struct RenderArgs {
     int device = -1;
     bool glDebug = false;
     std::vector<std::string> overrides;
+    std::string compareTo;
 };
 
+// One frame of the scene with one technique, kept for writing and comparing.
+struct Rendered {
+    std::string oit;
+    ImageF hdr, ldr;
+    nlohmann::json passes = nlohmann::json::array();
+    double totalMs = 0.0;
+    std::size_t gpuBytes = 0;
+    int width = 0, height = 0;
+    std::string camera;
+    gpu::GpuTimer::Mode timer = gpu::GpuTimer::Mode::CpuFinish;
+    nlohmann::json oitStats; // technique-specific counters (reference: fragments, pool)
+};
+
+Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, const RenderArgs& args,
+                    const std::string& oit) {
+    frame::Renderer renderer(scene, info, {args.width, args.height, args.camera, oit});
+    renderer.render();
+    Rendered r;
+    r.oit = renderer.oitName();
+    r.hdr = renderer.readHdr();
+    r.ldr = renderer.readLdr();
+    for (const auto& p : renderer.passTimes()) {
+        r.passes.push_back({{"name", p.name}, {"ms", p.milliseconds}});
+        r.totalMs += p.milliseconds;
+    }
+    r.gpuBytes = renderer.gpuBytes();
+    r.width = renderer.width();
+    r.height = renderer.height();
+    r.camera = renderer.camera().name;
+    r.timer = renderer.timerMode();
+    if (const auto* ref = dynamic_cast<const oit::ReferenceTechnique*>(&renderer.technique())) {
+        const oit::ReferenceStats& st = ref->stats();
+        r.oitStats = {{"fragments", st.fragments},
+                      {"pool_nodes", st.poolNodes},
+                      {"pool_growths", st.poolGrowths},
+                      {"accumulation_repeats", st.accumulationRepeats},
+                      {"pixel_overflow_fragments", st.pixelOverflowFragments}};
+    }
+    return r;
+}
+
+// Fails before any rendering, naming the known techniques.
+void checkKnown(const std::string& name, const char* option) {
+    const auto& registry = oit::Registry::instance();
+    VEIL_CHECK(registry.find(name), "{}: unknown OIT technique '{}' (known: {}{})", option, name,
+               fmt::join(registry.names(), ", "), std::string(option) == "--oit" ? ", or all" : "");
+}
+
+nlohmann::json errorJson(const std::string& against, const ImageError& e) {
+    // JSON has no infinity: an identical image has "psnr_db": "inf".
+    nlohmann::json j = {{"against", against}, {"rmse", e.rmse}, {"peak", e.peak}};
+    if (std::isfinite(e.psnr))
+        j["psnr_db"] = e.psnr;
+    else
+        j["psnr_db"] = std::isinf(e.psnr) ? "inf" : "undefined";
+    j["metric"] = "linear HDR RGB; RMSE = sqrt(mean (a-b)^2); PSNR = 10 log10(peak^2 / MSE), "
+                  "peak = max RGB of the reference";
+    return j;
+}
+
+std::string formatError(const ImageError& e) {
+    return fmt::format("RMSE {:.6g}, PSNR {} (peak {:.4g})", e.rmse,
+                       std::isfinite(e.psnr) ? fmt::format("{:.2f} dB", e.psnr)
+                                             : std::string(std::isinf(e.psnr) ? "inf" : "n/a"),
+                       e.peak);
+}
+
 void runRender(const RenderArgs& args) {
-    std::string ext = fs::path(args.output).extension().string();
-    VEIL_CHECK(ext == ".png" || ext == ".exr", "output '{}' must end in .png or .exr",
-               args.output);
+    const fs::path output = args.output;
+    std::string ext = output.extension().string();
+    VEIL_CHECK(ext == ".png" || ext == ".exr", "output '{}' must end in .png or .exr", args.output);
     if (!args.report.empty()) {
+        // The report is optional: a default name beside the output could overwrite the scene.
         VEIL_CHECK(fs::path(args.report).extension() == ".json", "report '{}' must end in .json",
                    args.report);
         std::error_code ec;
@@ -45,47 +121,118 @@ void runRender(const RenderArgs& args) {
                    "report '{}' would overwrite the scene file", args.report);
     }
     scene::Scene scene = scene::loadScene(args.scene, args.overrides);
+    const std::string oitName = args.oit.empty() ? scene.render.oit : args.oit;
+    const bool all = oitName == "all";
+    if (!all) checkKnown(oitName, "--oit");
+    if (!args.compareTo.empty()) {
+        VEIL_CHECK(!all, "--compare-to cannot be combined with --oit all (which compares "
+                         "every technique with reference)");
+        checkKnown(args.compareTo, "--compare-to");
+    }
     gpu::HeadlessContext context({args.device, args.glDebug});
-    frame::RendererOptions options{args.width, args.height, args.camera, args.oit};
-    frame::Renderer renderer(scene, context.info(), options);
-    renderer.render();
+    const bool png = ext == ".png";
+
+    // Render everything first, write afterwards: a failing technique leaves no output.
+    std::vector<Rendered> frames;
+    std::vector<std::pair<std::string, ImageError>> errors;
+    if (all) {
+        frames.push_back(renderWith(scene, context.info(), args, "reference"));
+        for (const auto& t : oit::Registry::instance().all()) {
+            if (t.name == "reference") continue;
+            if (t.isAvailable && !t.isAvailable(context.info())) {
+                std::cout << "skipping " << t.name << " (not available on "
+                          << context.info().renderer << ")\n";
+                continue;
+            }
+            frames.push_back(renderWith(scene, context.info(), args, t.name));
+        }
+        for (const Rendered& f : frames)
+            errors.emplace_back(f.oit, compareLinear(f.hdr, frames.front().hdr));
+    } else {
+        frames.push_back(renderWith(scene, context.info(), args, oitName));
+        if (!args.compareTo.empty()) {
+            Rendered ref = renderWith(scene, context.info(), args, args.compareTo);
+            errors.emplace_back(frames.front().oit, compareLinear(frames.front().hdr, ref.hdr));
+            frames.push_back(std::move(ref));
+        }
+    }
+    const Rendered& main = frames.front();
 
     // PNG gets the tone-mapped sRGB image, EXR the linear HDR radiance.
-    const ImageF image = ext == ".png" ? renderer.readLdr() : renderer.readHdr();
-    io::writeImage(args.output, image);
+    fs::path errorPath;
+    if (all) {
+        std::vector<ImageF> tiles;
+        for (const Rendered& f : frames)
+            tiles.push_back(png ? f.ldr : f.hdr);
+        io::writeImage(output, contactSheet(tiles));
+    } else {
+        io::writeImage(output, png ? main.ldr : main.hdr);
+        if (!args.compareTo.empty()) {
+            errorPath = output.parent_path() / (output.stem().string() + "-error.png");
+            io::writeImage(errorPath, errorImage(main.hdr, frames.back().hdr));
+        }
+    }
 
     nlohmann::json report;
     report["scene"] = fs::absolute(args.scene).string();
     report["output"] = fs::absolute(args.output).string();
-    report["width"] = renderer.width();
-    report["height"] = renderer.height();
-    report["camera"] = renderer.camera().name;
-    report["oit"] = renderer.oitName();
+    report["width"] = main.width;
+    report["height"] = main.height;
+    report["camera"] = main.camera;
+    report["oit"] = all ? std::string("all") : main.oit;
     report["renderer"] = context.info().renderer;
     report["gl_version"] = context.info().version;
     report["vendor"] = context.info().vendor;
-    report["timer"] = renderer.timerMode() == gpu::GpuTimer::Mode::Query
+    report["timer"] = main.timer == gpu::GpuTimer::Mode::Query
                           ? "GL_TIME_ELAPSED"
                           : "glFinish + CPU clock (driver timer unusable)";
-    report["gpu_bytes"] = renderer.gpuBytes();
-    double total = 0.0;
-    nlohmann::json passes = nlohmann::json::array();
-    for (const auto& p : renderer.passTimes()) {
-        passes.push_back({{"name", p.name}, {"ms", p.milliseconds}});
-        total += p.milliseconds;
+    if (all) {
+        nlohmann::json techniques = nlohmann::json::array();
+        for (std::size_t i = 0; i < frames.size(); ++i) {
+            const Rendered& f = frames[i];
+            techniques.push_back({{"oit", f.oit},
+                                  {"gpu_bytes", f.gpuBytes},
+                                  {"passes", f.passes},
+                                  {"total_ms", f.totalMs},
+                                  {"oit_stats", f.oitStats},
+                                  {"compare", errorJson("reference", errors[i].second)}});
+        }
+        report["techniques"] = techniques;
+        report["sheet_order"] = "left to right as in techniques[]";
+    } else {
+        report["gpu_bytes"] = main.gpuBytes;
+        report["passes"] = main.passes;
+        report["total_ms"] = main.totalMs;
+        if (!main.oitStats.is_null()) report["oit_stats"] = main.oitStats;
+        if (!args.compareTo.empty()) {
+            report["compare"] = errorJson(args.compareTo, errors.front().second);
+            report["compare"]["error_image"] = fs::absolute(errorPath).string();
+            report["compare"]["error_image_scale"] = kErrorImageScale;
+        }
     }
-    report["passes"] = passes;
-    report["total_ms"] = total;
-    std::cout << "wrote " << args.output << " (" << renderer.width() << "x" << renderer.height()
-              << ", oit " << renderer.oitName() << ", " << context.info().renderer << ")\n";
-    if (args.report.empty()) return;
     const fs::path reportPath = args.report;
-    writeFileAtomically(reportPath, [&](const fs::path& tmp) {
-        std::ofstream out(tmp);
-        out << report.dump(2) << "\n";
-        VEIL_CHECK(out.good(), "cannot write report '{}'", reportPath.string());
-    });
-    std::cout << "wrote " << reportPath.string() << " (per-pass GPU times)\n";
+    if (!args.report.empty())
+        writeFileAtomically(reportPath, [&](const fs::path& tmp) {
+            std::ofstream out(tmp);
+            out << report.dump(2) << "\n";
+            VEIL_CHECK(out.good(), "cannot write report '{}'", reportPath.string());
+        });
+    if (all) {
+        std::cout << "wrote " << args.output << " (contact sheet, " << frames.size() << " tiles of "
+                  << main.width << "x" << main.height << ", " << context.info().renderer << ")\n";
+        for (const auto& [name, e] : errors)
+            std::cout << fmt::format("  {:<12} vs reference: {}\n", name, formatError(e));
+    } else {
+        std::cout << "wrote " << args.output << " (" << main.width << "x" << main.height << ", oit "
+                  << main.oit << ", " << context.info().renderer << ")\n";
+        if (!args.compareTo.empty())
+            std::cout << fmt::format("{} vs {}: {} (linear HDR)\nwrote {} (|error| x {} in "
+                                     "linear, sRGB-encoded)\n",
+                                     main.oit, args.compareTo, formatError(errors.front().second),
+                                     errorPath.string(), kErrorImageScale);
+    }
+    if (!args.report.empty())
+        std::cout << "wrote " << reportPath.string() << " (per-pass GPU times)\n";
 }
 
 } // namespace
@@ -93,19 +240,23 @@ void runRender(const RenderArgs& args) {
 void addRenderCommand(CLI::App& app) {
     auto args = std::make_shared<RenderArgs>();
     CLI::App* cmd = app.add_subcommand("render", "Render a scene headless to PNG or EXR");
-    cmd->add_option("scene", args->scene, "Scene file (JSON, docs/scene-format.md)")
-        ->required();
+    cmd->add_option("scene", args->scene, "Scene file (JSON, docs/scene-format.md)")->required();
     cmd->add_option("-o,--output", args->output,
                     "Output image: .png (tone-mapped sRGB) or .exr (linear HDR)")
         ->required();
     cmd->add_option("--report", args->report,
-                    "Also write a JSON report: per-pass GPU times, image size, renderer");
+                    "Also write a JSON report: per-pass GPU times, image size, renderer, errors");
     cmd->add_option("--width", args->width, "Image width (default: the scene's)")
         ->check(CLI::Range(1, 16384));
     cmd->add_option("--height", args->height, "Image height (default: the scene's)")
         ->check(CLI::Range(1, 16384));
     cmd->add_option("--camera", args->camera, "Camera name (default: the scene's)");
-    cmd->add_option("--oit", args->oit, "Transparency technique (default: the scene's)");
+    cmd->add_option("--oit", args->oit,
+                    "Transparency technique (default: the scene's); 'all' renders every "
+                    "available one into a contact sheet and prints each one's error vs reference");
+    cmd->add_option("--compare-to", args->compareTo,
+                    "Also render with this technique (e.g. reference) and print RMSE/PSNR of the "
+                    "output vs it (linear HDR); writes <output stem>-error.png (|error| x 4)");
     cmd->add_option("--set", args->overrides,
                     "Override a scene value: key=value, e.g. render.exposure=2 or "
                     "lights.0.intensity=5 (repeatable)");

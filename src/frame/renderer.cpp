@@ -197,6 +197,7 @@ void Renderer::render() {
             oit_->beginAccumulate(pass, targets_, program);
             drawObjects(program, Subset::Transparent);
             oit_->endAccumulate(pass);
+            if (pass + 1 == oit_->geometryPasses() && oit_->repeatAccumulation()) pass = -1;
         }
     }
     {

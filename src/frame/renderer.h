@@ -49,6 +49,7 @@ public:
     int width() const { return width_; }
     int height() const { return height_; }
     const std::string& oitName() const { return oitName_; }
+    const oit::Technique& technique() const { return *oit_; }
     const scene::Camera& camera() const { return camera_; }
     void setCamera(const scene::Camera& camera) { camera_ = camera; }
     gpu::GpuTimer::Mode timerMode() const { return timer_.mode(); }

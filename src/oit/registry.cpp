@@ -2,13 +2,19 @@
 
 #include "base/error.h"
 #include "oit/blend/blend.h"
+#include "oit/reference/reference.h"
+#include "oit/wboit/wboit.h"
 
 #include <fmt/ranges.h>
 
 namespace veil::oit {
 
 namespace {
-void registerBuiltinTechniques(Registry& registry) { registerBlend(registry); }
+void registerBuiltinTechniques(Registry& registry) {
+    registerBlend(registry);
+    registerReference(registry);
+    registerWboit(registry);
+}
 } // namespace
 
 Registry& Registry::instance() {

@@ -53,6 +53,10 @@ public:
                                  const gpu::Program& program) = 0;
     // Restores default state (blending off, depth writes on, framebuffer 0).
     virtual void endAccumulate(int pass) = 0;
+    // Asked once after the last geometry pass: true makes the frame run all geometry passes
+    // again (e.g. the `reference` node pool overflowed and was grown). A technique must not
+    // ask for endless repeats.
+    virtual bool repeatAccumulation() { return false; }
     // Composites the accumulation over targets.hdrColor.
     virtual void resolve(const OitFrameTargets& targets) = 0;
     // Bytes of technique-owned storage per pixel (memory reports, benchmarks).

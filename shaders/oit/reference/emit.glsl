@@ -1,0 +1,46 @@
+// OIT technique `reference`: exact per-pixel sorted compositing. oitEmit appends one node to
+// the pixel's linked list (head pointer in an r32ui image, nodes in an SSBO pool, an atomic
+// node counter); shaders/oit/reference/resolve.comp sorts each list by depth and composites
+// front to back. Each node stores
+//   radiance   = alpha * L_r (premultiplied), depth = view depth,
+//   modulation = 1 - alpha + alpha * T (000 Eq. 2, per channel).
+// The counter keeps counting past the pool's capacity; the host reads it back and, when it
+// exceeds the pool, grows the pool and re-renders (reference.h).
+//
+// Fog marcher: a compute shader can call this same oitEmit() once per segment between
+// surfaces if it #defines OIT_PIXEL_COORD (its ivec2 pixel) before including this file; the
+// segment then takes part in the sort like any surface fragment.
+#include "../../common/bindings.h"
+
+#ifndef OIT_PIXEL_COORD
+#define OIT_PIXEL_COORD ivec2(gl_FragCoord.xy)
+// Appending is a side effect: it must only happen for fragments that pass the depth test
+// against the opaque depth, so the test runs before the shader.
+layout(early_fragment_tests) in;
+#endif
+
+struct OitRefNode {
+    vec3 radiance;
+    float depth;
+    vec3 modulation;
+    uint next;
+};
+layout(std430, binding = VEIL_SSBO_OIT_REF_NODES) restrict writeonly buffer OitRefNodes {
+    OitRefNode oitRefNodes[];
+};
+layout(std430, binding = VEIL_SSBO_OIT_REF_COUNTERS) restrict buffer OitRefCounters {
+    uint oitRefRequested; // nodes requested this accumulation (may exceed the capacity)
+    uint oitRefDropped;   // written by the resolve
+};
+layout(binding = VEIL_IMG_OIT_REF_HEADS, r32ui) uniform restrict uimage2D oitRefHeads;
+uniform uint oitRefCapacity;
+
+void oitEmit(vec3 radiance, float alpha, vec3 transmission, float viewDepth) {
+    uint node = atomicAdd(oitRefRequested, 1u);
+    if (node >= oitRefCapacity) return; // counted; the host grows the pool and re-renders
+    uint next = imageAtomicExchange(oitRefHeads, OIT_PIXEL_COORD, node);
+    oitRefNodes[node].radiance = radiance;
+    oitRefNodes[node].depth = viewDepth;
+    oitRefNodes[node].modulation = vec3(1.0 - alpha) + alpha * transmission;
+    oitRefNodes[node].next = next;
+}

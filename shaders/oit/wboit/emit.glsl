@@ -1,0 +1,25 @@
+// OIT technique `wboit`: weighted blended OIT (McGuire & Bavoil 2013) with the depth weight
+// of 000 Eq. 5. Two targets, summed/multiplied by fixed-function blending:
+//   RT0 (RGBA16F, ONE/ONE):               A = w * (alpha * L_r, netCoverage)      (000 Eq. 4)
+//   RT1 (R16F,  ZERO/ONE_MINUS_SRC_COLOR): r = prod (1 - netCoverage)  (revealage)
+// Colored transmission: like 000 Listing 1, T enters only through the scalar net coverage
+//   netCoverage = alpha * (1 - mean(T)),
+// so the background is modulated by a grey revealage, not per channel; a surface with T = 1
+// (fully clear) contributes no weight and its reflections vanish in the resolve. The
+// phenomenological technique (000 full model) keeps the colored beta instead.
+//
+// Fog marcher: this emit writes fragment outputs and reads gl_FragCoord.z, so a compute
+// marcher cannot call it. It would have to write its per-pixel (A, netCoverage) sums into
+// the same two targets by a full-screen blended draw with the same blend state.
+
+layout(location = 0) out vec4 oitOutAccum;
+layout(location = 1) out vec4 oitOutRevealage;
+
+void oitEmit(vec3 radiance, float alpha, vec3 transmission, float viewDepth) {
+    float netCoverage = alpha * (1.0 - dot(transmission, vec3(1.0 / 3.0))); // 000 Listing 1
+    // 000 Eq. 5: w = clamp([10 (1 - 0.99 f) alpha (1 - tbar)]^3, 0.01, 30), f = window z.
+    float t = 10.0 * (1.0 - 0.99 * gl_FragCoord.z) * netCoverage;
+    float w = clamp(t * t * t, 0.01, 30.0);
+    oitOutAccum = vec4(radiance, netCoverage) * w;
+    oitOutRevealage = vec4(netCoverage);
+}

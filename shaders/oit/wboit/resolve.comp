@@ -1,0 +1,26 @@
+#version 450 core
+// OIT `wboit` resolve (000 Listing 2 without refraction, diffusion and self-modulation):
+//     result = background * r + (1 - r) * A.rgb / max(A.a, 1e-5)          (000 Eq. 3, 4)
+// with the under-/overflow guards of 000 Listing 2 on the RGBA16F accumulation.
+#include "../../common/bindings.h"
+#include "../../common/math.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = VEIL_TEX_OIT0) uniform sampler2D accumTex;
+layout(binding = VEIL_TEX_OIT0 + 1) uniform sampler2D revealageTex;
+layout(binding = VEIL_IMG_OIT_WBOIT_TARGET, rgba16f) uniform restrict image2D hdrImage;
+
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 size = imageSize(hdrImage);
+    if (p.x >= size.x || p.y >= size.y) return;
+    float r = texelFetch(revealageTex, p, 0).r;
+    if (r >= 1.0) return; // no transparency (000 Listing 2)
+    vec4 A = texelFetch(accumTex, p, 0);
+    // 000 Listing 2: suppress under- and overflow.
+    if (isinf(A.a)) A.a = maxComponent(A.rgb);
+    if (isinf(maxComponent(A.rgb))) A = vec4(isinf(A.a) ? 1.0 : A.a);
+    vec4 background = imageLoad(hdrImage, p);
+    vec3 result = background.rgb * r + (1.0 - r) * A.rgb / max(A.a, 0.00001);
+    imageStore(hdrImage, p, vec4(result, background.a));
+}

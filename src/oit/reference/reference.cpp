@@ -1,0 +1,167 @@
+#include "oit/reference/reference.h"
+
+#include "base/error.h"
+#include "base/log.h"
+
+#include "shaders/common/bindings.h"
+
+#include <algorithm>
+#include <array>
+
+namespace veil::oit {
+
+namespace {
+ReferenceLimits& globalLimits() {
+    static ReferenceLimits limits;
+    return limits;
+}
+
+constexpr GLuint kEndOfList = 0xFFFFFFFFu;
+
+std::uint64_t nextPowerOfTwo(std::uint64_t v) {
+    std::uint64_t p = 1;
+    while (p < v)
+        p <<= 1;
+    return p;
+}
+
+double mib(std::uint64_t bytes) { return static_cast<double>(bytes) / (1024.0 * 1024.0); }
+} // namespace
+
+void setReferenceLimits(const ReferenceLimits& limits) {
+    VEIL_CHECK(limits.initialNodesPerPixel > 0 && limits.maxPoolBytes >= 1024,
+               "reference OIT limits: initialNodesPerPixel must be > 0 and maxPoolBytes >= 1024");
+    globalLimits() = limits;
+}
+ReferenceLimits referenceLimits() { return globalLimits(); }
+
+ReferenceTechnique::ReferenceTechnique(gpu::ProgramManager& programs)
+    : programs_(programs), limits_(globalLimits()) {
+    resolveProgram_ = programs_.add(gpu::ProgramDesc::compute(
+        "oit/reference/resolve.comp",
+        {fmt::format("OIT_REF_MAX_FRAGMENTS {}", kMaxFragmentsPerPixel)}));
+    GLint64 maxBlock = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
+    std::uint64_t capBytes = limits_.maxPoolBytes;
+    if (maxBlock > 0)
+        capBytes = std::min<std::uint64_t>(capBytes, static_cast<std::uint64_t>(maxBlock));
+    // Node indices are 32-bit with 0xFFFFFFFF as the list end.
+    maxPoolNodes_ = std::min<std::uint64_t>(capBytes / kNodeBytes, kEndOfList - 1);
+    counters_ = gpu::Buffer();
+    counters_.setStorage(4 * sizeof(GLuint), nullptr);
+}
+
+void ReferenceTechnique::allocatePool(std::uint64_t nodes) {
+    nodes_ = gpu::Buffer();
+    nodes_.setStorage(nodes * kNodeBytes, nullptr);
+    stats_.poolNodes = nodes;
+}
+
+void ReferenceTechnique::resize(const OitFrameTargets& targets) {
+    width_ = targets.width;
+    height_ = targets.height;
+    heads_ = gpu::Texture(GL_TEXTURE_2D);
+    heads_.storage2D(1, GL_R32UI, width_, height_);
+    framebuffer_ = gpu::Framebuffer();
+    // Depth only: fragments behind opaque surfaces fail the (early) depth test and append
+    // nothing; no color target is written.
+    framebuffer_.attach(GL_DEPTH_ATTACHMENT, *targets.depth).drawBuffers({GL_NONE});
+    framebuffer_.checkComplete("oit/reference");
+    const std::uint64_t pixels = static_cast<std::uint64_t>(width_) * height_;
+    std::uint64_t nodes = std::max<std::uint64_t>(limits_.initialNodesPerPixel * pixels, 4096);
+    allocatePool(std::min(nodes, maxPoolNodes_));
+}
+
+void ReferenceTechnique::beginAccumulate(int pass, const OitFrameTargets& targets,
+                                         const gpu::Program& program) {
+    if (pass == 0) {
+        // A new accumulation (first or repeated): empty lists, zero counters.
+        const GLuint end = kEndOfList;
+        glClearTexImage(heads_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &end);
+        const GLuint zero = 0;
+        glClearNamedBufferData(counters_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    }
+    framebuffer_.bind();
+    glViewport(0, 0, targets.width, targets.height);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_FALSE);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glBindImageTexture(VEIL_IMG_OIT_REF_HEADS, heads_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+                       GL_R32UI);
+    nodes_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_OIT_REF_NODES);
+    counters_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_OIT_REF_COUNTERS);
+    program.set("oitRefCapacity", static_cast<unsigned>(stats_.poolNodes));
+}
+
+void ReferenceTechnique::endAccumulate(int) {
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                    GL_BUFFER_UPDATE_BARRIER_BIT);
+    glDepthMask(GL_TRUE);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+bool ReferenceTechnique::repeatAccumulation() {
+    GLuint requested = 0;
+    glGetNamedBufferSubData(counters_.id(), 0, sizeof(GLuint), &requested);
+    if (requested <= stats_.poolNodes) {
+        stats_.fragments = requested;
+        stats_.accumulationRepeats = repeatsThisFrame_;
+        repeatsThisFrame_ = 0;
+        return false;
+    }
+    // The counter kept counting past the pool: it is the exact node count this frame needs.
+    VEIL_CHECK(requested <= maxPoolNodes_,
+               "reference OIT: the frame has {} transparent fragments ({:.1f} MiB of nodes) but "
+               "the node pool is capped at {} nodes ({:.1f} MiB); lower the resolution or the "
+               "transparent depth complexity, or raise ReferenceLimits::maxPoolBytes",
+               requested, mib(std::uint64_t(requested) * kNodeBytes), maxPoolNodes_,
+               mib(maxPoolNodes_ * kNodeBytes));
+    const std::uint64_t grown = std::min(nextPowerOfTwo(requested), maxPoolNodes_);
+    log::info("reference OIT: node pool {} -> {} nodes ({:.1f} MiB) for {} fragments",
+              stats_.poolNodes, grown, mib(grown * kNodeBytes), requested);
+    allocatePool(grown);
+    ++stats_.poolGrowths;
+    ++repeatsThisFrame_;
+    return true;
+}
+
+void ReferenceTechnique::resolve(const OitFrameTargets& targets) {
+    const gpu::Program& program = programs_.get(resolveProgram_);
+    program.use();
+    program.set("oitRefCapacity", static_cast<unsigned>(stats_.poolNodes));
+    glBindImageTexture(VEIL_IMG_OIT_REF_HEADS, heads_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+    glBindImageTexture(VEIL_IMG_OIT_REF_TARGET, targets.hdrColor->id(), 0, GL_FALSE, 0,
+                       GL_READ_WRITE, GL_RGBA16F);
+    nodes_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_OIT_REF_NODES);
+    counters_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_OIT_REF_COUNTERS);
+    glDispatchCompute((targets.width + 7) / 8, (targets.height + 7) / 8, 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                    GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
+                    GL_BUFFER_UPDATE_BARRIER_BIT);
+    GLuint dropped = 0;
+    glGetNamedBufferSubData(counters_.id(), sizeof(GLuint), sizeof(GLuint), &dropped);
+    stats_.pixelOverflowFragments = dropped;
+    if (dropped > 0 && !warnedOverflow_) {
+        warnedOverflow_ = true;
+        log::warn("reference OIT: {} fragments beyond the {} nearest per pixel were dropped "
+                  "(per-pixel array overflow; the image is exact only for the nearest {})",
+                  dropped, kMaxFragmentsPerPixel, kMaxFragmentsPerPixel);
+    }
+}
+
+std::size_t ReferenceTechnique::bytesPerPixel() const {
+    const std::uint64_t pixels = std::max<std::uint64_t>(1, std::uint64_t(width_) * height_);
+    return 4 + static_cast<std::size_t>((stats_.poolNodes * kNodeBytes + pixels - 1) / pixels);
+}
+
+void registerReference(Registry& registry) {
+    registry.add({"reference",
+                  "exact per-pixel sorted compositing (per-pixel linked lists, compute resolve)",
+                  nullptr, [](gpu::ProgramManager& programs) {
+                      return std::make_unique<ReferenceTechnique>(programs);
+                  }});
+}
+
+} // namespace veil::oit

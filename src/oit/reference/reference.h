@@ -1,0 +1,78 @@
+// `reference`: exact per-pixel sorted compositing with per-pixel linked lists (the ground
+// truth the approximate techniques are measured against).
+//
+// Parameters (ReferenceLimits, process-wide, defaults in brackets):
+//   initialNodesPerPixel [4]      starting node-pool size = this * width * height (min 4096)
+//   maxPoolBytes         [1 GiB]  cap on the node pool; also capped by the driver's
+//                                 GL_MAX_SHADER_STORAGE_BLOCK_SIZE. Past it: veil::Error.
+//   maxFragmentsPerPixel [128]    local array of the resolve (OIT_REF_MAX_FRAGMENTS); deeper
+//                                 pixels keep their nearest 128 fragments, the rest are
+//                                 counted (ReferenceStats::pixelOverflowFragments) and warned
+//                                 about once.
+// Storage: an r32ui head-pointer image, a node pool SSBO of 32-byte nodes (premultiplied
+// radiance rgb, view depth, modulation rgb = 1 - a + a T (000 Eq. 2), next index) and a
+// counter SSBO {nodes requested, fragments dropped by the resolve}.
+// Pool overflow: after the last geometry pass repeatAccumulation() reads the counter back;
+// if more nodes were requested than the pool holds, the pool grows to the next power of two
+// and the frame re-runs the transparent passes.
+#pragma once
+
+#include "oit/technique.h"
+
+#include <cstdint>
+
+namespace veil::oit {
+
+struct ReferenceLimits {
+    std::uint64_t initialNodesPerPixel = 4;
+    std::uint64_t maxPoolBytes = std::uint64_t(1) << 30;
+};
+// Limits for techniques created afterwards (tests lower them to exercise growth and the cap).
+void setReferenceLimits(const ReferenceLimits& limits);
+ReferenceLimits referenceLimits();
+
+struct ReferenceStats {
+    std::uint64_t fragments = 0;              // fragments stored in the last frame
+    std::uint64_t poolNodes = 0;              // node-pool capacity now
+    int poolGrowths = 0;                      // times the pool grew (lifetime of the technique)
+    int accumulationRepeats = 0;              // extra accumulations in the last frame
+    std::uint64_t pixelOverflowFragments = 0; // dropped by the resolve's local array, last frame
+};
+
+class ReferenceTechnique final : public Technique {
+public:
+    static constexpr int kMaxFragmentsPerPixel = 128;
+    static constexpr std::size_t kNodeBytes = 32;
+
+    explicit ReferenceTechnique(gpu::ProgramManager& programs);
+    std::string name() const override { return "reference"; }
+    std::filesystem::path emitInclude() const override { return "oit/reference/emit.glsl"; }
+    void resize(const OitFrameTargets& targets) override;
+    void beginAccumulate(int pass, const OitFrameTargets& targets,
+                         const gpu::Program& program) override;
+    void endAccumulate(int pass) override;
+    bool repeatAccumulation() override;
+    void resolve(const OitFrameTargets& targets) override;
+    std::size_t bytesPerPixel() const override;
+
+    const ReferenceStats& stats() const { return stats_; }
+
+private:
+    void allocatePool(std::uint64_t nodes);
+
+    gpu::ProgramManager& programs_;
+    gpu::ProgramHandle resolveProgram_;
+    ReferenceLimits limits_;
+    std::uint64_t maxPoolNodes_ = 0;
+    int width_ = 0, height_ = 0;
+    gpu::Texture heads_{gpu::NoCreate};
+    gpu::Buffer nodes_{gpu::NoCreate}, counters_{gpu::NoCreate};
+    gpu::Framebuffer framebuffer_{gpu::NoCreate};
+    ReferenceStats stats_;
+    int repeatsThisFrame_ = 0;
+    bool warnedOverflow_ = false;
+};
+
+void registerReference(Registry& registry);
+
+} // namespace veil::oit

@@ -1,0 +1,85 @@
+#include "oit/wboit/wboit.h"
+
+#include "shaders/common/bindings.h"
+
+namespace veil::oit {
+
+namespace {
+
+class WboitTechnique final : public Technique {
+public:
+    explicit WboitTechnique(gpu::ProgramManager& programs) : programs_(programs) {
+        resolveProgram_ = programs_.add(gpu::ProgramDesc::compute("oit/wboit/resolve.comp"));
+    }
+    std::string name() const override { return "wboit"; }
+    std::filesystem::path emitInclude() const override { return "oit/wboit/emit.glsl"; }
+
+    void resize(const OitFrameTargets& targets) override {
+        accum_ = gpu::Texture(GL_TEXTURE_2D);
+        accum_.storage2D(1, GL_RGBA16F, targets.width, targets.height);
+        revealage_ = gpu::Texture(GL_TEXTURE_2D);
+        revealage_.storage2D(1, GL_R16F, targets.width, targets.height);
+        framebuffer_ = gpu::Framebuffer();
+        framebuffer_.attach(GL_COLOR_ATTACHMENT0, accum_)
+            .attach(GL_COLOR_ATTACHMENT1, revealage_)
+            .attach(GL_DEPTH_ATTACHMENT, *targets.depth)
+            .drawBuffers({GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1});
+        framebuffer_.checkComplete("oit/wboit");
+    }
+
+    void beginAccumulate(int, const OitFrameTargets& targets, const gpu::Program&) override {
+        framebuffer_.bind();
+        glViewport(0, 0, targets.width, targets.height);
+        const float zero[4] = {0, 0, 0, 0}, one[4] = {1, 1, 1, 1};
+        glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 0, zero);
+        glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 1, one);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+        glDepthMask(GL_FALSE);
+        glDisable(GL_CULL_FACE);
+        glEnable(GL_BLEND);
+        glBlendEquation(GL_FUNC_ADD);
+        glBlendFunci(0, GL_ONE, GL_ONE);                  // A: sums
+        glBlendFunci(1, GL_ZERO, GL_ONE_MINUS_SRC_COLOR); // revealage: prod (1 - netCoverage)
+    }
+
+    void endAccumulate(int) override {
+        glDisable(GL_BLEND);
+        glBlendFunc(GL_ONE, GL_ZERO);
+        glDepthMask(GL_TRUE);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
+
+    void resolve(const OitFrameTargets& targets) override {
+        const gpu::Program& program = programs_.get(resolveProgram_);
+        program.use();
+        accum_.bind(VEIL_TEX_OIT0);
+        revealage_.bind(VEIL_TEX_OIT0 + 1);
+        glBindImageTexture(VEIL_IMG_OIT_WBOIT_TARGET, targets.hdrColor->id(), 0, GL_FALSE, 0,
+                           GL_READ_WRITE, GL_RGBA16F);
+        glDispatchCompute((targets.width + 7) / 8, (targets.height + 7) / 8, 1);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                        GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    }
+
+    std::size_t bytesPerPixel() const override { return 8 + 2; }
+
+private:
+    gpu::ProgramManager& programs_;
+    gpu::ProgramHandle resolveProgram_;
+    gpu::Texture accum_{gpu::NoCreate}, revealage_{gpu::NoCreate};
+    gpu::Framebuffer framebuffer_{gpu::NoCreate};
+};
+
+} // namespace
+
+void registerWboit(Registry& registry) {
+    registry.add({"wboit",
+                  "weighted blended OIT (McGuire & Bavoil 2013; 000 Eq. 5 weight, Listing 2 "
+                  "guards; grey revealage)",
+                  nullptr, [](gpu::ProgramManager& programs) {
+                      return std::make_unique<WboitTechnique>(programs);
+                  }});
+}
+
+} // namespace veil::oit

@@ -1,0 +1,99 @@
+// `veil render --oit NAME --compare-to reference` and `--oit all` through the real command.
+#include "support/test_support.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+namespace veil::test {
+
+namespace fs = std::filesystem;
+
+namespace {
+std::string glassScene() { return (sourceDir() / "datasets/scenes/oit-glass.json").string(); }
+nlohmann::json readJson(const fs::path& path) {
+    std::ifstream in(path);
+    return nlohmann::json::parse(in);
+}
+} // namespace
+
+TEST(OitCliGLTest, CompareReferenceWithItselfIsZero) {
+    const fs::path dir = outputDir() / "oit-cli";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const fs::path out = dir / "self.png", report = dir / "self.json";
+    const CommandResult r = runCommand(
+        veilExe() + " render " + glassScene() + " --oit reference --compare-to " +
+        "reference --width 96 --height 54 -o " + out.string() + " --report " + report.string());
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_TRUE(fs::exists(out));
+    EXPECT_TRUE(fs::exists(dir / "self-error.png"));
+    EXPECT_NE(r.output.find("RMSE 0,"), std::string::npos) << r.output;
+    const nlohmann::json j = readJson(report);
+    EXPECT_EQ(j["compare"]["rmse"].get<double>(), 0.0);
+    EXPECT_EQ(j["compare"]["psnr_db"], "inf");
+}
+
+TEST(OitCliGLTest, CompareWboitReportsNonZeroError) {
+    const fs::path dir = outputDir() / "oit-cli";
+    fs::create_directories(dir);
+    const fs::path out = dir / "wboit.png";
+    const CommandResult r = runCommand(veilExe() + " render " + glassScene() +
+                                       " --oit wboit --compare-to reference --width 96 "
+                                       "--height 54 -o " +
+                                       out.string() + " --report " + (dir / "wboit.json").string());
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_TRUE(fs::exists(dir / "wboit-error.png"));
+    const nlohmann::json j = readJson(dir / "wboit.json");
+    EXPECT_GT(j["compare"]["rmse"].get<double>(), 0.0);
+    EXPECT_TRUE(j["compare"]["psnr_db"].is_number());
+}
+
+TEST(OitCliGLTest, AllTechniquesContactSheet) {
+    const fs::path dir = outputDir() / "oit-cli";
+    fs::create_directories(dir);
+    const fs::path out = dir / "sheet.png";
+    fs::remove(out);
+    const CommandResult r = runCommand(veilExe() + " render " + glassScene() +
+                                       " --oit all --width 96 --height 54 -o " + out.string() +
+                                       " --report " + (dir / "sheet.json").string());
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    ASSERT_TRUE(fs::exists(out));
+    const nlohmann::json j = readJson(dir / "sheet.json");
+    ASSERT_GE(j["techniques"].size(), 3u);
+    bool sawReference = false;
+    for (const auto& t : j["techniques"]) {
+        EXPECT_NE(r.output.find(t["oit"].get<std::string>()), std::string::npos);
+        if (t["oit"] == "reference") {
+            sawReference = true;
+            EXPECT_EQ(t["compare"]["rmse"].get<double>(), 0.0);
+        } else {
+            EXPECT_GT(t["compare"]["rmse"].get<double>(), 0.0) << t["oit"];
+        }
+    }
+    EXPECT_TRUE(sawReference);
+}
+
+TEST(OitCliGLTest, UnknownTechniqueFailsAndListsNames) {
+    const fs::path dir = outputDir() / "oit-cli";
+    fs::create_directories(dir);
+    const fs::path out = dir / "unknown.png";
+    fs::remove(out);
+    const CommandResult r =
+        runCommand(veilExe() + " render " + glassScene() + " --oit no-such-oit -o " + out.string());
+    EXPECT_NE(r.exitCode, 0);
+    EXPECT_NE(r.output.find("no-such-oit"), std::string::npos) << r.output;
+    for (const char* name : {"blend", "reference", "wboit"})
+        EXPECT_NE(r.output.find(name), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_FALSE(fs::exists(dir / "unknown.json"));
+    const CommandResult r2 = runCommand(veilExe() + " render " + glassScene() +
+                                        " --oit blend --compare-to nope -o " + out.string());
+    EXPECT_NE(r2.exitCode, 0);
+    EXPECT_NE(r2.output.find("known:"), std::string::npos) << r2.output;
+    EXPECT_FALSE(fs::exists(out));
+}
+
+} // namespace veil::test
