@@ -54,9 +54,10 @@ float leafExit(int i, vec3 P, vec3 rd) {
     vec3 d = mat3(volumes[i].worldToIndex) * rd;
     vec3 leafLo = floor(p / float(kLeafSize)) * float(kLeafSize);
     vec3 bound = mix(leafLo, leafLo + float(kLeafSize), greaterThan(d, vec3(0.0)));
-    vec3 t = (bound - p) / d;
-    t = mix(t, vec3(1e30), isinf(t) || isnan(t));
-    return max(min(min(t.x, t.y), t.z), 0.0);
+    float tMin = 1e30;
+    for (int k = 0; k < 3; ++k)
+        if (abs(d[k]) > 1e-12) tMin = min(tMin, (bound[k] - p[k]) / d[k]);
+    return max(tMin, 0.0);
 }
 
 float volumeTransmittanceToLight(vec3 P) {

@@ -43,6 +43,18 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
     }
     tonemapProgram_ = programs_.add(ProgramDesc::compute("frame/tonemap.comp"));
 
+    fog_ = std::make_unique<volume::FogPass>(scene, programs_);
+    if (!fog_->active())
+        fog_.reset();
+    else
+        for (int pass = 0; pass < oit_->geometryPasses(); ++pass) {
+            std::vector<std::string> defines = oit_->defines(pass);
+            defines.push_back(fmt::format("OIT_PASS {}", pass));
+            fogEmitPrograms_.push_back(programs_.add(
+                ProgramDesc::graphics("volume/fullscreen.vert", "volume/fog_emit.frag",
+                                      std::move(defines), {{"veil:oit_emit", oit_->emitInclude()}})));
+        }
+
     meshes_.reserve(scene.meshes.size());
     for (const auto& mesh : scene.meshes) meshes_.emplace_back(mesh);
 
@@ -189,12 +201,31 @@ void Renderer::render() {
         drawObjects(program, Subset::Opaque);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
+    const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
+    const volume::FogTargets fogTargets{width_,
+                                        height_,
+                                        &depth_,
+                                        camera_.projection(aspect) * camera_.view(),
+                                        camera_.projection(aspect),
+                                        scene_.render.seed};
+    if (fog_) {
+        gpu::TimerScope t(timer_, "fog");
+        fog_->march(fogTargets);
+    }
     {
         gpu::TimerScope t(timer_, "transparent");
         for (int pass = 0; pass < oit_->geometryPasses(); ++pass) {
             const gpu::Program& program = programs_.get(transparentPrograms_[pass]);
             program.set("useOverride", 0);
             oit_->beginAccumulate(pass, targets_, program);
+            if (fog_) {
+                // Fog first: one contribution per pixel through the same oitEmit().
+                const gpu::Program& fogProgram = programs_.get(fogEmitPrograms_[pass]);
+                oit_->prepareProgram(pass, fogProgram);
+                fog_->bindForEmit(fogProgram, fogTargets);
+                fogProgram.use();
+                fog_->drawEmit();
+            }
             drawObjects(program, Subset::Transparent);
             oit_->endAccumulate(pass);
             if (pass + 1 == oit_->geometryPasses() && oit_->repeatAccumulation()) pass = -1;
@@ -226,6 +257,7 @@ std::size_t Renderer::gpuBytes() const {
     for (const auto& m : meshes_) bytes += m.gpuBytes();
     if (shadowMap_) bytes += static_cast<std::size_t>(shadowMap_->size()) * shadowMap_->size() * 4;
     bytes += static_cast<std::size_t>(width_) * height_ * oit_->bytesPerPixel();
+    if (fog_) bytes += fog_->gpuBytes();
     return bytes;
 }
 

@@ -1,6 +1,7 @@
 // The frame: an ordered list of passes with per-pass GPU times (DESIGN.md "One frame").
 //   shadow      Williams shadow map of opaque casters (first shadowed spot/directional light)
 //   opaque      forward shading into the HDR target with depth
+//   fog         density volumes ray-marched per pixel (compute; only with volumes)
 //   transparent transparent surfaces through the active OIT technique's oitEmit()
 //   resolve     the technique's composite over the opaque image
 //   tonemap     exposure + operator + sRGB into the LDR target (compute)
@@ -14,6 +15,7 @@
 #include "oit/technique.h"
 #include "scene/scene.h"
 #include "shadows/shadow_map/shadow_map.h"
+#include "volume/fog_pass.h"
 
 #include <memory>
 #include <optional>
@@ -54,6 +56,8 @@ public:
     void setCamera(const scene::Camera& camera) { camera_ = camera; }
     gpu::GpuTimer::Mode timerMode() const { return timer_.mode(); }
     std::size_t gpuBytes() const;
+    // The fog pass (density volumes); null when the scene has no volumes.
+    const volume::FogPass* fog() const { return fog_.get(); }
     // Recompiles every shader from disk; failing programs keep their previous version.
     int reloadShaders() { return programs_.reloadAll(); }
 
@@ -73,6 +77,8 @@ private:
     gpu::ProgramManager programs_;
     gpu::ProgramHandle opaqueProgram_, shadowProgram_, tonemapProgram_;
     std::vector<gpu::ProgramHandle> transparentPrograms_; // one per OIT geometry pass
+    std::vector<gpu::ProgramHandle> fogEmitPrograms_;     // one per OIT geometry pass
+    std::unique_ptr<volume::FogPass> fog_;
     std::vector<GpuMesh> meshes_;
     std::unique_ptr<oit::Technique> oit_;
     std::optional<shadows::ShadowMap> shadowMap_;

@@ -51,6 +51,13 @@ public:
     // uniforms it needs on `program` (the pass's transparent-surface program).
     virtual void beginAccumulate(int pass, const OitFrameTargets& targets,
                                  const gpu::Program& program) = 0;
+    // Sets the uniforms the pass's emit include needs on `program`. The frame calls it for
+    // every further program drawn inside the pass (the fog emission of src/volume); a
+    // technique's beginAccumulate() sets the same on the surface program.
+    virtual void prepareProgram(int pass, const gpu::Program& program) const {
+        (void)pass;
+        (void)program;
+    }
     // Restores default state (blending off, depth writes on, framebuffer 0).
     virtual void endAccumulate(int pass) = 0;
     // Asked once after the last geometry pass: true makes the frame run all geometry passes

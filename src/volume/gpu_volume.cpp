@@ -153,7 +153,8 @@ void GpuVolume::buildBricks(const openvdb::FloatGrid& grid) {
         lo.minComponent(o);
         hi.maxComponent(o);
     }
-    const openvdb::Coord leaves = (hi - lo) / kLeaf + openvdb::Coord(1);
+    const openvdb::Coord span = hi - lo;
+    const openvdb::Coord leaves(span.x() / kLeaf + 1, span.y() / kLeaf + 1, span.z() / kLeaf + 1);
     bricksPerAxis_ = atlasLayout(origins.size());
     const glm::ivec3 atlas = bricksPerAxis_ * kBrick;
     VEIL_CHECK(atlas.x <= 2048 && atlas.y <= 2048 && atlas.z <= 2048,
@@ -173,7 +174,8 @@ void GpuVolume::buildBricks(const openvdb::FloatGrid& grid) {
                     values[(std::size_t(base.z + z) * atlas.y + base.y + y) * atlas.x + base.x +
                            x] = v;
                 }
-        const openvdb::Coord l = (o - lo) / kLeaf;
+        const openvdb::Coord d = o - lo;
+        const openvdb::Coord l(d.x() / kLeaf, d.y() / kLeaf, d.z() / kLeaf);
         table[(std::size_t(l.z()) * leaves.y() + l.y()) * leaves.x() + l.x()] = b + 1;
         ++b;
     }
@@ -195,7 +197,9 @@ void GpuVolume::buildBricks(const openvdb::FloatGrid& grid) {
                         GL_RED_INTEGER, GL_UNSIGNED_INT, table.data());
     leafOrigin_ = glm::ivec3(lo.x(), lo.y(), lo.z()) / kLeaf;
     indexMin_ = glm::vec3(lo.x(), lo.y(), lo.z());
-    indexMax_ = glm::vec3(hi.x() + kLeaf - 1, hi.y() + kLeaf - 1, hi.z() + kLeaf - 1);
+    // The apron holds voxel origin + 8, so samples up to (but excluding) the last leaf's end + 1
+    // are filtered correctly.
+    indexMax_ = glm::vec3(hi.x() + kLeaf, hi.y() + kLeaf, hi.z() + kLeaf);
     stats_.gpuBytes = values.size() * 2 + table.size() * 4;
 }
 

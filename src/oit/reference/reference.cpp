@@ -92,6 +92,10 @@ void ReferenceTechnique::beginAccumulate(int pass, const OitFrameTargets& target
                        GL_R32UI);
     nodes_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_OIT_REF_NODES);
     counters_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_OIT_REF_COUNTERS);
+    prepareProgram(pass, program);
+}
+
+void ReferenceTechnique::prepareProgram(int, const gpu::Program& program) const {
     program.set("oitRefCapacity", static_cast<unsigned>(stats_.poolNodes));
 }
 

@@ -50,6 +50,7 @@ public:
     void resize(const OitFrameTargets& targets) override;
     void beginAccumulate(int pass, const OitFrameTargets& targets,
                          const gpu::Program& program) override;
+    void prepareProgram(int pass, const gpu::Program& program) const override;
     void endAccumulate(int pass) override;
     bool repeatAccumulation() override;
     void resolve(const OitFrameTargets& targets) override;

@@ -1,0 +1,190 @@
+#include "volume/fog_pass.h"
+
+#include "base/error.h"
+#include "base/log.h"
+#include "shaders/common/bindings.h"
+#include "volume/density_grid.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace veil::volume {
+
+FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs)
+    : scene_(scene), programs_(programs) {
+    divisor_ = scene.render.fogResolution;
+    GpuVolumeOptions options;
+    options.budgetBytes = std::size_t(scene.render.volumeBudgetMiB) << 20;
+    options.refuseOverBudget = scene.render.volumeOverBudget == "refuse";
+    std::size_t used = 0;
+    for (const auto& ref : scene.volumes) {
+        if (ref.procedural == "homogeneous") {
+            // Global fog: densities, albedos and phase functions add up per unit length.
+            globalAlbedo_ = (globalAlbedo_ * globalDensity_ + ref.albedo * ref.densityScale) /
+                            std::max(globalDensity_ + ref.densityScale, 1e-20f);
+            globalAnisotropy_ = ref.anisotropy;
+            globalDensity_ += ref.densityScale;
+            continue;
+        }
+        VEIL_CHECK(volumes_.size() < VEIL_MAX_VOLUMES,
+                   "at most {} grid volumes per scene (volume '{}')", VEIL_MAX_VOLUMES, ref.name);
+        openvdb::FloatGrid::Ptr grid = loadVolume(ref);
+        options.budgetBytes = std::size_t(scene.render.volumeBudgetMiB) << 20;
+        options.budgetBytes = options.budgetBytes > used ? options.budgetBytes - used : 0;
+        Entry e{&ref, std::make_unique<GpuVolume>(grid, ref.transform, options),
+                gpu::Texture(gpu::NoCreate), glm::mat4(1.0f)};
+        used += e.gpu->stats().gpuBytes;
+        log::info("volume '{}': {} active voxels, {} ({} bricks), {:.2f} MiB on the GPU, grid "
+                  "{:.2f} MiB",
+                  ref.name, e.gpu->stats().activeVoxels, e.gpu->stats().dense ? "dense" : "atlas",
+                  e.gpu->stats().bricks, e.gpu->stats().gpuBytes / 1048576.0,
+                  e.gpu->stats().gridBytes / 1048576.0);
+        volumes_.push_back(std::move(e));
+    }
+    if (!active()) return;
+    for (std::size_t i = 0; i < scene.lights.size() && i < VEIL_MAX_LIGHTS; ++i)
+        if (scene.lights[i].castShadows) {
+            primaryLight_ = static_cast<int>(i);
+            break;
+        }
+    if (primaryLight_ < 0 && !scene.lights.empty()) primaryLight_ = 0;
+    marchProgram_ = programs_.add(gpu::ProgramDesc::compute("volume/fog_march.comp"));
+    lightProgram_ = programs_.add(gpu::ProgramDesc::compute("volume/light_transmittance.comp"));
+    // Light transmittance volumes: about 2 voxels per texel, at most 128 per axis.
+    for (auto& e : volumes_) {
+        glm::vec3 lo, hi;
+        e.gpu->worldBounds(lo, hi);
+        const glm::vec3 extent = hi - lo;
+        const glm::ivec3 dims = glm::clamp(
+            glm::ivec3(glm::ceil(extent / (2.0f * e.gpu->voxelSize()))), glm::ivec3(4),
+            glm::ivec3(128));
+        e.light = gpu::Texture(GL_TEXTURE_3D);
+        e.light.storage3D(1, GL_R16F, dims.x, dims.y, dims.z)
+            .parameter(GL_TEXTURE_MIN_FILTER, GL_LINEAR)
+            .parameter(GL_TEXTURE_MAG_FILTER, GL_LINEAR)
+            .parameter(GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE)
+            .parameter(GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE)
+            .parameter(GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+        e.lightToWorld = glm::translate(glm::mat4(1.0f), lo) * glm::scale(glm::mat4(1.0f), extent);
+    }
+    emptyVao_ = gpu::VertexArray();
+}
+
+FogPass::~FogPass() = default;
+
+std::vector<GpuVolumeStats> FogPass::stats() const {
+    std::vector<GpuVolumeStats> s;
+    for (const auto& e : volumes_) s.push_back(e.gpu->stats());
+    return s;
+}
+
+std::size_t FogPass::gpuBytes() const {
+    std::size_t bytes = 0;
+    for (const auto& e : volumes_)
+        bytes += e.gpu->stats().gpuBytes + std::size_t(e.light.width()) * e.light.height() *
+                                               e.light.depth() * 2;
+    return bytes + std::size_t(width_) * height_ * 16;
+}
+
+void FogPass::resize(int width, int height) {
+    width_ = (width + divisor_ - 1) / divisor_;
+    height_ = (height + divisor_ - 1) / divisor_;
+    for (gpu::Texture* t : {&radiance_, &transmittance_}) {
+        *t = gpu::Texture(GL_TEXTURE_2D);
+        t->storage2D(1, GL_RGBA16F, width_, height_)
+            .parameter(GL_TEXTURE_MIN_FILTER, GL_NEAREST)
+            .parameter(GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    }
+}
+
+void FogPass::setVolumeUniforms(const gpu::Program& program) const {
+    program.set("volumeCount", static_cast<int>(volumes_.size()));
+    for (std::size_t i = 0; i < volumes_.size(); ++i) {
+        const Entry& e = volumes_[i];
+        auto name = [i](const char* member) { return fmt::format("volumes[{}].{}", i, member); };
+        program.set(name("worldToIndex").c_str(), e.gpu->worldToIndex())
+            .set(name("worldToLight").c_str(), glm::inverse(e.lightToWorld))
+            .set(name("indexMin").c_str(), e.gpu->indexMin())
+            .set(name("indexMax").c_str(), e.gpu->indexMax())
+            .set(name("leafOrigin").c_str(), e.gpu->leafOrigin())
+            .set(name("bricksPerAxis").c_str(), e.gpu->bricksPerAxis())
+            .set(name("densityScale").c_str(), e.ref->densityScale)
+            .set(name("albedo").c_str(), e.ref->albedo)
+            .set(name("anisotropy").c_str(), e.ref->anisotropy)
+            .set(name("emission").c_str(), e.ref->emission);
+        e.gpu->data().bind(VEIL_TEX_VOLUME_DATA + static_cast<GLuint>(i));
+        if (e.gpu->indirection()) e.gpu->indirection().bind(VEIL_TEX_VOLUME_TABLE + GLuint(i));
+        e.light.bind(VEIL_TEX_VOLUME_LIGHT + static_cast<GLuint>(i));
+    }
+}
+
+void FogPass::march(const FogTargets& targets) {
+    if (!active()) return;
+    if (targets.width != width_ * divisor_ || targets.height != height_ * divisor_ || !radiance_)
+        resize(targets.width, targets.height);
+    // 1. Transmittance toward the primary light through all volumes (self-shadowing).
+    if (primaryLight_ >= 0 && !volumes_.empty()) {
+        const scene::Light& light = scene_.lights[static_cast<std::size_t>(primaryLight_)];
+        const gpu::Program& lp = programs_.get(lightProgram_);
+        setVolumeUniforms(lp);
+        glm::vec3 lo(1e30f), hi(-1e30f);
+        for (const auto& e : volumes_) {
+            glm::vec3 a, b;
+            e.gpu->worldBounds(a, b);
+            lo = glm::min(lo, a);
+            hi = glm::max(hi, b);
+        }
+        const bool directional = light.type == scene::LightType::Directional;
+        lp.set("lightPositionType",
+               glm::vec4(directional ? glm::normalize(light.direction) : light.position,
+                         directional ? float(VEIL_LIGHT_DIRECTIONAL) : float(VEIL_LIGHT_SPOT)))
+            .set("steps", 64)
+            .set("maxDistance", glm::length(hi - lo));
+        lp.use();
+        for (const auto& e : volumes_) {
+            lp.set("lightToWorld", e.lightToWorld);
+            glBindImageTexture(VEIL_IMG_VOLUME_LIGHT, e.light.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
+                               GL_R16F);
+            glDispatchCompute((e.light.width() + 3) / 4, (e.light.height() + 3) / 4,
+                              (e.light.depth() + 3) / 4);
+        }
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    }
+    // 2. March.
+    const gpu::Program& mp = programs_.get(marchProgram_);
+    setVolumeUniforms(mp);
+    mp.set("invViewProjection", glm::inverse(targets.viewProjection))
+        .set("resolutionDivisor", divisor_)
+        .set("steps", scene_.render.fogSteps)
+        .set("seed", targets.seed)
+        .set("jitter", scene_.render.fogJitter ? 1 : 0)
+        .set("primaryLight", volumes_.empty() ? -1 : primaryLight_)
+        .set("globalDensity", globalDensity_)
+        .set("globalAlbedo", globalAlbedo_)
+        .set("globalAnisotropy", globalAnisotropy_);
+    mp.use();
+    targets.depth->bind(VEIL_TEX_DEPTH);
+    glBindImageTexture(VEIL_IMG_FOG_RADIANCE, radiance_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                       GL_RGBA16F);
+    glBindImageTexture(VEIL_IMG_FOG_TRANSMITTANCE, transmittance_.id(), 0, GL_FALSE, 0,
+                       GL_WRITE_ONLY, GL_RGBA16F);
+    glDispatchCompute((width_ + 7) / 8, (height_ + 7) / 8, 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+}
+
+void FogPass::bindForEmit(const gpu::Program& program, const FogTargets& targets) const {
+    program.set("resolutionDivisor", divisor_).set("invProjection", glm::inverse(targets.projection));
+    radiance_.bind(VEIL_TEX_FOG_RADIANCE);
+    transmittance_.bind(VEIL_TEX_FOG_TRANSMITTANCE);
+    targets.depth->bind(VEIL_TEX_DEPTH);
+}
+
+void FogPass::drawEmit() const {
+    emptyVao_.bind();
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+}
+
+} // namespace veil::volume

@@ -1,0 +1,73 @@
+// The fog pass of the frame: density volumes of the scene on the GPU, the light-space
+// transmittance volumes for self-shadowing, and the compute marcher whose per-pixel result the
+// frame hands to the OIT technique through fog_emit.frag.
+//
+// Parameters (scene "render" block): fog_steps (steps per ray through the volumes' bounds,
+// default 128), fog_resolution (1, 2 or 4: marching resolution divisor; upsampled with a joint
+// bilateral filter keyed on depth, 000 section 5), fog_jitter (per-pixel random start offset,
+// seeded by render.seed), volume_budget_mib / volume_over_budget (coarsen or refuse).
+// Per volume: density_scale (extinction per unit density), albedo, anisotropy g
+// (Henyey-Greenstein), emission. "homogeneous" volumes add global fog of constant density.
+#pragma once
+
+#include "gpu/shader.h"
+#include "scene/scene.h"
+#include "volume/gpu_volume.h"
+
+#include <memory>
+#include <vector>
+
+namespace veil::volume {
+
+struct FogTargets {
+    int width = 0, height = 0;                 // full resolution
+    const gpu::Texture* depth = nullptr;       // opaque depth
+    glm::mat4 viewProjection{1.0f}, projection{1.0f};
+    std::uint32_t seed = 1;
+};
+
+class FogPass {
+public:
+    // Loads and uploads the scene's volumes (throws veil::Error for bad files or budgets).
+    FogPass(const scene::Scene& scene, gpu::ProgramManager& programs);
+    ~FogPass();
+
+    bool active() const { return !volumes_.empty() || globalDensity_ > 0.0f; }
+    int divisor() const { return divisor_; }
+    // Per-volume statistics (GPU bytes, grid bytes, bricks, ...).
+    std::vector<GpuVolumeStats> stats() const;
+    std::size_t gpuBytes() const;
+
+    // Recomputes the light transmittance volumes and marches every pixel. Expects the camera
+    // and lights uniform blocks and the shadow map bound (renderer.cpp does this).
+    void march(const FogTargets& targets);
+    // Binds the fog results for fog_emit.frag and sets its uniforms on `program`.
+    void bindForEmit(const gpu::Program& program, const FogTargets& targets) const;
+    // Draws the full-screen triangle (the emit program must be in use).
+    void drawEmit() const;
+
+private:
+    void resize(int width, int height);
+    void setVolumeUniforms(const gpu::Program& program) const;
+
+    const scene::Scene& scene_;
+    gpu::ProgramManager& programs_;
+    gpu::ProgramHandle marchProgram_, lightProgram_;
+    struct Entry {
+        const scene::VolumeRef* ref;
+        std::unique_ptr<GpuVolume> gpu;
+        gpu::Texture light{gpu::NoCreate}; // R16F transmittance toward the primary light
+        glm::mat4 lightToWorld{1.0f};
+    };
+    std::vector<Entry> volumes_;
+    float globalDensity_ = 0.0f;
+    glm::vec3 globalAlbedo_{0.0f};
+    float globalAnisotropy_ = 0.0f;
+    int divisor_ = 1;
+    int primaryLight_ = -1;
+    int width_ = 0, height_ = 0;
+    gpu::Texture radiance_{gpu::NoCreate}, transmittance_{gpu::NoCreate};
+    gpu::VertexArray emptyVao_{gpu::NoCreate};
+};
+
+} // namespace veil::volume
