@@ -20,5 +20,13 @@ void main() {
     // Light that is transmitted is not diffusely reflected.
     float diffuseWeight = 1.0 - maxComponent(m.transmission);
     vec3 reflected = shadeSurface(m, vWorldPos, N, V, diffuseWeight);
+#ifdef OIT_WANTS_SURFACE
+    // Techniques that model diffusion and refraction (phenomenological) need more inputs.
+    vec3 viewPos = (camera.view * vec4(vWorldPos, 1.0)).xyz;
+    vec3 viewNormal = normalize(mat3(camera.view) * N);
+    oitEmitSurface(reflected * alpha, alpha, m.transmission, vViewDepth, collimation, ior,
+                   viewPos, viewNormal);
+#else
     oitEmit(reflected * alpha, alpha, m.transmission, vViewDepth);
+#endif
 }
