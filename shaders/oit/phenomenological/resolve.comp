@@ -78,5 +78,6 @@ void main() {
     }
     // 000 Eq. 3 with U' = A_rgb / A_a (Eq. 4), self-modulated.
     vec3 result = bkg * B + (vec3(1.0) - B) * A.rgb / max(A.a, 1e-5);
-    imageStore(hdrOut, p, vec4(result, 1.0));
+    // Keep the float16 target finite (a legitimately huge U would otherwise store +inf).
+    imageStore(hdrOut, p, vec4(min(result, vec3(65504.0)), 1.0));
 }
