@@ -113,6 +113,19 @@ PhenOutput phenComputeOutput(vec3 radiance, float alpha, vec3 t, float viewDepth
     return o;
 }
 
+// Reduced-resolution particles (000 section 3 and 5 "Upsample"): with two geometry passes,
+// pass 0 (full resolution) skips billboard meshes and pass 1 (1/2 or 1/4 resolution) draws only
+// them, testing depth by hand against a downsampled key (the farthest opaque depth of the
+// block, bound as phenOpaqueDepth) since the low-resolution targets have no depth buffer.
+void phenPassFilter() {
+#if defined(PHEN_SKIP_BILLBOARDS)
+    if (billboard) discard;
+#elif defined(PHEN_LOWRES)
+    if (!billboard) discard;
+    if (gl_FragCoord.z >= texelFetch(phenOpaqueDepth, ivec2(gl_FragCoord.xy), 0).r) discard;
+#endif
+}
+
 float phenBackgroundDepth() {
     return phenViewDepthFromWindow(texelFetch(phenOpaqueDepth, ivec2(gl_FragCoord.xy), 0).r);
 }
@@ -125,11 +138,13 @@ void phenWrite(PhenOutput o) {
 
 void oitEmitSurface(vec3 radiance, float alpha, vec3 transmission, float viewDepth,
                     float collimation, float ior, vec3 viewPos, vec3 viewNormal) {
+    phenPassFilter();
     phenWrite(phenComputeOutput(radiance, alpha, transmission, viewDepth, collimation, ior,
                                 viewPos, viewNormal, phenBackgroundDepth()));
 }
 
 void oitEmit(vec3 radiance, float alpha, vec3 transmission, float viewDepth) {
+    phenPassFilter();
     phenWrite(phenComputeOutput(radiance, alpha, transmission, viewDepth, 1.0, 1.0, vec3(0.0),
                                 vec3(0.0, 0.0, 1.0), viewDepth));
 }

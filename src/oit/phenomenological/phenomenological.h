@@ -20,6 +20,8 @@
 //   selfModulation      [on]    000 Eq. 13 / 001 Eq. 14.
 //   refraction          [on]    000 section 5 "Refract".
 //   diffusion           [on]    000 section 5 "Diffuse".
+//   particleDownsample  [1]     2 or 4: billboard (particle) meshes accumulate at 1/2 or 1/4
+//                               resolution and are joint-bilateral upsampled (000 section 5).
 //
 // Framebuffer (000 Table 2 with changed formats):
 //   RT0 A          RGBA16F    as the paper.
@@ -31,8 +33,7 @@
 //                  coverage c_i, which needs the weight sum.
 // 24 bytes per pixel of accumulation plus a depth copy (4) and a background copy (8).
 //
-// Not implemented: reduced-resolution particle accumulation with joint-bilateral upsampling
-// (000 section 5 "Upsample"), caustic stochastic shadow maps (Eq. 10-12), inferred ambient
+// Not implemented: caustic stochastic shadow maps (Eq. 10-12), inferred ambient
 // occlusion (001 section 6), the fog path of the emission function (see emit.glsl).
 #pragma once
 
@@ -51,6 +52,7 @@ struct PhenomenologicalParams {
     bool selfModulation = true;
     bool refraction = true;
     bool diffusion = true;
+    int particleDownsample = 1;
 
     // Throws veil::Error naming the bad parameter.
     void validate() const;
