@@ -24,7 +24,10 @@ void main() {
     // Techniques that model diffusion and refraction (phenomenological) need more inputs.
     vec3 viewPos = (camera.view * vec4(vWorldPos, 1.0)).xyz;
     vec3 viewNormal = normalize(mat3(camera.view) * N);
-    oitEmitSurface(reflected * alpha, alpha, m.transmission, vViewDepth, collimation, ior,
+    // Relative index eta = eta_before / eta_after (000 Eq. 8): entering through a face whose
+    // outward normal faces the viewer, leaving through one that faces away.
+    float eta = dot(vNormal, V) >= 0.0 ? 1.0 / ior : ior;
+    oitEmitSurface(reflected * alpha, alpha, m.transmission, vViewDepth, collimation, eta,
                    viewPos, viewNormal);
 #else
     oitEmit(reflected * alpha, alpha, m.transmission, vViewDepth);

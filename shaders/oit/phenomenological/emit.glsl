@@ -9,7 +9,8 @@
 // Entry points:
 //   oitEmit(radiance, alpha, T, viewDepth)     the common OIT interface: collimated (c = 1),
 //                                             non-refracting (eta = 1) contribution.
-//   oitEmitSurface(..., collimation, ior, viewPos, viewNormal)  surfaces (OIT_WANTS_SURFACE).
+//   oitEmitSurface(..., collimation, eta, viewPos, viewNormal)  surfaces (OIT_WANTS_SURFACE);
+//                                             view-space position and viewer-facing normal.
 // The fog marcher (a compute shader) cannot write blended fragment outputs. It can call the
 // pure function phenComputeOutput() (no fragment built-ins: every input is explicit) with what
 // it accumulated and apply the same blend equations to its own pixel with imageLoad /
@@ -63,11 +64,12 @@ struct PhenOutput {
 };
 
 // 000 Listing 1 (computeOutput). radiance = alpha * L_r. t = transmission. c = collimation.
-// ior = the material's refractive index (eta = 1 / ior entering from air, 000 Eq. 8).
+// eta = relative refractive index eta_before / eta_after (000 Eq. 8; 1 / ior entering a
+// medium of index ior from air, ior leaving it).
 // X, n: camera-space position and unit normal facing the viewer. zB: view distance of the
 // opaque background behind the fragment.
 PhenOutput phenComputeOutput(vec3 radiance, float alpha, vec3 t, float viewDepth, float c,
-                             float ior, vec3 X, vec3 n, float zB) {
+                             float eta, vec3 X, vec3 n, float zB) {
     PhenOutput o;
     float netCoverage = alpha * (1.0 - dot(t, vec3(1.0 / 3.0)));
     // 000 Eq. 5: w = clamp([10 (1 - 0.99 f) alpha (1 - mean t)]^3, 0.01, 30)
@@ -100,9 +102,9 @@ PhenOutput phenComputeOutput(vec3 radiance, float alpha, vec3 t, float viewDepth
     // normal incidence). k < 0 (total internal reflection): no transmitted transport, no
     // offset.
     vec2 delta = vec2(0.0);
-    if (phenRefraction && ior != 1.0 && netCoverage > 0.0) {
+    if (phenRefraction && eta != 1.0 && netCoverage > 0.0) {
         vec3 I = camera.cameraForward.w > 0.5 ? vec3(0.0, 0.0, -1.0) : normalize(X);
-        vec3 wi = refract(I, n, 1.0 / ior);
+        vec3 wi = refract(I, n, eta);
         if (dot(wi, wi) > 0.0) {
             vec3 B = X + wi * (phenRefractionDepth / max(-wi.z, 1e-4));
             delta = phenProjectToPixels(B) - phenProjectToPixels(X);
@@ -137,9 +139,9 @@ void phenWrite(PhenOutput o) {
 }
 
 void oitEmitSurface(vec3 radiance, float alpha, vec3 transmission, float viewDepth,
-                    float collimation, float ior, vec3 viewPos, vec3 viewNormal) {
+                    float collimation, float eta, vec3 viewPos, vec3 viewNormal) {
     phenPassFilter();
-    phenWrite(phenComputeOutput(radiance, alpha, transmission, viewDepth, collimation, ior,
+    phenWrite(phenComputeOutput(radiance, alpha, transmission, viewDepth, collimation, eta,
                                 viewPos, viewNormal, phenBackgroundDepth()));
 }
 
