@@ -259,6 +259,29 @@ TEST_F(OitPhenomenologicalTest, DiffusionBlursEdgeOnlyWhenDecollimatedAndDistant
     EXPECT_NEAR(blurred.at(20, row, 1), 0.0, 1e-3);
 }
 
+// 000 section 5 "Diffuse" (Listing 2): the gather skips taps whose own diffusion radius is
+// smaller than their distance, so a bright object pressed against frosted glass (D ~ 0) stays
+// sharp and does not bleed into the diffused dark floor beside it.
+TEST_F(OitPhenomenologicalTest, DiffusionGatherIsOcclusionAware) {
+    nlohmann::json doc = makeScene({}, {0, 0, 0});
+    doc["materials"] = nlohmann::json::parse(R"({
+      "dark": {"base_color": 0, "emission": [0, 0, 0]},
+      "bright": {"base_color": 0, "emission": [1, 1, 1]},
+      "frosted": {"base_color": 0, "transmission": [0.8, 0.8, 0.8], "collimation": 0}})");
+    doc["objects"] = nlohmann::json::parse(R"([
+      {"shape": {"type": "plane", "size": [8, 8]}, "material": "dark"},
+      {"shape": {"type": "box", "size": [4, 2.98, 8]}, "material": "bright",
+       "transform": {"translate": [-2, 1.49, 0]}},
+      {"shape": {"type": "plane", "size": [8, 8]}, "material": "frosted",
+       "transform": {"translate": [0, 3, 0]}}])");
+    const ImageF img = render(doc, "phenomenological", "phen_diffusion_pressed_edge");
+    const int row = 64;
+    EXPECT_EQ(edgeWidth(img, row, 0.0, 0.8), 0);
+    EXPECT_NEAR(img.at(63, row, 1), 0.8, 2e-3); // pressed box, sharp
+    EXPECT_NEAR(img.at(64, row, 1), 0.0, 1e-3); // diffused floor, no bleeding from the box
+    EXPECT_NEAR(img.at(66, row, 1), 0.0, 1e-3);
+}
+
 // 000 Eq. 8-9: a glass plane tilted 20 degrees about z (normal toward -x) refracts the eye
 // ray toward +x, so the background appears shifted toward -x by
 //   delta = R.x / |R.z| * Delta z * 16 px,  R = refract((0,-1,0) in view, n, 1 / ior).
