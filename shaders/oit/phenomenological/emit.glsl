@@ -11,17 +11,22 @@
 //                                             non-refracting (eta = 1) contribution.
 //   oitEmitSurface(..., collimation, eta, viewPos, viewNormal)  surfaces (OIT_WANTS_SURFACE);
 //                                             view-space position and viewer-facing normal.
-// The fog marcher (a compute shader) cannot write blended fragment outputs. It can call the
-// pure function phenComputeOutput() (no fragment built-ins: every input is explicit) with what
-// it accumulated and apply the same blend equations to its own pixel with imageLoad /
-// imageStore (one invocation owns one pixel, so no atomics are needed when the fog pass runs
-// apart from the raster pass). That path is not written yet.
+// The fog marcher (a compute shader) cannot write blended fragment outputs. Included with
+// OIT_EMIT_COMPUTE defined, this file declares no outputs and no oitEmit(): the marcher calls
+// the pure function phenComputeOutput() (no fragment built-ins: every input is explicit) with
+// what it accumulated and applies the blend equations of the appendix to its own pixel with
+// imageLoad / imageStore on the three targets (A += o.A; beta *= 1 - o.betaD.rgb; D^2 +=
+// o.betaD.a; delta += o.delta; one invocation owns one pixel, so no atomics are needed when
+// the fog pass runs apart from the raster pass). The host side of that (binding the targets
+// as images and the phen* uniforms for the fog program) is not written yet.
 #include "../../common/camera.glsl"
 #include "../../common/math.glsl"
 
+#ifndef OIT_EMIT_COMPUTE
 layout(location = 0) out vec4 phenOutA;
 layout(location = 1) out vec4 phenOutBetaD;
 layout(location = 2) out vec4 phenOutDelta;
+#endif
 
 // A copy of the opaque depth (the original is attached for the depth test).
 layout(binding = VEIL_PHEN_TEX_DEPTH) uniform sampler2D phenOpaqueDepth;
@@ -115,6 +120,7 @@ PhenOutput phenComputeOutput(vec3 radiance, float alpha, vec3 t, float viewDepth
     return o;
 }
 
+#ifndef OIT_EMIT_COMPUTE
 // Reduced-resolution particles (000 section 3 and 5 "Upsample"): with two geometry passes,
 // pass 0 (full resolution) skips billboard meshes and pass 1 (1/2 or 1/4 resolution) draws only
 // them, testing depth by hand against a downsampled key (the farthest opaque depth of the
@@ -150,3 +156,4 @@ void oitEmit(vec3 radiance, float alpha, vec3 transmission, float viewDepth) {
     phenWrite(phenComputeOutput(radiance, alpha, transmission, viewDepth, 1.0, 1.0, vec3(0.0),
                                 vec3(0.0, 0.0, 1.0), viewDepth));
 }
+#endif // OIT_EMIT_COMPUTE
