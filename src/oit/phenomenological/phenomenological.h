@@ -34,7 +34,8 @@
 // 24 bytes per pixel of accumulation plus a depth copy (4) and a background copy (8).
 //
 // Not implemented: caustic stochastic shadow maps (Eq. 10-12), inferred ambient
-// occlusion (001 section 6), the fog path of the emission function (see emit.glsl).
+// occlusion (001 section 6; the frame has no AO buffer), the host side of the fog path
+// (emit.glsl compiles in compute shaders with OIT_EMIT_COMPUTE; see its header).
 #pragma once
 
 #include "oit/technique.h"
