@@ -10,6 +10,13 @@
 #define VEIL_TEX_DEPTH 2
 #define VEIL_TEX_OIT0 4
 
+// OIT `phenomenological` (000 Table 2 targets and the resolve's inputs).
+#define VEIL_PHEN_TEX_DEPTH (VEIL_TEX_OIT0 + 0)
+#define VEIL_PHEN_TEX_A (VEIL_TEX_OIT0 + 1)
+#define VEIL_PHEN_TEX_BD (VEIL_TEX_OIT0 + 2)
+#define VEIL_PHEN_TEX_DELTA (VEIL_TEX_OIT0 + 3)
+#define VEIL_PHEN_TEX_BKG (VEIL_TEX_OIT0 + 4)
+
 #define VEIL_IMG_OUTPUT 0
 
 // OIT `reference` (per-pixel linked lists) and `wboit` resolve targets.

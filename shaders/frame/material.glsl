@@ -7,6 +7,8 @@ uniform float metalness;
 uniform vec3 emission;
 uniform float coverage;      // coverage alpha
 uniform vec3 transmission;   // T, 000 Eq. 2
+uniform float collimation;   // c, 000 section 4.1
+uniform float ior;           // eta of the medium behind the surface, 000 Eq. 8
 uniform bool billboard;
 
 in vec3 vWorldPos;

@@ -162,7 +162,9 @@ void Renderer::drawObjects(const gpu::Program& program, Subset subset) const {
             .set("metalness", m.metalness)
             .set("emission", m.emission)
             .set("coverage", m.alpha)
-            .set("transmission", m.transmission);
+            .set("transmission", m.transmission)
+            .set("collimation", m.collimation)
+            .set("ior", m.ior);
         mesh.draw();
     }
     glBindVertexArray(0);

@@ -4,6 +4,7 @@
 #include "oit/blend/blend.h"
 #include "oit/reference/reference.h"
 #include "oit/wboit/wboit.h"
+#include "oit/phenomenological/phenomenological.h"
 
 #include <fmt/ranges.h>
 
@@ -14,6 +15,7 @@ void registerBuiltinTechniques(Registry& registry) {
     registerBlend(registry);
     registerReference(registry);
     registerWboit(registry);
+    registerPhenomenological(registry);
 }
 } // namespace
 

@@ -1,0 +1,159 @@
+// OIT technique `phenomenological` (McGuire & Mara, 000 / 001): one unordered pass writes
+// each transparent fragment's contribution into three blended targets (000 Table 2, with
+// the formats changed as noted in src/oit/phenomenological/phenomenological.h):
+//   RT0  (A_rgb, A_a)            additive            000 Eq. 4 numerator / denominator
+//   RT1  (beta_rgb, D^2 / Dmax^2)  rgb: dst *= 1 - src  000 Eq. 2; a: additive (Eq. 7)
+//   RT2  (sum c_i delta_i, sum c_i)  additive          000 Eq. 8-9 (001 Eq. 9-10), averaged
+// where c_i = alpha_i (1 - mean t_i) is the net coverage (Listing 1 `netCoverage`).
+//
+// Entry points:
+//   oitEmit(radiance, alpha, T, viewDepth)     the common OIT interface: collimated (c = 1),
+//                                             non-refracting (eta = 1) contribution.
+//   oitEmitSurface(..., collimation, eta, viewPos, viewNormal)  surfaces (OIT_WANTS_SURFACE);
+//                                             view-space position and viewer-facing normal.
+// The fog marcher (a compute shader) cannot write blended fragment outputs. Included with
+// OIT_EMIT_COMPUTE defined, this file declares no outputs and no oitEmit(): the marcher calls
+// the pure function phenComputeOutput() (no fragment built-ins: every input is explicit) with
+// what it accumulated and applies the blend equations of the appendix to its own pixel with
+// imageLoad / imageStore on the three targets (A += o.A; beta *= 1 - o.betaD.rgb; D^2 +=
+// o.betaD.a; delta += o.delta; one invocation owns one pixel, so no atomics are needed when
+// the fog pass runs apart from the raster pass). The host side of that (binding the targets
+// as images and the phen* uniforms for the fog program) is not written yet.
+#include "../../common/camera.glsl"
+#include "../../common/math.glsl"
+
+#ifndef OIT_EMIT_COMPUTE
+layout(location = 0) out vec4 phenOutA;
+layout(location = 1) out vec4 phenOutBetaD;
+layout(location = 2) out vec4 phenOutDelta;
+#endif
+
+// A copy of the opaque depth (the original is attached for the depth test).
+layout(binding = VEIL_PHEN_TEX_DEPTH) uniform sampler2D phenOpaqueDepth;
+
+uniform vec2 phenWeightRange;        // 000 Eq. 5 clamp, (0.01, 30)
+uniform float phenK0;                // 000 Eq. 7 k_0
+uniform float phenK1;                // 000 Eq. 7 k_1
+uniform float phenPixelsPerUnit;     // 000 Eq. 7 W / (2 tan(theta/2)); <= 0: from projection
+uniform float phenMaxDiffusionPixels; // 000 Listing 2; D^2 is stored divided by its square
+uniform float phenRefractionDepth;   // 000 Eq. 9 Delta z
+uniform bool phenDiffusion;
+uniform bool phenRefraction;
+
+// Window depth in [0,1] (gl_FragCoord.z) of a point at view distance viewDepth.
+float phenWindowDepth(float viewDepth) {
+    float z = -viewDepth;
+    mat4 P = camera.projection;
+    float ndc = (P[2][2] * z + P[3][2]) / (P[2][3] * z + P[3][3]);
+    return 0.5 * ndc + 0.5;
+}
+
+// View distance (positive) of window depth d: inverts the projection's z row (perspective and
+// orthographic alike).
+float phenViewDepthFromWindow(float d) {
+    mat4 P = camera.projection;
+    float ndc = 2.0 * d - 1.0;
+    float z = (P[3][2] - ndc * P[3][3]) / (ndc * P[2][3] - P[2][2]);
+    return -z;
+}
+
+vec2 phenProjectToPixels(vec3 viewPos) {
+    vec4 clip = camera.projection * vec4(viewPos, 1.0);
+    return (clip.xy / clip.w * 0.5 + 0.5) * camera.viewport.xy;
+}
+
+struct PhenOutput {
+    vec4 A;
+    vec4 betaD;
+    vec4 delta;
+};
+
+// 000 Listing 1 (computeOutput). radiance = alpha * L_r. t = transmission. c = collimation.
+// eta = relative refractive index eta_before / eta_after (000 Eq. 8; 1 / ior entering a
+// medium of index ior from air, ior leaving it).
+// X, n: camera-space position and unit normal facing the viewer. zB: view distance of the
+// opaque background behind the fragment.
+PhenOutput phenComputeOutput(vec3 radiance, float alpha, vec3 t, float viewDepth, float c,
+                             float eta, vec3 X, vec3 n, float zB) {
+    PhenOutput o;
+    float netCoverage = alpha * (1.0 - dot(t, vec3(1.0 / 3.0)));
+    // 000 Eq. 5: w = clamp([10 (1 - 0.99 f) alpha (1 - mean t)]^3, 0.01, 30)
+    float tmp = (1.0 - 0.99 * phenWindowDepth(viewDepth)) * netCoverage * 10.0;
+    float w = clamp(tmp * tmp * tmp, phenWeightRange.x, phenWeightRange.y);
+    o.A = vec4(radiance, netCoverage) * w; // 000 Eq. 4
+    // 000 Eq. 2 factor 1 - alpha + alpha t, blended as dst * (1 - src). (Listing 1 also scales
+    // this by 1/3, which would break Eq. 2; not done.)
+    vec3 betaSrc = alpha * (vec3(1.0) - t);
+
+    // 000 Eq. 7, one term of the sum, in pixels: k_0 (1 - c) alpha' (1 - 1 / (1 + dz / k_1))
+    // times pixels per unit at this depth (W / (2 tan(theta/2)) / |z| for a perspective camera,
+    // constant for an orthographic one). Listing 1 weights by net coverage, as here.
+    float D2 = 0.0;
+    if (phenDiffusion && c < 1.0) {
+        float dz = abs(zB - viewDepth);
+        float clipW = camera.projection[2][3] * (-viewDepth) + camera.projection[3][3];
+        float ppu = phenPixelsPerUnit > 0.0 ? phenPixelsPerUnit
+                                            : 0.5 * camera.viewport.x * camera.projection[0][0];
+        float D = phenK0 * netCoverage * (1.0 - c) * (dz / (phenK1 + dz)) * ppu / abs(clipW);
+        D2 = D * D / (phenMaxDiffusionPixels * phenMaxDiffusionPixels);
+        // 000 appendix: round non-zero values up so they survive the target's precision.
+        if (D2 > 0.0) D2 = max(D2, 4.0 / 65535.0);
+    }
+    o.betaD = vec4(betaSrc, D2);
+
+    // 000 Eq. 8-9: refract the eye ray at X and intersect a plane Delta z behind X; the
+    // offset is the projected point minus X's pixel. GLSL refract() is Snell's law for the
+    // ray direction (000 Eq. 8 as printed has a typo: it does not give a unit vector at
+    // normal incidence). k < 0 (total internal reflection): no transmitted transport, no
+    // offset.
+    vec2 delta = vec2(0.0);
+    if (phenRefraction && eta != 1.0 && netCoverage > 0.0) {
+        vec3 I = camera.cameraForward.w > 0.5 ? vec3(0.0, 0.0, -1.0) : normalize(X);
+        vec3 wi = refract(I, n, eta);
+        if (dot(wi, wi) > 0.0) {
+            vec3 B = X + wi * (phenRefractionDepth / max(-wi.z, 1e-4));
+            delta = phenProjectToPixels(B) - phenProjectToPixels(X);
+        }
+    }
+    // 001 section 4.3.2: the offsets of all layers are averaged, weighted by net coverage.
+    o.delta = vec4(delta * netCoverage, netCoverage, 0.0);
+    return o;
+}
+
+#ifndef OIT_EMIT_COMPUTE
+// Reduced-resolution particles (000 section 3 and 5 "Upsample"): with two geometry passes,
+// pass 0 (full resolution) skips billboard meshes and pass 1 (1/2 or 1/4 resolution) draws only
+// them, testing depth by hand against a downsampled key (the farthest opaque depth of the
+// block, bound as phenOpaqueDepth) since the low-resolution targets have no depth buffer.
+void phenPassFilter() {
+#if defined(PHEN_SKIP_BILLBOARDS)
+    if (billboard) discard;
+#elif defined(PHEN_LOWRES)
+    if (!billboard) discard;
+    if (gl_FragCoord.z >= texelFetch(phenOpaqueDepth, ivec2(gl_FragCoord.xy), 0).r) discard;
+#endif
+}
+
+float phenBackgroundDepth() {
+    return phenViewDepthFromWindow(texelFetch(phenOpaqueDepth, ivec2(gl_FragCoord.xy), 0).r);
+}
+
+void phenWrite(PhenOutput o) {
+    phenOutA = o.A;
+    phenOutBetaD = o.betaD;
+    phenOutDelta = o.delta;
+}
+
+void oitEmitSurface(vec3 radiance, float alpha, vec3 transmission, float viewDepth,
+                    float collimation, float eta, vec3 viewPos, vec3 viewNormal) {
+    phenPassFilter();
+    phenWrite(phenComputeOutput(radiance, alpha, transmission, viewDepth, collimation, eta,
+                                viewPos, viewNormal, phenBackgroundDepth()));
+}
+
+void oitEmit(vec3 radiance, float alpha, vec3 transmission, float viewDepth) {
+    phenPassFilter();
+    phenWrite(phenComputeOutput(radiance, alpha, transmission, viewDepth, 1.0, 1.0, vec3(0.0),
+                                vec3(0.0, 0.0, 1.0), viewDepth));
+}
+#endif // OIT_EMIT_COMPUTE

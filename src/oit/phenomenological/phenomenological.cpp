@@ -1,0 +1,238 @@
+#include "oit/phenomenological/phenomenological.h"
+
+#include "base/error.h"
+
+#include "shaders/common/bindings.h"
+
+#include <cmath>
+
+namespace veil::oit {
+
+void PhenomenologicalParams::validate() const {
+    VEIL_CHECK(pixelsPerUnit >= 0.0f && std::isfinite(pixelsPerUnit),
+               "phenomenological: pixelsPerUnit must be >= 0 (0 = from the camera), got {}",
+               pixelsPerUnit);
+    VEIL_CHECK(maxDiffusionPixels >= 1 && maxDiffusionPixels <= 64,
+               "phenomenological: maxDiffusionPixels must be in 1..64, got {}", maxDiffusionPixels);
+    VEIL_CHECK(k0 >= 0.0f && std::isfinite(k0), "phenomenological: k0 must be >= 0, got {}", k0);
+    VEIL_CHECK(k1 > 0.0f && std::isfinite(k1), "phenomenological: k1 must be > 0, got {}", k1);
+    VEIL_CHECK(weightMin > 0.0f && weightMin <= weightMax && weightMax <= 1000.0f,
+               "phenomenological: need 0 < weightMin <= weightMax <= 1000, got [{}, {}]", weightMin,
+               weightMax);
+    VEIL_CHECK(particleDownsample == 1 || particleDownsample == 2 || particleDownsample == 4,
+               "phenomenological: particleDownsample must be 1, 2 or 4, got {}",
+               particleDownsample);
+    VEIL_CHECK(refractionDepth > 0.0f && std::isfinite(refractionDepth),
+               "phenomenological: refractionDepth must be > 0, got {}", refractionDepth);
+}
+
+PhenomenologicalParams& phenomenologicalDefaults() {
+    static PhenomenologicalParams params;
+    return params;
+}
+
+namespace {
+
+gpu::Texture makeTarget(GLenum format, int width, int height, GLint filter) {
+    gpu::Texture t(GL_TEXTURE_2D);
+    t.storage2D(1, format, width, height)
+        .parameter(GL_TEXTURE_MIN_FILTER, filter)
+        .parameter(GL_TEXTURE_MAG_FILTER, filter)
+        .parameter(GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE)
+        .parameter(GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return t;
+}
+
+class PhenomenologicalTechnique final : public Technique {
+public:
+    PhenomenologicalTechnique(gpu::ProgramManager& programs, PhenomenologicalParams params)
+        : programs_(programs), params_(params) {
+        params_.validate();
+        resolveProgram_ =
+            programs_.add(gpu::ProgramDesc::compute("oit/phenomenological/resolve.comp"));
+        if (lowRes()) {
+            downsampleProgram_ = programs_.add(
+                gpu::ProgramDesc::compute("oit/phenomenological/downsample_depth.comp"));
+            upsampleProgram_ =
+                programs_.add(gpu::ProgramDesc::compute("oit/phenomenological/upsample.comp"));
+        }
+    }
+
+    std::string name() const override { return "phenomenological"; }
+    std::filesystem::path emitInclude() const override { return "oit/phenomenological/emit.glsl"; }
+    // Reduced-resolution particles: pass 0 draws all but billboards at full resolution,
+    // pass 1 only billboards at 1/particleDownsample (000 section 3).
+    int geometryPasses() const override { return lowRes() ? 2 : 1; }
+    std::vector<std::string> defines(int pass) const override {
+        if (!lowRes()) return {"OIT_WANTS_SURFACE"};
+        return {"OIT_WANTS_SURFACE", pass == 0 ? "PHEN_SKIP_BILLBOARDS" : "PHEN_LOWRES"};
+    }
+
+    void resize(const OitFrameTargets& targets) override {
+        const int w = targets.width, h = targets.height;
+        accumA_ = makeTarget(GL_RGBA16F, w, h, GL_NEAREST);
+        betaD_ = makeTarget(GL_RGBA16, w, h, GL_NEAREST);
+        delta_ = makeTarget(GL_RGBA16F, w, h, GL_NEAREST);
+        depthCopy_ = makeTarget(GL_DEPTH_COMPONENT32F, w, h, GL_NEAREST);
+        background_ = makeTarget(GL_RGBA16F, w, h, GL_LINEAR);
+        VEIL_CHECK(targets.hdrColor->format() == GL_RGBA16F,
+                   "phenomenological: the HDR target must be RGBA16F (copied for the resolve)");
+        framebuffer_ = gpu::Framebuffer();
+        framebuffer_.attach(GL_COLOR_ATTACHMENT0, accumA_)
+            .attach(GL_COLOR_ATTACHMENT1, betaD_)
+            .attach(GL_COLOR_ATTACHMENT2, delta_)
+            .attach(GL_DEPTH_ATTACHMENT, *targets.depth)
+            .drawBuffers({GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2});
+        framebuffer_.checkComplete("oit/phenomenological");
+        if (lowRes()) {
+            const int s = params_.particleDownsample;
+            lowWidth_ = (w + s - 1) / s;
+            lowHeight_ = (h + s - 1) / s;
+            lowA_ = makeTarget(GL_RGBA16F, lowWidth_, lowHeight_, GL_NEAREST);
+            lowBetaD_ = makeTarget(GL_RGBA16, lowWidth_, lowHeight_, GL_NEAREST);
+            lowDelta_ = makeTarget(GL_RGBA16F, lowWidth_, lowHeight_, GL_NEAREST);
+            lowDepth_ = makeTarget(GL_R32F, lowWidth_, lowHeight_, GL_NEAREST);
+            lowFramebuffer_ = gpu::Framebuffer();
+            lowFramebuffer_.attach(GL_COLOR_ATTACHMENT0, lowA_)
+                .attach(GL_COLOR_ATTACHMENT1, lowBetaD_)
+                .attach(GL_COLOR_ATTACHMENT2, lowDelta_)
+                .drawBuffers({GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2});
+            lowFramebuffer_.checkComplete("oit/phenomenological (particles)");
+        }
+    }
+
+    void beginAccumulate(int pass, const OitFrameTargets& targets,
+                         const gpu::Program& program) override {
+        const gpu::Framebuffer* fbo = &framebuffer_;
+        if (pass == 0) {
+            // The surfaces read the opaque depth (z_B of 000 Eq. 7) while it is attached for
+            // the depth test: sample a copy, not a texture in the feedback loop.
+            glCopyImageSubData(targets.depth->id(), GL_TEXTURE_2D, 0, 0, 0, 0, depthCopy_.id(),
+                               GL_TEXTURE_2D, 0, 0, 0, 0, targets.width, targets.height, 1);
+            glViewport(0, 0, targets.width, targets.height);
+            glEnable(GL_DEPTH_TEST);
+            depthCopy_.bind(VEIL_PHEN_TEX_DEPTH);
+        } else {
+            // Low-resolution particles: depth key, then a depth test by hand (emit.glsl).
+            const gpu::Program& down = programs_.get(downsampleProgram_);
+            down.use();
+            down.set("phenScale", params_.particleDownsample);
+            depthCopy_.bind(VEIL_PHEN_TEX_DEPTH);
+            glBindImageTexture(VEIL_IMG_OUTPUT, lowDepth_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                               GL_R32F);
+            glDispatchCompute((lowWidth_ + 7) / 8, (lowHeight_ + 7) / 8, 1);
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+            program.use();
+            fbo = &lowFramebuffer_;
+            glViewport(0, 0, lowWidth_, lowHeight_);
+            glDisable(GL_DEPTH_TEST);
+            lowDepth_.bind(VEIL_PHEN_TEX_DEPTH);
+        }
+        fbo->bind();
+        // 000 Table 2 clear values.
+        const float zero[4] = {0, 0, 0, 0}, betaClear[4] = {1, 1, 1, 0};
+        glClearNamedFramebufferfv(fbo->id(), GL_COLOR, 0, zero);
+        glClearNamedFramebufferfv(fbo->id(), GL_COLOR, 1, betaClear);
+        glClearNamedFramebufferfv(fbo->id(), GL_COLOR, 2, zero);
+        glDepthFunc(GL_LESS);
+        glDepthMask(GL_FALSE);
+        glDisable(GL_CULL_FACE);
+        glEnable(GL_BLEND);
+        // 000 appendix: all targets add; RT1 rgb: dst * (1 - src) (beta, Eq. 2), a: dst + src.
+        glBlendEquation(GL_FUNC_ADD);
+        glBlendFunci(0, GL_ONE, GL_ONE);
+        glBlendFuncSeparatei(1, GL_ZERO, GL_ONE_MINUS_SRC_COLOR, GL_ONE, GL_ONE);
+        glBlendFunci(2, GL_ONE, GL_ONE);
+        const float dmax = static_cast<float>(params_.maxDiffusionPixels);
+        program.set("phenWeightRange", glm::vec2(params_.weightMin, params_.weightMax))
+            .set("phenK0", params_.k0)
+            .set("phenK1", params_.k1)
+            .set("phenPixelsPerUnit", params_.pixelsPerUnit)
+            .set("phenMaxDiffusionPixels", dmax)
+            .set("phenRefractionDepth", params_.refractionDepth)
+            .set("phenDiffusion", params_.diffusion ? 1 : 0)
+            .set("phenRefraction", params_.refraction ? 1 : 0);
+    }
+
+    void endAccumulate(int) override {
+        glDisable(GL_BLEND);
+        glBlendFunc(GL_ONE, GL_ZERO);
+        glDepthMask(GL_TRUE);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
+
+    void resolve(const OitFrameTargets& targets) override {
+        if (lowRes()) upsample(targets);
+        // The gather reads neighbours of the background while the result is written: read a copy.
+        glCopyImageSubData(targets.hdrColor->id(), GL_TEXTURE_2D, 0, 0, 0, 0, background_.id(),
+                           GL_TEXTURE_2D, 0, 0, 0, 0, targets.width, targets.height, 1);
+        const gpu::Program& program = programs_.get(resolveProgram_);
+        program.use();
+        program.set("phenMaxDiffusionPixels", static_cast<float>(params_.maxDiffusionPixels))
+            .set("phenSelfModulation", params_.selfModulation ? 1 : 0)
+            .set("phenRefraction", params_.refraction ? 1 : 0)
+            .set("phenDiffusion", params_.diffusion ? 1 : 0);
+        accumA_.bind(VEIL_PHEN_TEX_A);
+        betaD_.bind(VEIL_PHEN_TEX_BD);
+        delta_.bind(VEIL_PHEN_TEX_DELTA);
+        background_.bind(VEIL_PHEN_TEX_BKG);
+        glBindImageTexture(VEIL_IMG_OUTPUT, targets.hdrColor->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                           GL_RGBA16F);
+        glDispatchCompute((targets.width + 7) / 8, (targets.height + 7) / 8, 1);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                        GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+        glBindImageTexture(VEIL_IMG_OUTPUT, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    }
+
+    std::size_t bytesPerPixel() const override {
+        const int s = params_.particleDownsample;
+        return 8 + 8 + 8 + 4 + 8 + (lowRes() ? (8 + 8 + 8 + 4) / (s * s) : 0);
+    }
+
+private:
+    bool lowRes() const { return params_.particleDownsample > 1; }
+
+    // 000 section 5 "Upsample" into the full-resolution buffers (upsample.comp).
+    void upsample(const OitFrameTargets& targets) {
+        const gpu::Program& program = programs_.get(upsampleProgram_);
+        program.use();
+        program.set("phenScale", params_.particleDownsample);
+        depthCopy_.bind(VEIL_PHEN_TEX_DEPTH);
+        lowA_.bind(VEIL_PHEN_TEX_A);
+        lowBetaD_.bind(VEIL_PHEN_TEX_BD);
+        lowDelta_.bind(VEIL_PHEN_TEX_DELTA);
+        lowDepth_.bind(VEIL_PHEN_TEX_BKG);
+        glBindImageTexture(0, accumA_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA16F);
+        glBindImageTexture(1, betaD_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA16);
+        glBindImageTexture(2, delta_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA16F);
+        glDispatchCompute((targets.width + 7) / 8, (targets.height + 7) / 8, 1);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        for (GLuint unit = 0; unit < 3; ++unit)
+            glBindImageTexture(unit, 0, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA16F);
+    }
+
+    gpu::ProgramManager& programs_;
+    PhenomenologicalParams params_;
+    gpu::ProgramHandle resolveProgram_, downsampleProgram_, upsampleProgram_;
+    int lowWidth_ = 0, lowHeight_ = 0;
+    gpu::Texture lowA_{gpu::NoCreate}, lowBetaD_{gpu::NoCreate}, lowDelta_{gpu::NoCreate};
+    gpu::Texture lowDepth_{gpu::NoCreate};
+    gpu::Framebuffer lowFramebuffer_{gpu::NoCreate};
+    gpu::Texture accumA_{gpu::NoCreate}, betaD_{gpu::NoCreate}, delta_{gpu::NoCreate};
+    gpu::Texture depthCopy_{gpu::NoCreate}, background_{gpu::NoCreate};
+    gpu::Framebuffer framebuffer_{gpu::NoCreate};
+};
+
+} // namespace
+
+void registerPhenomenological(Registry& registry) {
+    registry.add({"phenomenological",
+                  "McGuire & Mara 2016/2017: weighted blended OIT with colored transmission, "
+                  "diffusion, refraction and self-modulation",
+                  nullptr, [](gpu::ProgramManager& programs) {
+                      return std::make_unique<PhenomenologicalTechnique>(
+                          programs, phenomenologicalDefaults());
+                  }});
+}
+
+} // namespace veil::oit

@@ -1,0 +1,68 @@
+// OIT technique `phenomenological`: McGuire & Mara, "A Phenomenological Scattering Model for
+// Order-Independent Transparency" (000, I3D 2016) and its journal version (001, TVCG 2017),
+// transparency part: colored transmission beta (000 Eq. 2), depth-weighted reflected light A
+// (Eq. 4-5), diffusion D (Eq. 7) and refraction offset delta (Eq. 8-9) accumulated in one
+// unordered pass, then a compute resolve with refraction, occlusion-aware diffusion and
+// self-modulation (000 section 5, Listing 2; 001 Eq. 14).
+//
+// Parameters (PhenomenologicalParams; defaults in brackets):
+//   pixelsPerUnit       [0]     Eq. 7's W / (2 tan(theta/2)) ("PPD" of Listing 2, which
+//                               uses 200). 0 = from the camera's projection (perspective:
+//                               divided by |z| per Eq. 7; orthographic: pixels per world unit).
+//   maxDiffusionPixels  [16]    Listing 2 kernel radius clamp. D^2 is stored divided by its
+//                               square, so D saturates there (1..64).
+//   k0                  [120/63] Eq. 6-7 std-dev (world units) of one c = 0 surface at unit
+//                               depth (Listing 1's constant).
+//   k1                  [0.5]   Eq. 7 implied thickness of the scattering surface (text: 0.5 m;
+//                               Listing 1 uses 0.05).
+//   weightMin, weightMax [0.01, 30]  Eq. 5 clamp of the depth weight w.
+//   refractionDepth     [2]     Eq. 9 Delta z: background plane distance behind the surface.
+//   selfModulation      [on]    000 Eq. 13 / 001 Eq. 14.
+//   refraction          [on]    000 section 5 "Refract".
+//   diffusion           [on]    000 section 5 "Diffuse".
+//   particleDownsample  [1]     2 or 4: billboard (particle) meshes accumulate at 1/2 or 1/4
+//                               resolution and are joint-bilateral upsampled (000 section 5).
+//
+// Framebuffer (000 Table 2 with changed formats):
+//   RT0 A          RGBA16F    as the paper.
+//   RT1 beta, D^2  RGBA16 UNORM instead of RGBA8: 8 bits give 1/255 steps in beta, far from the
+//                  "exactly matches sorted two-pass" claim of 000 Fig. 2 (tested to 1e-3).
+//                  Alpha holds D^2 / maxDiffusionPixels^2 (Table 2: D^2 / 63^2).
+//   RT2 delta      RGBA16F (sum c_i delta_i in pixels, sum c_i, -) instead of RG8_SNORM
+//                  delta / 63: 001 section 4.3.2 averages the layers' offsets weighted by net
+//                  coverage c_i, which needs the weight sum.
+// 24 bytes per pixel of accumulation plus a depth copy (4) and a background copy (8).
+//
+// Not implemented: caustic stochastic shadow maps (Eq. 10-12), inferred ambient
+// occlusion (001 section 6; the frame has no AO buffer), the host side of the fog path
+// (emit.glsl compiles in compute shaders with OIT_EMIT_COMPUTE; see its header).
+#pragma once
+
+#include "oit/technique.h"
+
+namespace veil::oit {
+
+struct PhenomenologicalParams {
+    float pixelsPerUnit = 0.0f;
+    int maxDiffusionPixels = 16;
+    float k0 = 120.0f / 63.0f;
+    float k1 = 0.5f;
+    float weightMin = 0.01f;
+    float weightMax = 30.0f;
+    float refractionDepth = 2.0f;
+    bool selfModulation = true;
+    bool refraction = true;
+    bool diffusion = true;
+    int particleDownsample = 1;
+
+    // Throws veil::Error naming the bad parameter.
+    void validate() const;
+};
+
+// The parameters a newly created `phenomenological` technique starts with (the registry
+// creates techniques by name only). Tests and tools change them before creating a renderer.
+PhenomenologicalParams& phenomenologicalDefaults();
+
+void registerPhenomenological(Registry& registry);
+
+} // namespace veil::oit
