@@ -12,6 +12,9 @@
 
 #define VEIL_IMG_OUTPUT 0
 
+// stochastic transparency (src/oit/stochastic): S-choose-R mask table
+#define VEIL_SSBO_STOCH_MASKS 4
+
 #define VEIL_MAX_LIGHTS 8
 
 #define VEIL_ATTR_POSITION 0
