@@ -92,7 +92,7 @@ TEST(OitStochasticMaskTable, HashUsesMasksOfARowUniformly) {
     for (int i = 0; i < trials; ++i) {
         const std::uint32_t h =
             stochasticFragmentHash(static_cast<std::uint32_t>(i % 256),
-                                   static_cast<std::uint32_t>(i / 256), 7u, 0x3f000000u, 1u, 0u);
+                                   static_cast<std::uint32_t>(i / 256), 0x3f000000u, 1u, 0u);
         const std::uint32_t m = stochasticPickMask(t, 2, h);
         for (std::uint32_t k = 0; k < 6; ++k)
             if (t.masks[t.offset[2] + k] == m) ++uses[k];
@@ -111,8 +111,7 @@ TEST(OitStochasticMaskTable, CoverageCountIsStratifiedAndUnbiased) {
         const int lo = static_cast<int>(std::floor(alpha * 4.0f));
         for (int i = 0; i < trials; ++i) {
             const int r = stochasticCoverageCount(
-                alpha, 4,
-                stochasticFragmentHash(static_cast<std::uint32_t>(i), 3u, 1u, 0u, 9u, 0u));
+                alpha, 4, stochasticFragmentHash(static_cast<std::uint32_t>(i), 3u, 0u, 9u, 0u));
             ASSERT_TRUE(r == lo || r == std::min(lo + 1, 4)) << alpha << " gave R=" << r;
             sum += r;
         }
@@ -121,11 +120,13 @@ TEST(OitStochasticMaskTable, CoverageCountIsStratifiedAndUnbiased) {
 }
 
 TEST(OitStochasticMaskTable, DifferentSeedsAndGroupsGiveDifferentHashes) {
-    const std::uint32_t a = stochasticFragmentHash(3, 4, 5, 6, 1, 0);
-    EXPECT_NE(a, stochasticFragmentHash(3, 4, 5, 6, 2, 0));
-    EXPECT_NE(a, stochasticFragmentHash(3, 4, 5, 6, 1, 1));
-    EXPECT_NE(a, stochasticFragmentHash(3, 4, 6, 6, 1, 0));
-    EXPECT_EQ(a, stochasticFragmentHash(3, 4, 5, 6, 1, 0));
+    const std::uint32_t z = 0x3f000000u;
+    const std::uint32_t a = stochasticFragmentHash(3, 4, z, 1, 0);
+    EXPECT_NE(a, stochasticFragmentHash(3, 4, z, 2, 0));
+    EXPECT_NE(a, stochasticFragmentHash(3, 4, z, 1, 1));
+    EXPECT_NE(a, stochasticFragmentHash(3, 5, z, 1, 0));
+    EXPECT_NE(a, stochasticFragmentHash(3, 4, z + 0x1000u, 1, 0)); // another surface
+    EXPECT_EQ(a, stochasticFragmentHash(3, 4, z + 3u, 1, 0));      // same surface, rounding noise
 }
 
 // 004 Examples 1 and 2 (section 3.1) at S = 4 through the simulator: the RMS errors the paper

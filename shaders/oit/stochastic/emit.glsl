@@ -53,12 +53,15 @@ uint stochHash(uint v) {
     return (word >> 22u) ^ word;
 }
 
-// 004 section 6: pixel, primitive and depth in the seed so every fragment of a pixel gets an
-// independent mask (primitive ids restart per draw call, depth separates the draws).
+// 004 section 6: pixel and depth in the seed so every surface of a pixel gets an independent
+// mask ("seeding by fragment z is effective for still images"). Not the primitive id: the two
+// triangles of one flat surface meeting inside a pixel would draw independent masks, and
+// alpha correction then loses the pixel whenever their coverages miss both masks (004 4.1,
+// the "otherwise 0" case). The depth is rounded to 15 mantissa bits so both triangles of a
+// flat surface agree despite interpolation rounding.
 uint stochFragmentHash() {
     uint h = stochHash(stochSeed + stochHash(stochGroup));
-    h = stochHash(h + floatBitsToUint(gl_FragCoord.z));
-    h = stochHash(h + uint(gl_PrimitiveID));
+    h = stochHash(h + ((floatBitsToUint(gl_FragCoord.z) + 0x80u) >> 8u));
     h = stochHash(h + uint(gl_FragCoord.y));
     return stochHash(h + uint(gl_FragCoord.x));
 }

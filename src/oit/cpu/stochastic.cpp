@@ -82,12 +82,10 @@ std::uint32_t stochasticHash(std::uint32_t v) {
     return (word >> 22u) ^ word;
 }
 
-std::uint32_t stochasticFragmentHash(std::uint32_t x, std::uint32_t y, std::uint32_t primitive,
-                                     std::uint32_t depthBits, std::uint32_t seed,
-                                     std::uint32_t group) {
+std::uint32_t stochasticFragmentHash(std::uint32_t x, std::uint32_t y, std::uint32_t depthBits,
+                                     std::uint32_t seed, std::uint32_t group) {
     std::uint32_t h = stochasticHash(seed + stochasticHash(group));
-    h = stochasticHash(h + depthBits);
-    h = stochasticHash(h + primitive);
+    h = stochasticHash(h + ((depthBits + 0x80u) >> 8u));
     h = stochasticHash(h + y);
     return stochasticHash(h + x);
 }
@@ -145,9 +143,10 @@ StochasticStats simulateStochasticPixel(const std::vector<StochasticFragment>& f
         for (int g = 0; g < groups; ++g) {
             std::vector<std::uint32_t> masks(static_cast<std::size_t>(n));
             for (int i = 0; i < n; ++i) {
-                const std::uint32_t h = stochasticFragmentHash(
-                    static_cast<std::uint32_t>(trial), 0u, static_cast<std::uint32_t>(i), 0u, seed,
-                    static_cast<std::uint32_t>(g));
+                const std::uint32_t h =
+                    stochasticFragmentHash(static_cast<std::uint32_t>(trial), 0u,
+                                           0x3f000000u + 0x1000u * static_cast<std::uint32_t>(i),
+                                           seed, static_cast<std::uint32_t>(g));
                 const auto& f = fragments[static_cast<std::size_t>(i)];
                 const int r = stochasticCoverageCount(static_cast<float>(f.alpha), bits, h);
                 masks[static_cast<std::size_t>(i)] = stochasticPickMask(table, r, h);

@@ -38,12 +38,12 @@ StochasticMaskTable buildStochasticMaskTable(int bits);
 // PCG-style integer hash (the output permutation of PCG32, O'Neill 2014). Mirrored in
 // shaders/oit/stochastic/emit.glsl: change both together.
 std::uint32_t stochasticHash(std::uint32_t v);
-// Per-fragment hash of (pixel, primitive, depth bits, seed, mask group): 004 section 6
-// "include pixel (x,y) in the seed ... independent masks for each fragment within a pixel"
-// (primitive id and depth, because primitive ids restart with every draw call).
-std::uint32_t stochasticFragmentHash(std::uint32_t x, std::uint32_t y, std::uint32_t primitive,
-                                     std::uint32_t depthBits, std::uint32_t seed,
-                                     std::uint32_t group);
+// Per-fragment hash of (pixel, depth, seed, mask group): 004 section 6 "include pixel (x,y)
+// in the seed ... seeding by fragment z is effective for still images". depthBits are the
+// float bits of the window depth; they are rounded to 15 mantissa bits here (emit.glsl says
+// why the primitive id is not used).
+std::uint32_t stochasticFragmentHash(std::uint32_t x, std::uint32_t y, std::uint32_t depthBits,
+                                     std::uint32_t seed, std::uint32_t group);
 // 004 section 3.1: R = floor(alpha * N + xi), xi uniform in [0,1) taken from the hash.
 int stochasticCoverageCount(float alpha, int bits, std::uint32_t hash);
 // The mask a fragment with this hash and count R uses (index = second hash mod count).
