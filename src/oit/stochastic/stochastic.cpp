@@ -194,6 +194,12 @@ public:
             colorFbo_.bind();
             glDepthFunc(GL_LEQUAL);
             glDepthMask(GL_FALSE);
+            // The fragment must pass against the depth it stored in the stochastic pass, drawn
+            // by another program: a minimal offset toward the eye absorbs rasterization
+            // differences between the two programs (GL guarantees invariance only with
+            // `invariant gl_Position`, which mesh.vert does not declare).
+            glEnable(GL_POLYGON_OFFSET_FILL);
+            glPolygonOffset(0.0f, -1.0f);
             glEnable(GL_BLEND);
             glBlendEquation(GL_FUNC_ADD);
             glBlendFunc(GL_ONE, GL_ONE);
@@ -202,6 +208,8 @@ public:
     }
 
     void endAccumulate(int pass) override {
+        glDisable(GL_POLYGON_OFFSET_FILL);
+        glPolygonOffset(0.0f, 0.0f);
         glDisable(GL_BLEND);
         glDepthMask(GL_TRUE);
         glDepthFunc(GL_LESS);
