@@ -36,6 +36,8 @@
 #define VEIL_IMG_FOG_TRANSMITTANCE 5
 #define VEIL_IMG_VOLUME_LIGHT 6
 #define VEIL_MAX_VOLUMES 4
+// stochastic transparency (src/oit/stochastic): S-choose-R mask table
+#define VEIL_SSBO_STOCH_MASKS 4
 
 #define VEIL_MAX_LIGHTS 8
 

@@ -5,6 +5,7 @@
 #include "oit/reference/reference.h"
 #include "oit/wboit/wboit.h"
 #include "oit/phenomenological/phenomenological.h"
+#include "oit/stochastic/stochastic.h"
 
 #include <fmt/ranges.h>
 
@@ -16,6 +17,7 @@ void registerBuiltinTechniques(Registry& registry) {
     registerReference(registry);
     registerWboit(registry);
     registerPhenomenological(registry);
+    registerStochastic(registry);
 }
 } // namespace
 
