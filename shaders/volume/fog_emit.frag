@@ -12,6 +12,10 @@ layout(binding = VEIL_TEX_DEPTH) uniform sampler2D opaqueDepth;
 
 uniform int resolutionDivisor;
 uniform mat4 invProjection;
+uniform mat4 projection;
+// Fog is no billboard: techniques that split passes by mesh kind (phenomenological's
+// low-resolution particle pass) see it as a full-resolution surface.
+uniform bool billboard = false;
 
 float viewDepthAt(ivec2 p) {
     ivec2 full = textureSize(opaqueDepth, 0);
@@ -62,5 +66,9 @@ void main() {
         }
     }
     if (T.r >= 0.99999 && max(L.r, max(L.g, L.b)) <= 0.0) discard;
+    // Stand at the fog's representative depth, so techniques that depth-test or sort
+    // transparent fragments (stochastic, reference) place it among the surfaces.
+    vec4 clip = projection * vec4(0.0, 0.0, -max(L.a, 1e-4), 1.0);
+    gl_FragDepth = clamp(clip.z / clip.w * 0.5 + 0.5, 0.0, 1.0);
     oitEmit(L.rgb, 1.0, T.rgb, L.a);
 }

@@ -175,7 +175,9 @@ void FogPass::march(const FogTargets& targets) {
 }
 
 void FogPass::bindForEmit(const gpu::Program& program, const FogTargets& targets) const {
-    program.set("resolutionDivisor", divisor_).set("invProjection", glm::inverse(targets.projection));
+    program.set("resolutionDivisor", divisor_)
+        .set("invProjection", glm::inverse(targets.projection))
+        .set("projection", targets.projection);
     radiance_.bind(VEIL_TEX_FOG_RADIANCE);
     transmittance_.bind(VEIL_TEX_FOG_TRANSMITTANCE);
     targets.depth->bind(VEIL_TEX_DEPTH);

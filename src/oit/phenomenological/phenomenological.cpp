@@ -143,6 +143,10 @@ public:
         glBlendFunci(0, GL_ONE, GL_ONE);
         glBlendFuncSeparatei(1, GL_ZERO, GL_ONE_MINUS_SRC_COLOR, GL_ONE, GL_ONE);
         glBlendFunci(2, GL_ONE, GL_ONE);
+        prepareProgram(pass, program);
+    }
+
+    void prepareProgram(int, const gpu::Program& program) const override {
         const float dmax = static_cast<float>(params_.maxDiffusionPixels);
         program.set("phenWeightRange", glm::vec2(params_.weightMin, params_.weightMax))
             .set("phenK0", params_.k0)

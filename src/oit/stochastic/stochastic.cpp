@@ -148,6 +148,17 @@ public:
         dummy2d_.storage2D(1, GL_RGBA32F, 1, 1);
     }
 
+    void prepareProgram(int pass, const gpu::Program& program) const override {
+        const PassInfo info = passInfo(pass);
+        if (info.kind != PassKind::StochColor && info.kind != PassKind::StochDepth) return;
+        const bool grouped = grouped_;
+        program.set("stochSeed", static_cast<unsigned>(seed_))
+            .set("stochGroup", static_cast<unsigned>(grouped ? 0 : info.repeat))
+            .set("stochShift", grouped ? info.repeat * samples_ : 0)
+            .set("stochBits", maskBits_)
+            .set("stochSamples", samples_);
+    }
+
     void beginAccumulate(int pass, const OitFrameTargets& targets,
                          const gpu::Program& program) override {
         const PassInfo info = passInfo(pass);
@@ -182,12 +193,8 @@ public:
             glDepthMask(GL_TRUE);
             glDisable(GL_BLEND);
             masks_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_STOCH_MASKS);
-            const bool grouped = grouped_;
-            program.set("stochSeed", static_cast<unsigned>(targets.seed))
-                .set("stochGroup", static_cast<unsigned>(grouped ? 0 : info.repeat))
-                .set("stochShift", grouped ? info.repeat * samples_ : 0)
-                .set("stochBits", maskBits_)
-                .set("stochSamples", samples_);
+            seed_ = targets.seed;
+            prepareProgram(pass, program);
             break;
         }
         case PassKind::Accumulate: // 004 3.5 step 4: add to samples where z_frag <= z_buffer
@@ -300,6 +307,7 @@ private:
     gpu::ProgramManager* programs_;
     int samples_ = 4, passes_ = 1, maskBits_ = 4;
     bool grouped_ = true;
+    std::uint32_t seed_ = 1; // OitFrameTargets::seed of the current frame
     gpu::ProgramHandle copyProgram_, foldProgram_, resolveProgram_;
     gpu::Buffer masks_{gpu::NoCreate};
     gpu::VertexArray vao_{gpu::NoCreate};
