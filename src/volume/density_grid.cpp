@@ -95,7 +95,8 @@ float fbm(float x, float y, float z, std::uint32_t seed) {
 
 std::vector<GridSummary> listGrids(const fs::path& path) {
     std::vector<GridSummary> out;
-    for (const auto& g : *readAllGrids(path)) out.push_back(summarize(*g));
+    const openvdb::GridPtrVecPtr grids = readAllGrids(path); // keep it alive while iterating
+    for (const auto& g : *grids) out.push_back(summarize(*g));
     return out;
 }
 

@@ -1,0 +1,154 @@
+// Density grids: loading by name from real .vdb files, and every kind of bad input ending in
+// one clear veil::Error (or a sanitized grid with a warning), never a crash.
+#include "base/error.h"
+#include "scene/scene.h"
+#include "support/test_support.h"
+#include "volume/cpu_reference.h"
+#include "volume/density_grid.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+
+namespace veil::test {
+
+namespace fs = std::filesystem;
+
+namespace {
+fs::path third(const char* rel) { return sharedDir() / "datasets/third_party" / rel; }
+
+fs::path dir() {
+    const fs::path d = outputDir() / "volume";
+    fs::create_directories(d);
+    return d;
+}
+
+std::string errorOf(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return {};
+}
+} // namespace
+
+TEST(VolumeTest, LoadsRealGridsByName) {
+    auto smoke = volume::loadDensityGrid(third("vdb-smoke/smoke.vdb"), "density");
+    EXPECT_EQ(smoke->activeVoxelCount(), 1049275u);
+    EXPECT_NEAR(smoke->voxelSize().x(), 0.47619, 1e-4);
+    // Several grids named "density": the first one in the file is taken.
+    const auto summaries = volume::listGrids(third("vdb-three-density-grids/grids.vdb"));
+    ASSERT_EQ(summaries.size(), 3u);
+    auto first = volume::loadDensityGrid(third("vdb-three-density-grids/grids.vdb"), "density");
+    EXPECT_EQ(first->activeVoxelCount(), summaries[0].activeVoxels);
+}
+
+TEST(VolumeTest, WrongGridNameListsTheGrids) {
+    const std::string msg = errorOf(
+        [] { volume::loadDensityGrid(third("vdb-torus-fog/torus01.vdb"), "density"); });
+    EXPECT_NE(msg.find("no grid named 'density'"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("voxel_fog_density"), std::string::npos) << msg;
+    EXPECT_NO_THROW(volume::loadDensityGrid(third("vdb-torus-fog/torus01.vdb"), "voxel_fog_density"));
+}
+
+TEST(VolumeTest, TruncatedCorruptAndMissingFilesAreErrors) {
+    std::ifstream in(third("vdb-sphere-fog/sphere.vdb"), std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    const fs::path cut = dir() / "truncated.vdb";
+    std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    EXPECT_NE(errorOf([&] { volume::loadDensityGrid(cut, "density"); }).find("truncated.vdb"),
+              std::string::npos);
+    std::string garbage = bytes;
+    // Damage the compressed voxel data in the middle of the file.
+    for (std::size_t i = garbage.size() / 2; i < garbage.size() / 2 + 256; ++i)
+        garbage[i] = char(garbage[i] ^ 0x5A);
+    const fs::path bad = dir() / "corrupt.vdb";
+    std::ofstream(bad, std::ios::binary) << garbage;
+    EXPECT_FALSE(errorOf([&] { volume::loadDensityGrid(bad, "density"); }).empty());
+    const fs::path text = dir() / "not-a-vdb.vdb";
+    std::ofstream(text) << "hello";
+    EXPECT_FALSE(errorOf([&] { volume::loadDensityGrid(text, "density"); }).empty());
+    EXPECT_NE(errorOf([&] { volume::loadDensityGrid(dir() / "missing.vdb", "density"); })
+                  .find("no such file"),
+              std::string::npos);
+}
+
+TEST(VolumeTest, VectorAndEmptyGridsAreRefused) {
+    openvdb::initialize();
+    auto vec = openvdb::Vec3SGrid::create();
+    vec->setName("velocity");
+    vec->tree().setValue(openvdb::Coord(1, 2, 3), openvdb::Vec3s(1, 0, 0));
+    auto empty = openvdb::FloatGrid::create();
+    empty->setName("density");
+    const fs::path p = dir() / "vector-and-empty.vdb";
+    volume::saveGrids(p, {vec, empty});
+    const std::string v = errorOf([&] { volume::loadDensityGrid(p, "velocity"); });
+    EXPECT_NE(v.find("scalar float"), std::string::npos) << v;
+    EXPECT_NE(v.find("vec3s"), std::string::npos) << v;
+    const std::string e = errorOf([&] { volume::loadDensityGrid(p, "density"); });
+    EXPECT_NE(e.find("empty"), std::string::npos) << e;
+}
+
+TEST(VolumeTest, NanAndInfiniteDensitiesAreSanitized) {
+    openvdb::initialize();
+    auto g = openvdb::FloatGrid::create(0.0f);
+    g->setName("density");
+    auto acc = g->getAccessor();
+    acc.setValue({0, 0, 0}, 1.0f);
+    acc.setValue({1, 0, 0}, std::numeric_limits<float>::quiet_NaN());
+    acc.setValue({2, 0, 0}, std::numeric_limits<float>::infinity());
+    acc.setValue({3, 0, 0}, -2.0f);
+    const fs::path p = dir() / "nan.vdb";
+    volume::saveGrids(p, {g});
+    auto loaded = volume::loadDensityGrid(p, "density");
+    auto a = loaded->getConstAccessor();
+    EXPECT_EQ(a.getValue({0, 0, 0}), 1.0f);
+    for (int x = 1; x <= 3; ++x) EXPECT_EQ(a.getValue({x, 0, 0}), 0.0f) << x;
+}
+
+TEST(VolumeTest, LevelSetIsConvertedToFog) {
+    auto ls = volume::meshToFogGrid(scene::makeSphere(1.0f), glm::mat4(1.0f), 0.1f);
+    auto a = ls->getConstAccessor();
+    EXPECT_NEAR(a.getValue({0, 0, 0}), 1.0f, 1e-6); // centre: inside
+    EXPECT_EQ(a.getValue({15, 0, 0}), 0.0f);        // outside
+}
+
+TEST(VolumeTest, SceneRejectsBadVolumeEntries) {
+    const nlohmann::json base = nlohmann::json::parse(R"({
+      "cameras": [{"position": [0, 0, 5], "target": [0, 0, 0]}],
+      "volumes": [{"procedural": "box", "density_scale": 1}]})");
+    nlohmann::json neg = base;
+    neg["volumes"][0]["density_scale"] = -1.0;
+    EXPECT_NE(errorOf([&] { scene::parseScene(neg, dir()); }).find("/volumes/0/density_scale"),
+              std::string::npos);
+    nlohmann::json both = base;
+    both["volumes"][0]["path"] = "x.vdb";
+    EXPECT_FALSE(errorOf([&] { scene::parseScene(both, dir()); }).empty());
+    nlohmann::json kind = base;
+    kind["volumes"][0]["procedural"] = "teapot";
+    EXPECT_NE(errorOf([&] { scene::parseScene(kind, dir()); }).find("teapot"), std::string::npos);
+    nlohmann::json g = base;
+    g["volumes"][0]["anisotropy"] = 1.0;
+    EXPECT_FALSE(errorOf([&] { scene::parseScene(g, dir()); }).empty());
+}
+
+TEST(VolumeTest, CpuReferenceSlabIsExponential) {
+    // The CPU reference itself against the analytic slab: T = exp(-sigma d), d = 0.5.
+    const nlohmann::json doc = nlohmann::json::parse(R"({
+      "render": {"width": 8, "height": 8, "ambient": 0},
+      "cameras": [{"type": "orthographic", "position": [0, 0, 5], "target": [0, 0, 0],
+                   "ortho_height": 2, "near": 1, "far": 10}],
+      "volumes": [{"procedural": "box", "size": [2.4, 2.4, 0.5], "voxel_size": 0.05,
+                   "density_scale": 2}]})");
+    const scene::Scene s = scene::parseScene(doc, dir());
+    volume::CpuFogReference ref(s, {volume::loadVolume(s.volumes[0])});
+    const volume::FogSample f = ref.pixel(s.cameras[0], 8, 8, 4.5, 3.5, 2048);
+    EXPECT_NEAR(f.transmittance, std::exp(-1.0), 1e-4);
+    EXPECT_EQ(f.radiance, glm::dvec3(0.0));
+}
+
+} // namespace veil::test
