@@ -3,6 +3,8 @@
 
 #include "base/error.h"
 #include "scene/scene.h"
+#include "volume/density_grid.h"
+#include "volume/gpu_volume.h"
 
 #include <openvdb/openvdb.h>
 
@@ -52,32 +54,31 @@ void printScene(const fs::path& path) {
         std::cout << "  volume     " << v.path.string() << " grid '" << v.grid << "'\n";
 }
 
+std::string formatBytes(std::size_t bytes) {
+    if (bytes >= (std::size_t(1) << 20)) return fmt::format("{:.2f} MiB", bytes / 1048576.0);
+    return fmt::format("{:.1f} KiB", bytes / 1024.0);
+}
+
 void printVdb(const fs::path& path) {
-    openvdb::initialize();
-    VEIL_CHECK(fs::exists(path), "cannot open '{}': no such file", path.string());
-    openvdb::GridPtrVecPtr grids;
-    openvdb::io::File file(path.string());
-    try {
-        file.open();
-        grids = file.getGrids();
-        file.close();
-    } catch (const openvdb::Exception& e) {
-        throw Error(fmt::format("cannot read OpenVDB file '{}': {}", path.string(), e.what()));
-    }
-    std::cout << "vdb " << path.string() << ": " << grids->size() << " grid(s)\n";
-    for (const auto& grid : *grids) {
-        const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
-        const openvdb::Vec3d vs = grid->voxelSize();
-        const auto wlo = grid->indexToWorld(box.min().asVec3d());
-        const auto whi = grid->indexToWorld(box.max().asVec3d());
+    const std::vector<volume::GridSummary> grids = volume::listGrids(path);
+    std::cout << "vdb " << path.string() << ": " << grids.size() << " grid(s)\n";
+    for (const auto& g : grids) {
+        const openvdb::CoordBBox& box = g.indexBounds;
         std::cout << fmt::format(
             "  '{}' {} ({}): {} active voxels, index bounds [{} {} {}]..[{} {} {}], voxel size "
-            "({:.4g} {:.4g} {:.4g}), world bounds ({:.4g} {:.4g} {:.4g})..({:.4g} {:.4g} {:.4g})\n",
-            grid->getName(), grid->valueType(),
-            openvdb::GridBase::gridClassToString(grid->getGridClass()), grid->activeVoxelCount(),
-            box.min().x(), box.min().y(), box.min().z(), box.max().x(), box.max().y(),
-            box.max().z(), vs.x(), vs.y(), vs.z(), wlo.x(), wlo.y(), wlo.z(), whi.x(), whi.y(),
-            whi.z());
+            "({:.4g} {:.4g} {:.4g}), world bounds ({:.4g} {:.4g} {:.4g})..({:.4g} {:.4g} {:.4g})",
+            g.name, g.type, g.gridClass, g.activeVoxels, box.min().x(), box.min().y(),
+            box.min().z(), box.max().x(), box.max().y(), box.max().z(), g.voxelSize.x(),
+            g.voxelSize.y(), g.voxelSize.z(), g.worldBounds.min().x(), g.worldBounds.min().y(),
+            g.worldBounds.min().z(), g.worldBounds.max().x(), g.worldBounds.max().y(),
+            g.worldBounds.max().z());
+        if (g.type == "float" && g.activeVoxels > 0) {
+            // What `veil render` would upload: brick atlas or dense texture (src/volume).
+            const auto grid = volume::loadDensityGrid(path, g.name);
+            std::cout << ", grid " << formatBytes(grid->memUsage()) << ", GPU "
+                      << formatBytes(volume::estimateGpuBytes(*grid, {}));
+        }
+        std::cout << "\n";
     }
 }
 

@@ -52,6 +52,7 @@ struct Rendered {
     std::string camera;
     gpu::GpuTimer::Mode timer = gpu::GpuTimer::Mode::CpuFinish;
     nlohmann::json oitStats; // technique-specific counters (reference: fragments, pool)
+    nlohmann::json volumes = nlohmann::json::array();
 };
 
 Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, const RenderArgs& args,
@@ -67,6 +68,15 @@ Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, con
         r.totalMs += p.milliseconds;
     }
     r.gpuBytes = renderer.gpuBytes();
+    if (const volume::FogPass* fog = renderer.fog()) {
+        for (const auto& v : fog->stats())
+            r.volumes.push_back({{"gpu_bytes", v.gpuBytes},
+                                 {"grid_bytes", v.gridBytes},
+                                 {"active_voxels", v.activeVoxels},
+                                 {"layout", v.dense ? "dense" : "brick atlas"},
+                                 {"bricks", v.bricks},
+                                 {"coarsened", v.coarsened}});
+    }
     r.width = renderer.width();
     r.height = renderer.height();
     r.camera = renderer.camera().name;
@@ -204,6 +214,7 @@ void runRender(const RenderArgs& args) {
         report["passes"] = main.passes;
         report["total_ms"] = main.totalMs;
         if (!main.oitStats.is_null()) report["oit_stats"] = main.oitStats;
+        if (!main.volumes.empty()) report["volumes"] = main.volumes;
         if (!args.compareTo.empty()) {
             report["compare"] = errorJson(args.compareTo, errors.front().second);
             report["compare"]["error_image"] = fs::absolute(errorPath).string();
