@@ -2,13 +2,17 @@
 
 #include "base/error.h"
 #include "oit/blend/blend.h"
+#include "oit/moment/moment.h"
 
 #include <fmt/ranges.h>
 
 namespace veil::oit {
 
 namespace {
-void registerBuiltinTechniques(Registry& registry) { registerBlend(registry); }
+void registerBuiltinTechniques(Registry& registry) {
+    registerBlend(registry);
+    registerMoment(registry);
+}
 } // namespace
 
 Registry& Registry::instance() {

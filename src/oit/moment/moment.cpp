@@ -1,0 +1,201 @@
+// Moment-based order-independent transparency (002, Muenstermann, Krumpen, Klein, Peters 2018).
+//
+// Parameters (MomentTechniqueParams; defaults from defaultMomentTechniqueParams):
+//   overestimation  beta = 0.25           002 section 3.2, v_0 of Algorithms 1 and 2
+//   bias            float32 per set:      p4 5e-7, p6 5e-6, p8 5e-5, t3 8e-7, t4 1.5e-6
+//                                         (MOMENTS-NOTES.md; 002 section 4.1, 5.3)
+//   biasVector      power: p4 (0, .375, 0, .375), p6 (0, .48, 0, .451, 0, .45),
+//                   p8 (0, .75, 0, .6767, 0, .63, 0, .6003) (b' = (1 - bias) b + bias b*)
+//                   trigonometric: b_j *= (1 - bias), j >= 1 (002 section 5.3)
+//   wrappingZone    theta = pi / 10       002 Eq. 5 and 6 (trigonometric only)
+//   zMin, zMax      log-depth warp range  002 section 3.3; default (0) = camera near/far
+//
+// Passes: geometry pass 0 accumulates b_0 and the moments additively (emit.glsl), geometry
+// pass 1 reconstructs T in front of each fragment (Algorithm 1 or 2) and accumulates
+// radiance * T and alpha * T, the resolve (compute) renormalizes (002 Eq. 2).
+// 16-bit storage (002 section 4.1, read-modify-write under GL_ARB_fragment_shader_interlock)
+// is not implemented: only the quantization transform exists (cpu::quantizePower4).
+#include "oit/moment/moment.h"
+
+#include "base/error.h"
+#include "shaders/common/bindings.h"
+
+#include <array>
+
+namespace veil::oit {
+
+namespace {
+
+struct Variant {
+    const char* name;
+    cpu::MomentBasis basis;
+    int count;
+};
+constexpr std::array<Variant, 5> kVariants{{{"p4", cpu::MomentBasis::Power, 4},
+                                            {"p6", cpu::MomentBasis::Power, 6},
+                                            {"p8", cpu::MomentBasis::Power, 8},
+                                            {"t3", cpu::MomentBasis::Trigonometric, 3},
+                                            {"t4", cpu::MomentBasis::Trigonometric, 4}}};
+
+const Variant& findVariant(const std::string& name) {
+    for (const Variant& v : kVariants)
+        if (name == v.name) return v;
+    throw Error(fmt::format("unknown moment OIT variant '{}' (known: p4, p6, p8, t3, t4)", name));
+}
+
+class MomentTechnique final : public Technique {
+public:
+    MomentTechnique(gpu::ProgramManager& programs, const Variant& variant,
+                    const MomentTechniqueParams& params)
+        : programs_(programs), variant_(variant), params_(params) {
+        const bool power = variant.basis == cpu::MomentBasis::Power;
+        stored_ = power ? variant.count : 2 * variant.count;
+        VEIL_CHECK(!power ||
+                       static_cast<int>(params.reconstruction.biasVector.size()) == variant.count,
+                   "moment-{}: bias vector needs {} entries", variant.name, variant.count);
+        VEIL_CHECK(params.reconstruction.overestimation >= 0.0 &&
+                       params.reconstruction.overestimation <= 1.0 &&
+                       params.reconstruction.bias >= 0.0 && params.reconstruction.bias < 1.0,
+                   "moment-{}: overestimation must lie in [0, 1] and bias in [0, 1)", variant.name);
+        VEIL_CHECK(params.zMin <= 0.0 || params.zMax > params.zMin,
+                   "moment-{}: depth range [{}, {}] must satisfy 0 < min < max", variant.name,
+                   params.zMin, params.zMax);
+        resolveProgram_ = programs_.add(gpu::ProgramDesc::compute("oit/moment/resolve.comp"));
+    }
+
+    std::string name() const override { return std::string("moment-") + variant_.name; }
+    std::filesystem::path emitInclude() const override { return "oit/moment/emit.glsl"; }
+    int geometryPasses() const override { return 2; }
+
+    std::vector<std::string> defines(int) const override {
+        return {variant_.basis == cpu::MomentBasis::Power ? "MOMENT_POWER 1" : "MOMENT_TRIG 1",
+                fmt::format("MOMENT_COUNT {}", variant_.count),
+                fmt::format("MOMENT_STORED {}", stored_)};
+    }
+
+    void resize(const OitFrameTargets& targets) override {
+        auto make = [&](GLenum format) {
+            gpu::Texture t(GL_TEXTURE_2D);
+            t.storage2D(1, format, targets.width, targets.height)
+                .parameter(GL_TEXTURE_MIN_FILTER, GL_NEAREST)
+                .parameter(GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            return t;
+        };
+        moments_.clear();
+        for (int i = 0; i < momentTargets(); ++i)
+            moments_.push_back(make(GL_RGBA32F));
+        accum_ = make(GL_RGBA32F);
+        momentFbo_ = gpu::Framebuffer();
+        momentFbo_.attach(GL_DEPTH_ATTACHMENT, *targets.depth);
+        for (int i = 0; i < momentTargets(); ++i)
+            momentFbo_.attach(GL_COLOR_ATTACHMENT0 + i, moments_[i]);
+        if (momentTargets() == 2)
+            momentFbo_.drawBuffers({GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1});
+        else
+            momentFbo_.drawBuffers(
+                {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2});
+        momentFbo_.checkComplete("oit/moment (moments)");
+        accumFbo_ = gpu::Framebuffer();
+        accumFbo_.attach(GL_COLOR_ATTACHMENT0, accum_)
+            .attach(GL_DEPTH_ATTACHMENT, *targets.depth)
+            .drawBuffers({GL_COLOR_ATTACHMENT0});
+        accumFbo_.checkComplete("oit/moment (accumulation)");
+    }
+
+    void beginAccumulate(int pass, const OitFrameTargets& targets,
+                         const gpu::Program& program) override {
+        const float zero[4] = {0, 0, 0, 0};
+        if (pass == 0) {
+            momentFbo_.bind();
+            for (int i = 0; i < momentTargets(); ++i)
+                glClearNamedFramebufferfv(momentFbo_.id(), GL_COLOR, i, zero);
+        } else {
+            accumFbo_.bind();
+            glClearNamedFramebufferfv(accumFbo_.id(), GL_COLOR, 0, zero);
+            for (int i = 0; i < momentTargets(); ++i)
+                moments_[i].bind(VEIL_TEX_OIT0 + i);
+        }
+        glViewport(0, 0, targets.width, targets.height);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+        glDepthMask(GL_FALSE);
+        glDisable(GL_CULL_FACE);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_ONE, GL_ONE); // 002: additive passes only
+        glBlendEquation(GL_FUNC_ADD);
+        const cpu::MomentParams& r = params_.reconstruction;
+        float biasVector[8] = {};
+        for (std::size_t i = 0; i < r.biasVector.size() && i < 8; ++i)
+            biasVector[i] = static_cast<float>(r.biasVector[i]);
+        program.set("momentOverestimation", static_cast<float>(r.overestimation))
+            .set("momentBias", static_cast<float>(r.bias))
+            .set("momentWrappingZone", static_cast<float>(r.wrappingZone))
+            .set("momentDepthRange", glm::vec2(params_.zMin, params_.zMax));
+        const GLint loc = program.uniformLocation("momentBiasVector");
+        if (loc >= 0) glProgramUniform1fv(program.id(), loc, 8, biasVector);
+    }
+
+    void endAccumulate(int) override {
+        glDisable(GL_BLEND);
+        glDepthMask(GL_TRUE);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
+
+    void resolve(const OitFrameTargets& targets) override {
+        const gpu::Program& program = programs_.get(resolveProgram_);
+        program.use();
+        moments_[0].bind(VEIL_TEX_OIT0 + 0);
+        accum_.bind(VEIL_TEX_OIT0 + 3);
+        glBindImageTexture(VEIL_IMG_OUTPUT, targets.hdrColor->id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+                           GL_RGBA16F);
+        glDispatchCompute((targets.width + 7) / 8, (targets.height + 7) / 8, 1);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                        GL_FRAMEBUFFER_BARRIER_BIT);
+    }
+
+    std::size_t bytesPerPixel() const override {
+        return static_cast<std::size_t>(16 * momentTargets() + 16);
+    }
+
+private:
+    int momentTargets() const { return stored_ > 4 ? 3 : 2; }
+
+    gpu::ProgramManager& programs_;
+    Variant variant_;
+    MomentTechniqueParams params_;
+    int stored_ = 0;
+    gpu::ProgramHandle resolveProgram_;
+    std::vector<gpu::Texture> moments_;
+    gpu::Texture accum_{gpu::NoCreate};
+    gpu::Framebuffer momentFbo_{gpu::NoCreate}, accumFbo_{gpu::NoCreate};
+};
+
+} // namespace
+
+MomentTechniqueParams defaultMomentTechniqueParams(const std::string& variant) {
+    const Variant& v = findVariant(variant);
+    MomentTechniqueParams p;
+    p.reconstruction = cpu::defaultMomentParams({v.basis, v.count}, false);
+    return p;
+}
+
+std::unique_ptr<Technique> createMomentTechnique(gpu::ProgramManager& programs,
+                                                 const std::string& variant,
+                                                 const MomentTechniqueParams& params) {
+    return std::make_unique<MomentTechnique>(programs, findVariant(variant), params);
+}
+
+void registerMoment(Registry& registry) {
+    for (const Variant& v : kVariants) {
+        const std::string variant = v.name;
+        registry.add({std::string("moment-") + v.name,
+                      fmt::format("moment-based OIT (002), {} {} moments, float32 storage", v.count,
+                                  v.basis == cpu::MomentBasis::Power ? "power" : "trigonometric"),
+                      nullptr, [variant](gpu::ProgramManager& programs) {
+                          return createMomentTechnique(programs, variant,
+                                                       defaultMomentTechniqueParams(variant));
+                      }});
+    }
+}
+
+} // namespace veil::oit

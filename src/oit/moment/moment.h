@@ -1,0 +1,32 @@
+// `moment-p4`, `moment-p6`, `moment-p8`, `moment-t3`, `moment-t4`: moment-based
+// order-independent transparency (002, Muenstermann et al. 2018) with float32 storage and
+// additive blending only. See moment.cpp for the parameter block and
+// shaders/oit/moment/emit.glsl for the storage layout.
+#pragma once
+
+#include "oit/cpu/moments.h"
+#include "oit/technique.h"
+
+#include <memory>
+#include <string>
+
+namespace veil::oit {
+
+// Technique parameters (defaults: 002 and MOMENT-NOTES.md, see moment.cpp).
+struct MomentTechniqueParams {
+    cpu::MomentParams reconstruction; // overestimation, bias, bias vector, wrapping zone
+    // Log-depth warp range (002 section 3.3). zMin <= 0 means the camera's near/far planes;
+    // an application with a bounding sphere of its transparent geometry passes
+    // cpu::depthRangeFromSphere(...) here.
+    double zMin = 0.0, zMax = 0.0;
+};
+
+// Variants in one table; `variant` is the name without "moment-" ("p4", ..., "t4").
+MomentTechniqueParams defaultMomentTechniqueParams(const std::string& variant);
+std::unique_ptr<Technique> createMomentTechnique(gpu::ProgramManager& programs,
+                                                 const std::string& variant,
+                                                 const MomentTechniqueParams& params);
+
+void registerMoment(Registry& registry);
+
+} // namespace veil::oit
