@@ -161,7 +161,7 @@ std::vector<Plane> randomPlanes(int count, unsigned seed) {
                 -kHalf + std::max(c, d) * 0.125,
                 0.5 + 7.0 * u(rng),
                 0.2 + 0.6 * u(rng),
-                {2 * u(rng), 2 * u(rng), 2 * u(rng)}};
+                {u(rng), u(rng), u(rng)}};
         planes.push_back(p);
     }
     return planes;
@@ -177,6 +177,27 @@ void writePng(const std::string& name, const ImageF& linear) {
     io::writeImage(outputDir() / (name + ".png"), out);
 }
 
+// Side by side, each image scaled up 4x (nearest), for looking at small test renders.
+ImageF montage(const std::vector<ImageF>& images) {
+    constexpr int kScale = 4, kGap = 4;
+    const int w = kSize * kScale;
+    ImageF out(static_cast<int>(images.size()) * (w + kGap), w, 4);
+    for (std::size_t i = 0; i < images.size(); ++i)
+        for (int y = 0; y < w; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int c = 0; c < 4; ++c)
+                    out.at(static_cast<int>(i) * (w + kGap) + x, y, c) =
+                        c == 3 ? 1.0f : images[i].at(x / kScale, y / kScale, c);
+    return out;
+}
+
+ImageF scaledDifference(const ImageF& a, const ImageF& b, float scale) {
+    ImageF d = a;
+    for (std::size_t i = 0; i < d.pixels.size(); ++i)
+        d.pixels[i] = std::abs(a.pixels[i] - b.pixels[i]) * scale;
+    return d;
+}
+
 bool allFinite(const ImageF& img) {
     return std::all_of(img.pixels.begin(), img.pixels.end(),
                        [](float v) { return std::isfinite(v); });
@@ -190,11 +211,11 @@ struct VariantCase {
 };
 
 const VariantCase kCases[] = {
-    {"moment-p4", {oit::cpu::MomentBasis::Power, 4}, 0.02, 0.09},
-    {"moment-p6", {oit::cpu::MomentBasis::Power, 6}, 0.02, 0.09},
-    {"moment-p8", {oit::cpu::MomentBasis::Power, 8}, 0.02, 0.09},
-    {"moment-t3", {oit::cpu::MomentBasis::Trigonometric, 3}, 0.02, 0.09},
-    {"moment-t4", {oit::cpu::MomentBasis::Trigonometric, 4}, 0.02, 0.09},
+    {"moment-p4", {oit::cpu::MomentBasis::Power, 4}, 2e-3, 0.02},
+    {"moment-p6", {oit::cpu::MomentBasis::Power, 6}, 2e-3, 0.02},
+    {"moment-p8", {oit::cpu::MomentBasis::Power, 8}, 2e-3, 0.02},
+    {"moment-t3", {oit::cpu::MomentBasis::Trigonometric, 3}, 2e-3, 0.02},
+    {"moment-t4", {oit::cpu::MomentBasis::Trigonometric, 4}, 2e-3, 0.02},
 };
 
 ImageF render(const gpu::ContextInfo& context, const std::vector<Plane>& planes,
@@ -211,9 +232,9 @@ ImageF render(const gpu::ContextInfo& context, const std::vector<Plane>& planes,
 class OitMomentGLTest : public GlTest {};
 
 TEST_F(OitMomentGLTest, RandomStacksMatchCpuReferenceAndExactComposite) {
-    const std::vector<Plane> planes = randomPlanes(8, 21);
+    const std::vector<Plane> planes = randomPlanes(16, 21);
     const ImageF exact = exactComposite(planes);
-    writePng("oit_moment_exact", exact);
+    std::vector<ImageF> row{exact};
     for (const VariantCase& v : kCases) {
         const ImageF gpu = render(info(), planes, v.technique);
         const ImageF cpu = momentComposite(planes, v.set);
@@ -221,28 +242,42 @@ TEST_F(OitMomentGLTest, RandomStacksMatchCpuReferenceAndExactComposite) {
         const ImageDiff toCpu = compareImages(gpu, cpu);
         const ImageDiff toExact = compareImages(gpu, exact);
         const ImageDiff cpuToExact = compareImages(cpu, exact);
-        writePng(std::string("oit_") + v.technique, gpu);
+        row.push_back(gpu);
+        if (v.set.count == 4 && v.set.basis == oit::cpu::MomentBasis::Power)
+            row.push_back(scaledDifference(gpu, exact, 5.0f));
         std::printf("[ moments ] %s: GPU vs CPU reference max %.2e rmse %.2e; GPU vs exact rmse "
                     "%.4f max %.3f; CPU reference vs exact rmse %.4f\n",
                     v.technique, toCpu.maxAbs, toCpu.rmse, toExact.rmse, toExact.maxAbs,
                     cpuToExact.rmse);
-        // KNOWN ISSUE (see the report): the GPU float32 reconstruction differs from the CPU
-        // double pipeline by up to ~0.6 on multi-layer pixels although the accumulated
-        // moments match (checked by reading the targets back); one-surface pixels agree.
-        // The GPU-vs-CPU bound is asserted in DISABLED_GpuMatchesCpuReference below.
-        EXPECT_LT(cpuToExact.rmse, 0.03) << v.technique;
+        // GPU float32 vs CPU double: measured max 4.8e-4..5.8e-4 (RGBA16F HDR target).
+        EXPECT_LT(toCpu.maxAbs, v.gpuVsCpuMax) << v.technique;
         EXPECT_LT(toExact.rmse, v.rmseVsExact) << v.technique;
-        if (toExact.rmse >= v.rmseVsExact)
+        if (toCpu.maxAbs >= v.gpuVsCpuMax || toExact.rmse >= v.rmseVsExact)
             writeFailureImages(std::string("oit_") + v.technique, gpu, exact);
     }
+    // exact | p4 | 5 x |p4 - exact| | p6 | p8 | t3 | t4
+    writePng("oit_moment_random_stacks", montage(row));
 }
 
-TEST_F(OitMomentGLTest, DISABLED_GpuMatchesCpuReference) {
-    const std::vector<Plane> planes = randomPlanes(8, 21);
+TEST_F(OitMomentGLTest, TwoLayersPerPixelNearlyExact) {
+    // At most two surfaces per pixel (k <= m/2 for every variant): the reconstruction is exact
+    // up to the biasing (002 Fig. 3) apart from the overestimation: a surface sees beta times
+    // its own absorbance, so the relative weight of the back surface is off by
+    // exp(-beta (a_back - a_front)), which the scalar renormalization (002 Eq. 2) cannot undo.
+    // Measured: max 1.46e-2, the same for every variant (all reconstruct two layers exactly).
+    const std::vector<Plane> planes = {
+        {-3.0, 1.0, -3.0, 1.0, 2.0, 0.6, {1.5, 0.3, 0.1}},
+        {-1.0, 3.0, -1.0, 3.0, 6.0, 0.5, {0.1, 0.9, 1.2}},
+    };
+    const ImageF exact = exactComposite(planes);
     for (const VariantCase& v : kCases) {
-        const ImageDiff d =
-            compareImages(render(info(), planes, v.technique), momentComposite(planes, v.set));
-        EXPECT_LT(d.maxAbs, v.gpuVsCpuMax) << v.technique;
+        const ImageF gpu = render(info(), planes, v.technique);
+        const ImageDiff d = compareImages(gpu, exact);
+        std::printf("[ moments ] %s two layers: rmse vs exact %.2e max %.2e\n", v.technique, d.rmse,
+                    d.maxAbs);
+        EXPECT_LT(d.maxAbs, 0.02) << v.technique;
+        if (v.set.count == 6 && v.set.basis == oit::cpu::MomentBasis::Power)
+            writePng("oit_moment_two_layers", gpu);
     }
 }
 
@@ -284,7 +319,9 @@ TEST_F(OitMomentGLTest, CoincidentSurfacesGiveNoNan) {
         }
         const ImageDiff d = compareImages(gpu, exact);
         std::printf("[ moments ] %s coincident: rmse vs exact %.4f\n", v.technique, d.rmse);
-        EXPECT_LT(d.rmse, 0.25) << v.technique; // measured 0.12 .. 0.19
+        // Coincident surfaces blur together (002 section 8) and their exact order is
+        // arbitrary: measured 0.114 for every variant.
+        EXPECT_LT(d.rmse, 0.15) << v.technique;
     }
 }
 

@@ -11,10 +11,11 @@
 
 uniform float momentOverestimation; // beta, 002 section 3.2
 uniform float momentBias;           // alpha of the biasing (MOMENTS-NOTES.md)
-uniform float momentBiasVector[8];  // power: b*_1..b*_m
-uniform float momentWrappingZone;   // theta, 002 Eq. 5
-uniform vec2 momentDepthRange;      // [zMin, zMax] of the log warp (002 section 3.3);
-                                    // x <= 0: the camera's near/far (common/camera.glsl)
+// power: b*_1..b*_m, a define (MOMENT_BIAS_VECTOR float[8](...)) set by the technique
+const float momentBiasVector[8] = MOMENT_BIAS_VECTOR;
+uniform float momentWrappingZone; // theta, 002 Eq. 5
+uniform vec2 momentDepthRange;    // [zMin, zMax] of the log warp (002 section 3.3);
+                                  // x <= 0: the camera's near/far (common/camera.glsl)
 
 const float MOMENT_PI = 3.14159265358979;
 
@@ -171,10 +172,18 @@ float momentAbsorbanceNormalized(float b[MOMENT_COUNT + 1], float zf) {
     for (int k = 0; k < MOMENT_N; ++k)
         u[k] = 0.0;
     u[0] = c[MOMENT_N - 1];
-    for (int i = MOMENT_N - 2; i >= 0; --i) {
-        for (int k = MOMENT_N - 1; k > 0; --k)
-            u[k] = u[k - 1] - x[i] * u[k];
-        u[0] = -x[i] * u[0] + c[i];
+    // Horner in polynomial arithmetic: u <- u * (z - x_i) + c_i, i = N-2 .. 0. Written with
+    // ascending loop counters (llvmpipe 22.3 miscompiled the descending nested form).
+    for (int s = 0; s < MOMENT_N - 1; ++s) {
+        int i = MOMENT_N - 2 - s;
+        float xi = x[i];
+        float prev = 0.0;
+        for (int k = 0; k < MOMENT_N; ++k) {
+            float uk = u[k];
+            u[k] = prev - xi * uk;
+            prev = uk;
+        }
+        u[0] += c[i];
     }
     float a = 0.0;
     for (int j = 0; j < MOMENT_N; ++j)

@@ -152,10 +152,17 @@ float momentAbsorbanceNormalized(float b[2 * MOMENT_COUNT + 1], float zf) {
     for (int k = 0; k < MOMENT_N; ++k)
         u[k] = vec2(0.0);
     u[0] = c[MOMENT_N - 1];
-    for (int i = MOMENT_N - 2; i >= 0; --i) {
-        for (int k = MOMENT_N - 1; k > 0; --k)
-            u[k] = u[k - 1] - cmul(x[i], u[k]);
-        u[0] = -cmul(x[i], u[0]) + c[i];
+    // u <- u * (x - x_i) + c_i with ascending counters (see moment_math.glsl).
+    for (int s = 0; s < MOMENT_N - 1; ++s) {
+        int i = MOMENT_N - 2 - s;
+        vec2 xi = x[i];
+        vec2 prev = vec2(0.0);
+        for (int k = 0; k < MOMENT_N; ++k) {
+            vec2 uk = u[k];
+            u[k] = prev - cmul(xi, uk);
+            prev = uk;
+        }
+        u[0] += c[i];
     }
     float a = 0.0;
     for (int j = 0; j < MOMENT_N; ++j)

@@ -22,6 +22,8 @@
 
 #include <array>
 
+#include <fmt/ranges.h>
+
 namespace veil::oit {
 
 namespace {
@@ -70,7 +72,7 @@ public:
     std::vector<std::string> defines(int) const override {
         return {variant_.basis == cpu::MomentBasis::Power ? "MOMENT_POWER 1" : "MOMENT_TRIG 1",
                 fmt::format("MOMENT_COUNT {}", variant_.count),
-                fmt::format("MOMENT_STORED {}", stored_)};
+                fmt::format("MOMENT_STORED {}", stored_), biasVectorDefine()};
     }
 
     void resize(const OitFrameTargets& targets) override {
@@ -124,15 +126,10 @@ public:
         glBlendFunc(GL_ONE, GL_ONE); // 002: additive passes only
         glBlendEquation(GL_FUNC_ADD);
         const cpu::MomentParams& r = params_.reconstruction;
-        float biasVector[8] = {};
-        for (std::size_t i = 0; i < r.biasVector.size() && i < 8; ++i)
-            biasVector[i] = static_cast<float>(r.biasVector[i]);
         program.set("momentOverestimation", static_cast<float>(r.overestimation))
             .set("momentBias", static_cast<float>(r.bias))
             .set("momentWrappingZone", static_cast<float>(r.wrappingZone))
             .set("momentDepthRange", glm::vec2(params_.zMin, params_.zMax));
-        const GLint loc = program.uniformLocation("momentBiasVector");
-        if (loc >= 0) glProgramUniform1fv(program.id(), loc, 8, biasVector);
     }
 
     void endAccumulate(int) override {
@@ -158,6 +155,13 @@ public:
     }
 
 private:
+    // The bias vector as a constant array: it is fixed per technique instance.
+    std::string biasVectorDefine() const {
+        std::array<double, 8> v{};
+        const auto& bv = params_.reconstruction.biasVector;
+        for (std::size_t i = 0; i < bv.size() && i < v.size(); ++i) v[i] = bv[i];
+        return fmt::format("MOMENT_BIAS_VECTOR float[8]({:.17g})", fmt::join(v, ", "));
+    }
     int momentTargets() const { return stored_ > 4 ? 3 : 2; }
 
     gpu::ProgramManager& programs_;
