@@ -11,6 +11,9 @@
 #define VEIL_TEX_OIT0 4
 
 #define VEIL_IMG_OUTPUT 0
+#define VEIL_IMG_MOMENT0 1 // moment OIT 16-bit storage: images 1..3
+#define VEIL_IMG_MOMENT1 2
+#define VEIL_IMG_MOMENT2 3
 
 #define VEIL_MAX_LIGHTS 8
 

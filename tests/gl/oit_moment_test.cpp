@@ -6,9 +6,11 @@
 // boundaries, so pixel centres are never on an edge.
 #include "gl_fixture.h"
 
+#include "base/error.h"
 #include "frame/renderer.h"
 #include "io/image_io.h"
 #include "oit/cpu/moments.h"
+#include "oit/technique.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
 
@@ -323,6 +325,29 @@ TEST_F(OitMomentGLTest, CoincidentSurfacesGiveNoNan) {
         // arbitrary: measured 0.114 for every variant.
         EXPECT_LT(d.rmse, 0.15) << v.technique;
     }
+}
+
+// 16-bit variants (002 section 4.1) need GL_ARB_fragment_shader_interlock: unavailable with a
+// clear error where it is missing (llvmpipe), compared with the exact composite where present.
+TEST_F(OitMomentGLTest, Storage16NeedsInterlock) {
+    const std::vector<Plane> planes = randomPlanes(16, 21);
+    const ImageF exact = exactComposite(planes);
+    for (const char* name : {"moment-p4-16", "moment-t3-16", "moment-t4-16"}) {
+        const oit::TechniqueInfo* t = oit::Registry::instance().find(name);
+        ASSERT_NE(t, nullptr) << name;
+        EXPECT_EQ(t->isAvailable(info()), info().fragmentShaderInterlock) << name;
+        if (!info().fragmentShaderInterlock) {
+            EXPECT_THROW(render(info(), planes, name), veil::Error) << name;
+            continue;
+        }
+        const ImageF gpu = render(info(), planes, name);
+        ASSERT_TRUE(allFinite(gpu)) << name;
+        const ImageDiff d = compareImages(gpu, exact);
+        std::printf("[ moments ] %s: rmse vs exact %.4f max %.3f\n", name, d.rmse, d.maxAbs);
+        EXPECT_LT(d.rmse, 0.03) << name;
+    }
+    if (!info().fragmentShaderInterlock)
+        GTEST_SKIP() << "no GL_ARB_fragment_shader_interlock: 16-bit moment storage untested here";
 }
 
 } // namespace veil::test

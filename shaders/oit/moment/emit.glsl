@@ -2,7 +2,7 @@
 // storage with additive blending only. Needs MOMENT_COUNT, MOMENT_POWER or MOMENT_TRIG,
 // MOMENT_STORED (floats after b_0: m for power, 2m for trigonometric) and OIT_PASS.
 //
-// Pass 0 (002 section 3.1): accumulate absorbance moments.
+// Pass 0 (002 section 3.1): accumulate absorbance moments (16-bit variants: storage16.glsl).
 //   target 0 RGBA32F: (b_0, b_0 red, b_0 green, b_0 blue)
 //   target 1 RGBA32F: moments 1..4 (power b_1..b_4; trig re b_1, im b_1, re b_2, im b_2)
 //   target 2 RGBA32F: moments 5..8 (only when MOMENT_STORED > 4)
@@ -21,6 +21,7 @@
 // add the results into the same targets as images (imageLoad + imageStore per pixel, its
 // only writer at that time).
 #include "moment_math.glsl"
+#include "storage16.glsl"
 
 float momentNetCoverage(float alpha, vec3 transmission, out vec3 absorbanceRgb) {
     vec3 f = clamp(vec3(1.0 - alpha) + alpha * transmission, vec3(1e-7), vec3(1.0));
@@ -29,10 +30,12 @@ float momentNetCoverage(float alpha, vec3 transmission, out vec3 absorbanceRgb) 
 }
 
 #if OIT_PASS == 0
+#ifndef MOMENT_STORAGE16
 layout(location = 0) out vec4 oitOutMoments0;
 layout(location = 1) out vec4 oitOutMoments1;
 #if MOMENT_STORED > 4
 layout(location = 2) out vec4 oitOutMoments2;
+#endif
 #endif
 
 // The values pass 0 adds for one surface: b[0] = absorbance, b[1..] = weighted moments.
@@ -61,10 +64,16 @@ void oitEmit(vec3 radiance, float alpha, vec3 transmission, float viewDepth) {
     float alphaEff = momentNetCoverage(alpha, transmission, absorbanceRgb);
     float b[9];
     momentEmitMoments(alphaEff, momentWarp(viewDepth), b);
+#ifdef MOMENT_STORAGE16
+    momentPending = true;
+    momentPendingB = b;
+    momentPendingRgb = absorbanceRgb;
+#else
     oitOutMoments0 = vec4(b[0], absorbanceRgb);
     oitOutMoments1 = vec4(b[1], b[2], b[3], b[4]);
 #if MOMENT_STORED > 4
     oitOutMoments2 = vec4(b[5], b[6], b[7], b[8]);
+#endif
 #endif
 }
 
@@ -81,12 +90,21 @@ float momentTransmittance(ivec2 p, float viewDepth) {
     float b[MOMENT_STORED + 1];
     vec4 t0 = texelFetch(momentTex0, p, 0), t1 = texelFetch(momentTex1, p, 0);
     b[0] = t0.x;
-    for (int k = 0; k < 4 && k < MOMENT_STORED; ++k)
-        b[1 + k] = t1[k];
 #if MOMENT_STORED > 4
     vec4 t2 = texelFetch(momentTex2, p, 0);
-    for (int k = 0; k < MOMENT_STORED - 4; ++k)
-        b[5 + k] = t2[k];
+#else
+    vec4 t2 = vec4(0.0);
+#endif
+#ifdef MOMENT_STORAGE16
+    float n[8];
+    momentDecode16(t1, t2, n);
+    for (int k = 0; k < MOMENT_STORED; ++k)
+        b[1 + k] = n[k] * t0.x;
+#else
+    for (int k = 0; k < 4 && k < MOMENT_STORED; ++k)
+        b[1 + k] = t1[k];
+    for (int k = 4; k < MOMENT_STORED; ++k)
+        b[1 + k] = t2[k - 4];
 #endif
     return exp(-momentAbsorbance(b, momentWarp(viewDepth)));
 }
