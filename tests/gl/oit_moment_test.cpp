@@ -10,6 +10,7 @@
 #include "frame/renderer.h"
 #include "io/image_io.h"
 #include "oit/cpu/moments.h"
+#include "oit/moment/moment.h"
 #include "oit/technique.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
@@ -348,6 +349,23 @@ TEST_F(OitMomentGLTest, Storage16NeedsInterlock) {
     }
     if (!info().fragmentShaderInterlock)
         GTEST_SKIP() << "no GL_ARB_fragment_shader_interlock: 16-bit moment storage untested here";
+}
+
+TEST_F(OitMomentGLTest, BadParametersGiveClearErrors) {
+    gpu::ProgramManager programs;
+    EXPECT_THROW(oit::defaultMomentTechniqueParams("p5"), veil::Error);
+    oit::MomentTechniqueParams p = oit::defaultMomentTechniqueParams("p6");
+    p.reconstruction.biasVector.resize(4);
+    EXPECT_THROW(oit::createMomentTechnique(programs, "p6", p), veil::Error);
+    p = oit::defaultMomentTechniqueParams("t3");
+    p.reconstruction.overestimation = 1.5;
+    EXPECT_THROW(oit::createMomentTechnique(programs, "t3", p), veil::Error);
+    p = oit::defaultMomentTechniqueParams("p4");
+    p.zMin = 5.0;
+    p.zMax = 1.0;
+    EXPECT_THROW(oit::createMomentTechnique(programs, "p4", p), veil::Error);
+    p.zMax = 50.0;
+    EXPECT_NO_THROW(oit::createMomentTechnique(programs, "p4", p));
 }
 
 } // namespace veil::test
