@@ -18,6 +18,9 @@
 #define VEIL_PHEN_TEX_BKG (VEIL_TEX_OIT0 + 4)
 
 #define VEIL_IMG_OUTPUT 0
+#define VEIL_IMG_MOMENT0 1 // moment OIT 16-bit storage: images 1..3
+#define VEIL_IMG_MOMENT1 2
+#define VEIL_IMG_MOMENT2 3
 
 // OIT `reference` (per-pixel linked lists) and `wboit` resolve targets.
 #define VEIL_IMG_OIT_REF_HEADS 1

@@ -6,6 +6,7 @@
 #include "oit/wboit/wboit.h"
 #include "oit/phenomenological/phenomenological.h"
 #include "oit/stochastic/stochastic.h"
+#include "oit/moment/moment.h"
 
 #include <fmt/ranges.h>
 
@@ -18,6 +19,7 @@ void registerBuiltinTechniques(Registry& registry) {
     registerWboit(registry);
     registerPhenomenological(registry);
     registerStochastic(registry);
+    registerMoment(registry);
 }
 } // namespace
 

@@ -1,0 +1,103 @@
+// 16-bit storage for `moment-p4-16`, `moment-t3-16`, `moment-t4-16` (002 section 4.1):
+// b_0 (and the per-channel b_0) in RGBA16F, the normalized moments b_k / b_0 in 16 bits each,
+// power moments through the quantization transform of MOMENTS-NOTES.md (UNORM16), trigonometric
+// ones directly (SNORM16, 002 section 5.3: no transform needed). Accumulation is a
+// read-modify-write under GL_ARB_fragment_shader_interlock (the technique adds the #extension
+// line through its defines, right after #version).
+// UNTESTED on llvmpipe (no interlock there); the quantization itself is tested on the CPU
+// (tests/unit/oit_moment_test.cpp, Power4QuantizationRoundTrip).
+#ifdef MOMENT_STORAGE16
+#if defined(MOMENT_POWER) && MOMENT_COUNT != 4
+#error "16-bit power moments: only 4 moments have a quantization transform here"
+#endif
+
+// MOMENTS-NOTES.md: odd (b1, b3) and even (b2, b4) 2x2 transforms; see cpu::quantizePower4.
+vec4 momentQuantize4(vec4 n) { // n = (b1, b2, b3, b4) / b0
+    const float s3 = 1.7320508075688772;
+    return vec4(1.5 * n.x - 2.0 * n.z + 0.5, 0.5 * s3 * n.x - 2.0 * s3 / 9.0 * n.z + 0.5,
+                4.0 * n.y - 4.0 * n.w, 0.5 * n.y + 0.5 * n.w);
+}
+vec4 momentDequantize4(vec4 q) {
+    const float s3 = 1.7320508075688772;
+    const float detOdd = 1.5 * (-2.0 * s3 / 9.0) + 2.0 * (0.5 * s3);
+    float o0 = q.x - 0.5, o1 = q.y - 0.5;
+    return vec4(((-2.0 * s3 / 9.0) * o0 + 2.0 * o1) / detOdd, (0.5 * q.z + 4.0 * q.w) / 4.0,
+                (-(0.5 * s3) * o0 + 1.5 * o1) / detOdd, (-0.5 * q.z + 4.0 * q.w) / 4.0);
+}
+
+// Stored texels -> normalized moments n[0..MOMENT_STORED-1] = b_k / b_0.
+void momentDecode16(vec4 t1, vec4 t2, out float n[8]) {
+#ifdef MOMENT_POWER
+    vec4 d = momentDequantize4(t1);
+    n = float[8](d.x, d.y, d.z, d.w, 0.0, 0.0, 0.0, 0.0);
+#else
+    n = float[8](t1.x, t1.y, t1.z, t1.w, t2.x, t2.y, t2.z, t2.w);
+#endif
+}
+void momentEncode16(float n[8], out vec4 t1, out vec4 t2) {
+#ifdef MOMENT_POWER
+    t1 = momentQuantize4(vec4(n[0], n[1], n[2], n[3]));
+    t2 = vec4(0.0);
+#else
+    t1 = vec4(n[0], n[1], n[2], n[3]);
+    t2 = vec4(n[4], n[5], n[6], n[7]);
+#endif
+}
+
+#if OIT_PASS == 0
+layout(early_fragment_tests) in; // image stores only for fragments passing the depth test
+layout(pixel_interlock_ordered) in;
+layout(binding = VEIL_IMG_MOMENT0, rgba16f) uniform coherent image2D momentImg0;
+#ifdef MOMENT_POWER
+layout(binding = VEIL_IMG_MOMENT1, rgba16) uniform coherent image2D momentImg1;
+#else
+layout(binding = VEIL_IMG_MOMENT1, rgba16_snorm) uniform coherent image2D momentImg1;
+#if MOMENT_STORED > 4
+layout(binding = VEIL_IMG_MOMENT2, rgba16_snorm) uniform coherent image2D momentImg2;
+#endif
+#endif
+
+// What this fragment adds, recorded by oitEmit and committed by main() below.
+bool momentPending = false;
+float momentPendingB[9];
+vec3 momentPendingRgb;
+
+// 002 section 4.1: multiply the stored normalized vector by b_0, add, divide by the new b_0.
+void momentAccumulate16(ivec2 p, float b[9], vec3 absorbanceRgb) {
+    vec4 s0 = imageLoad(momentImg0, p);
+    vec4 t1 = imageLoad(momentImg1, p), t2 = vec4(0.0);
+#if defined(MOMENT_TRIG) && MOMENT_STORED > 4
+    t2 = imageLoad(momentImg2, p);
+#endif
+    float n[8];
+    momentDecode16(t1, t2, n);
+    float b0 = s0.x + b[0];
+    if (b0 > 0.0) {
+        for (int k = 0; k < MOMENT_STORED; ++k)
+            n[k] = (s0.x > 0.0 ? n[k] * s0.x : 0.0) + b[k + 1];
+        for (int k = 0; k < MOMENT_STORED; ++k)
+            n[k] /= b0;
+        momentEncode16(n, t1, t2);
+        imageStore(momentImg1, p, t1);
+#if defined(MOMENT_TRIG) && MOMENT_STORED > 4
+        imageStore(momentImg2, p, t2);
+#endif
+    }
+    imageStore(momentImg0, p, vec4(b0, s0.yzw + absorbanceRgb));
+}
+
+// GL_ARB_fragment_shader_interlock allows begin/endInvocationInterlockARB only in main(),
+// outside flow control. The surface shader's main() (frame/transparent.frag, included after
+// this file) is renamed by the #define below and called from this main(); its oitEmit() only
+// records what to add, and the critical section commits it.
+void momentSurfaceMain();
+void main() {
+    momentSurfaceMain();
+    beginInvocationInterlockARB();
+    if (momentPending)
+        momentAccumulate16(ivec2(gl_FragCoord.xy), momentPendingB, momentPendingRgb);
+    endInvocationInterlockARB();
+}
+#define main momentSurfaceMain
+#endif // OIT_PASS == 0
+#endif // MOMENT_STORAGE16

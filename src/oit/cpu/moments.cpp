@@ -1,0 +1,274 @@
+#include "oit/cpu/moments.h"
+
+#include "base/error.h"
+#include "oit/cpu/moment_solvers.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace veil::oit::cpu {
+
+std::string MomentSet::name() const {
+    return fmt::format("{}{}", basis == MomentBasis::Power ? 'p' : 't', count);
+}
+
+MomentParams defaultMomentParams(MomentSet set, bool storage16) {
+    MomentParams p;
+    // MOMENTS-NOTES.md table "Overall bias", verified by tests/unit/oit_moment_test.cpp.
+    if (set.basis == MomentBasis::Power) {
+        VEIL_CHECK(set.count == 4 || set.count == 6 || set.count == 8,
+                   "power moments: count must be 4, 6 or 8 (got {})", set.count);
+        if (set.count == 4) {
+            p.bias = storage16 ? 6e-5 : 5e-7;
+            p.biasVector = storage16 ? std::vector<double>{0, 0.628, 0, 0.628}
+                                     : std::vector<double>{0, 0.375, 0, 0.375};
+        } else if (set.count == 6) {
+            p.bias = storage16 ? 6e-4 : 5e-6;
+            p.biasVector = storage16 ? std::vector<double>{0, 0.5566, 0, 0.489, 0, 0.47869382}
+                                     : std::vector<double>{0, 0.48, 0, 0.451, 0, 0.45};
+        } else {
+            p.bias = storage16 ? 2.5e-3 : 5e-5;
+            p.biasVector = storage16
+                               ? std::vector<double>{0, 0.42474916387959866, 0, 0.22407802675585284,
+                                                     0, 0.15369230769230768, 0, 0.12900440529089119}
+                               : std::vector<double>{0, 0.75, 0, 0.676666666666667,
+                                                     0, 0.63, 0, 0.600303030303030};
+        }
+    } else {
+        VEIL_CHECK(set.count >= 2 && set.count <= 4,
+                   "trigonometric moments: count must be 2, 3 or 4 (got {})", set.count);
+        static constexpr double f32[] = {4e-7, 8e-7, 1.5e-6};
+        static constexpr double f16[] = {4e-4, 6.5e-4, 8.5e-4};
+        p.bias = (storage16 ? f16 : f32)[set.count - 2];
+    }
+    return p;
+}
+
+double warpDepth(double viewDepth, double zMin, double zMax) {
+    VEIL_CHECK(zMin > 0.0 && zMax > zMin, "moment depth range [{}, {}] must satisfy 0 < min < max",
+               zMin, zMax);
+    const double zv = std::max(viewDepth, 1e-30);
+    return (std::log(zv) - std::log(zMin)) / (std::log(zMax) - std::log(zMin)) * 2.0 - 1.0;
+}
+
+DepthRange depthRangeFromSphere(double centreDepth, double radius, double nearPlane) {
+    VEIL_CHECK(nearPlane > 0.0 && radius > 0.0, "bounding sphere needs radius > 0 and near > 0");
+    DepthRange r;
+    r.zMin = std::max(centreDepth - radius, nearPlane);
+    r.zMax = std::max(centreDepth + radius, r.zMin * 1.001);
+    return r;
+}
+
+std::complex<double> trigCircle(double z, double wrappingZone) {
+    // 002 Eq. 5
+    return std::polar(1.0, (2.0 * std::numbers::pi - wrappingZone) * 0.5 * (z + 1.0));
+}
+
+void accumulate(Moments& m, double z, double alpha, double wrappingZone) {
+    const double a = -std::log1p(-std::clamp(alpha, 0.0, 1.0 - 1e-7)); // 002 section 3.1
+    m.b[0] += a;
+    if (m.set.basis == MomentBasis::Power) {
+        double zk = 1.0;
+        for (std::size_t k = 1; k < m.b.size(); ++k)
+            m.b[k] += a * (zk *= z);
+    } else {
+        const std::complex<double> x = trigCircle(z, wrappingZone);
+        std::complex<double> xk = 1.0;
+        for (std::size_t k = 1; k < m.b.size(); ++k)
+            m.b[k] += a * (xk *= x);
+    }
+}
+
+double exactAbsorbance(const std::vector<Layer>& layers, double zf) {
+    double a = 0.0;
+    for (const Layer& l : layers)
+        if (l.z < zf) a -= std::log1p(-std::clamp(l.alpha, 0.0, 1.0 - 1e-7));
+    return a;
+}
+
+namespace {
+
+// Solves the Hermitian positive definite system M q = r by an LDL^H decomposition (the
+// Cholesky decomposition of 002 Algorithms 1 and 2 without square roots).
+template <typename T>
+T conjT(T v) {
+    if constexpr (std::is_same_v<T, double>)
+        return v;
+    else
+        return std::conj(v);
+}
+
+template <typename T>
+std::vector<T> solveLdl(std::vector<T> M, std::vector<T> r, int n) {
+    std::vector<double> D(n);
+    auto at = [&](int i, int j) -> T& { return M[static_cast<std::size_t>(i * n + j)]; };
+    for (int j = 0; j < n; ++j) {
+        double dj = std::real(at(j, j));
+        for (int k = 0; k < j; ++k)
+            dj -= std::norm(at(j, k)) * D[k];
+        D[j] = dj;
+        for (int i = j + 1; i < n; ++i) {
+            T lij = at(i, j);
+            for (int k = 0; k < j; ++k)
+                lij -= at(i, k) * conjT(at(j, k)) * D[k];
+            at(i, j) = lij / dj;
+        }
+    }
+    for (int i = 0; i < n; ++i) // L y = r
+        for (int k = 0; k < i; ++k)
+            r[i] -= at(i, k) * r[k];
+    for (int i = 0; i < n; ++i)
+        r[i] /= D[i];
+    for (int i = n - 1; i >= 0; --i) // L^H q = y
+        for (int k = i + 1; k < n; ++k)
+            r[i] -= conjT(at(k, i)) * r[k];
+    return r;
+}
+
+// Newton divided differences for the polynomial p with p(x_l) = v_l, expanded into monomial
+// coefficients u (002 Algorithms 1 and 2: "divided differences to solve a Vandermonde system").
+template <typename T>
+std::vector<T> interpolate(const std::vector<T>& x, std::vector<T> c) {
+    const std::size_t n = x.size();
+    for (std::size_t j = 1; j < n; ++j)
+        for (std::size_t i = n - 1; i >= j; --i)
+            c[i] = (c[i] - c[i - 1]) / (x[i] - x[i - j]);
+    std::vector<T> u(n, T(0));
+    u[0] = c[n - 1];
+    for (std::size_t i = n - 1; i-- > 0;) {
+        // u <- u * (X - x_i) + c_i
+        for (std::size_t k = n - 1; k > 0; --k)
+            u[k] = u[k - 1] - x[i] * u[k];
+        u[0] = -x[i] * u[0] + c[i];
+    }
+    return u;
+}
+
+// 002 section 5.2: piecewise linear stand-in for the angle of x on the unit circle.
+double psi(std::complex<double> x) {
+    const double re = x.real(), im = x.imag();
+    if (im >= 0.0) return re >= 0.0 ? -re + im : 2.0 - re - im;
+    return re < 0.0 ? 4.0 + re - im : 6.0 + re + im;
+}
+
+double powerAbsorbance(const Moments& m, double zf, const MomentParams& p) {
+    const int M = m.set.count, n = M / 2 + 1;
+    VEIL_CHECK(static_cast<int>(p.biasVector.size()) == M,
+               "power-moment bias vector needs {} entries (got {})", M, p.biasVector.size());
+    std::vector<double> b(M + 1);
+    b[0] = 1.0;
+    for (int j = 1; j <= M; ++j)
+        b[j] = (1.0 - p.bias) * m.b[j].real() / m.b0() + p.bias * p.biasVector[j - 1];
+    // 002 Alg. 1: Hankel system for the kernel polynomial through z_0 = zf.
+    std::vector<double> H(static_cast<std::size_t>(n * n)), rhs(n);
+    double zk = 1.0;
+    for (int i = 0; i < n; ++i, zk *= zf) {
+        rhs[i] = zk;
+        for (int k = 0; k < n; ++k)
+            H[static_cast<std::size_t>(i * n + k)] = b[i + k];
+    }
+    const std::vector<double> q = solveLdl(H, rhs, n);
+    std::vector<double> nodes{zf};
+    if (M == 4) {
+        const auto r = solveQuadratic({q[0], q[1], q[2]});
+        nodes.insert(nodes.end(), r.begin(), r.end());
+    } else if (M == 6) {
+        const auto r = solveCubicBlinn({q[0], q[1], q[2], q[3]}, true);
+        nodes.insert(nodes.end(), r.begin(), r.end());
+    } else {
+        const auto r = solveQuarticNeumark({q[0], q[1], q[2], q[3], q[4]}, true);
+        nodes.insert(nodes.end(), r.begin(), r.end());
+    }
+    std::vector<double> v(n);
+    v[0] = p.overestimation;
+    for (int l = 1; l < n; ++l)
+        v[l] = nodes[l] < zf ? 1.0 : 0.0;
+    const std::vector<double> u = interpolate(nodes, v);
+    double a = 0.0;
+    for (int j = 0; j < n; ++j)
+        a += b[j] * u[j];
+    return a;
+}
+
+double trigAbsorbance(const Moments& m, double zf, const MomentParams& p) {
+    using C = std::complex<double>;
+    const int M = m.set.count, n = M + 1;
+    std::vector<C> b(n);
+    b[0] = 1.0;
+    for (int j = 1; j <= M; ++j)
+        b[j] = (1.0 - p.bias) * m.b[j] / m.b0(); // 002 section 5.3
+    // 002 Alg. 2: Hermitian Toeplitz system; right-hand side (1, x0, ..., x0^m).
+    const C x0 = trigCircle(zf, p.wrappingZone);
+    std::vector<C> T(static_cast<std::size_t>(n * n)), rhs(n);
+    C xk = 1.0;
+    for (int i = 0; i < n; ++i, xk *= x0) {
+        rhs[i] = xk;
+        for (int k = 0; k < n; ++k)
+            T[static_cast<std::size_t>(i * n + k)] = i >= k ? b[i - k] : std::conj(b[k - i]);
+    }
+    const std::vector<C> q = solveLdl(T, rhs, n);
+    // With T = E(b b^H) the kernel polynomial vanishing at the other support points is
+    // sum_j conj(q_j) x^j (q = T^-1 b(x0) gives conj(V) q = e_0 / w_0).
+    std::vector<C> nodes{x0};
+    if (M == 2) {
+        const auto r = solveQuadraticComplex({std::conj(q[0]), std::conj(q[1]), std::conj(q[2])});
+        nodes.insert(nodes.end(), r.begin(), r.end());
+    } else if (M == 3) {
+        const auto r = solveCubicComplex(
+            {std::conj(q[0]), std::conj(q[1]), std::conj(q[2]), std::conj(q[3])}, true);
+        nodes.insert(nodes.end(), r.begin(), r.end());
+    } else {
+        const auto r = solveQuarticComplex(
+            {std::conj(q[0]), std::conj(q[1]), std::conj(q[2]), std::conj(q[3]), std::conj(q[4])},
+            true);
+        nodes.insert(nodes.end(), r.begin(), r.end());
+    }
+    // 002 Eq. 6 with the wrapping zone.
+    const double psi0 = psi(x0), psiEnd = psi(trigCircle(1.0, p.wrappingZone));
+    std::vector<C> v(n);
+    v[0] = p.overestimation;
+    for (int l = 1; l < n; ++l) {
+        const double s = psi(nodes[l]);
+        v[l] = s < psi0 ? 1.0 : s <= psiEnd ? 0.0 : (s - psiEnd) / (7.0 - psiEnd);
+    }
+    const std::vector<C> u = interpolate(nodes, v);
+    C a = 0.0;
+    for (int j = 0; j < n; ++j)
+        a += b[j] * u[j];
+    return a.real();
+}
+
+} // namespace
+
+double absorbance(const Moments& m, double zf, const MomentParams& p) {
+    const double b0 = m.b0();
+    if (!(b0 > 1e-12)) return 0.0; // 002 section 3.2: no opacity, early return
+    double a =
+        m.set.basis == MomentBasis::Power ? powerAbsorbance(m, zf, p) : trigAbsorbance(m, zf, p);
+    // The normalized absorbance is a CDF value in [0, 1]; a failed solve falls back to the
+    // overestimation weight (MOMENTS-NOTES.md: NaN fallback of a public port).
+    if (!std::isfinite(a)) a = p.overestimation;
+    return b0 * std::clamp(a, 0.0, 1.0);
+}
+
+std::array<double, 4> quantizePower4(const std::array<double, 4>& b) {
+    const double s3 = std::sqrt(3.0);
+    return {1.5 * b[0] - 2.0 * b[2] + 0.5, 0.5 * s3 * b[0] - 2.0 * s3 / 9.0 * b[2] + 0.5,
+            4.0 * b[1] - 4.0 * b[3], 0.5 * b[1] + 0.5 * b[3]};
+}
+
+std::array<double, 4> dequantizePower4(const std::array<double, 4>& q) {
+    // Inverses of the two 2x2 blocks above.
+    const double s3 = std::sqrt(3.0);
+    const double o0 = q[0] - 0.5, o1 = q[1] - 0.5;
+    const double detOdd = 1.5 * (-2.0 * s3 / 9.0) - (-2.0) * (0.5 * s3);
+    const double b1 = ((-2.0 * s3 / 9.0) * o0 + 2.0 * o1) / detOdd;
+    const double b3 = (-(0.5 * s3) * o0 + 1.5 * o1) / detOdd;
+    const double detEven = 4.0 * 0.5 - (-4.0) * 0.5;
+    const double b2 = (0.5 * q[2] + 4.0 * q[3]) / detEven;
+    const double b4 = (-0.5 * q[2] + 4.0 * q[3]) / detEven;
+    return {b1, b2, b3, b4};
+}
+
+} // namespace veil::oit::cpu

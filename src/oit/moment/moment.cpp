@@ -1,0 +1,262 @@
+// Moment-based order-independent transparency (002, Muenstermann, Krumpen, Klein, Peters 2018).
+//
+// Parameters (MomentTechniqueParams; defaults from defaultMomentTechniqueParams):
+//   overestimation  beta = 0.25           002 section 3.2, v_0 of Algorithms 1 and 2
+//   bias            float32 per set:      p4 5e-7, p6 5e-6, p8 5e-5, t3 8e-7, t4 1.5e-6
+//                   16-bit per set:       p4 6e-5, t3 6.5e-4, t4 8.5e-4
+//                                         (MOMENTS-NOTES.md; 002 sections 4.1, 5.3)
+//   biasVector      power: p4 (0, .375, 0, .375), p6 (0, .48, 0, .451, 0, .45),
+//                   p8 (0, .75, 0, .6767, 0, .63, 0, .6003), p4-16 (0, .628, 0, .628)
+//                   (b' = (1 - bias) b + bias b*); trigonometric: b_j *= (1 - bias), j >= 1
+//                   (002 section 5.3)
+//   wrappingZone    theta = pi / 10       002 Eq. 5 and 6 (trigonometric only)
+//   zMin, zMax      log-depth warp range  002 section 3.3; default (0) = camera near/far
+//
+// Passes: geometry pass 0 accumulates b_0 and the moments (emit.glsl: additive blending into
+// float32 targets; storage16.glsl: read-modify-write of 16-bit images under
+// GL_ARB_fragment_shader_interlock), geometry pass 1 reconstructs T in front of each fragment
+// (Algorithm 1 or 2) and accumulates radiance * T and alpha * T additively, the resolve
+// (compute) renormalizes (002 Eq. 2).
+#include "oit/moment/moment.h"
+
+#include "base/error.h"
+#include "shaders/common/bindings.h"
+
+#include <array>
+
+#include <fmt/ranges.h>
+
+namespace veil::oit {
+
+namespace {
+
+struct Variant {
+    const char* name;
+    cpu::MomentBasis basis;
+    int count;
+    bool storage16; // 002 section 4.1: 16-bit storage, read-modify-write under interlock
+};
+// p6-16 and p8-16 are missing: their quantization matrices are not in MOMENTS-NOTES.md.
+constexpr std::array<Variant, 8> kVariants{{{"p4", cpu::MomentBasis::Power, 4, false},
+                                            {"p6", cpu::MomentBasis::Power, 6, false},
+                                            {"p8", cpu::MomentBasis::Power, 8, false},
+                                            {"t3", cpu::MomentBasis::Trigonometric, 3, false},
+                                            {"t4", cpu::MomentBasis::Trigonometric, 4, false},
+                                            {"p4-16", cpu::MomentBasis::Power, 4, true},
+                                            {"t3-16", cpu::MomentBasis::Trigonometric, 3, true},
+                                            {"t4-16", cpu::MomentBasis::Trigonometric, 4, true}}};
+
+const Variant& findVariant(const std::string& name) {
+    for (const Variant& v : kVariants)
+        if (name == v.name) return v;
+    throw Error(fmt::format("unknown moment OIT variant '{}' (known: p4, p6, p8, t3, t4, p4-16, "
+                            "t3-16, t4-16)",
+                            name));
+}
+
+class MomentTechnique final : public Technique {
+public:
+    MomentTechnique(gpu::ProgramManager& programs, const Variant& variant,
+                    const MomentTechniqueParams& params)
+        : programs_(programs), variant_(variant), params_(params) {
+        const bool power = variant.basis == cpu::MomentBasis::Power;
+        stored_ = power ? variant.count : 2 * variant.count;
+        VEIL_CHECK(!power ||
+                       static_cast<int>(params.reconstruction.biasVector.size()) == variant.count,
+                   "moment-{}: bias vector needs {} entries", variant.name, variant.count);
+        VEIL_CHECK(params.reconstruction.overestimation >= 0.0 &&
+                       params.reconstruction.overestimation <= 1.0 &&
+                       params.reconstruction.bias >= 0.0 && params.reconstruction.bias < 1.0,
+                   "moment-{}: overestimation must lie in [0, 1] and bias in [0, 1)", variant.name);
+        VEIL_CHECK(params.zMin <= 0.0 || params.zMax > params.zMin,
+                   "moment-{}: depth range [{}, {}] must satisfy 0 < min < max", variant.name,
+                   params.zMin, params.zMax);
+        resolveProgram_ = programs_.add(gpu::ProgramDesc::compute("oit/moment/resolve.comp"));
+    }
+
+    std::string name() const override { return std::string("moment-") + variant_.name; }
+    std::filesystem::path emitInclude() const override { return "oit/moment/emit.glsl"; }
+    int geometryPasses() const override { return 2; }
+
+    std::vector<std::string> defines(int pass) const override {
+        std::vector<std::string> d{variant_.basis == cpu::MomentBasis::Power ? "MOMENT_POWER 1"
+                                                                             : "MOMENT_TRIG 1",
+                                   fmt::format("MOMENT_COUNT {}", variant_.count),
+                                   fmt::format("MOMENT_STORED {}", stored_), biasVectorDefine()};
+        if (variant_.storage16) {
+            d.push_back("MOMENT_STORAGE16 1");
+            // The loader writes defines right after #version, the one place an #extension
+            // may go. Pass 1 only reads the moments and needs no interlock.
+            if (pass == 0)
+                d.push_back(
+                    "MOMENT_INTERLOCK 1\n#extension GL_ARB_fragment_shader_interlock : require");
+        }
+        return d;
+    }
+
+    void resize(const OitFrameTargets& targets) override {
+        auto make = [&](GLenum format) {
+            gpu::Texture t(GL_TEXTURE_2D);
+            t.storage2D(1, format, targets.width, targets.height)
+                .parameter(GL_TEXTURE_MIN_FILTER, GL_NEAREST)
+                .parameter(GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            return t;
+        };
+        moments_.clear();
+        for (int i = 0; i < momentTargets(); ++i)
+            moments_.push_back(make(momentFormat(i)));
+        accum_ = make(GL_RGBA32F);
+        momentFbo_ = gpu::Framebuffer();
+        momentFbo_.attach(GL_DEPTH_ATTACHMENT, *targets.depth);
+        if (variant_.storage16) {
+            momentFbo_.drawBuffers({GL_NONE}); // moments go through images; depth test only
+        } else {
+            for (int i = 0; i < momentTargets(); ++i)
+                momentFbo_.attach(GL_COLOR_ATTACHMENT0 + i, moments_[i]);
+            if (momentTargets() == 2)
+                momentFbo_.drawBuffers({GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1});
+            else
+                momentFbo_.drawBuffers(
+                    {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2});
+        }
+        momentFbo_.checkComplete("oit/moment (moments)");
+        accumFbo_ = gpu::Framebuffer();
+        accumFbo_.attach(GL_COLOR_ATTACHMENT0, accum_)
+            .attach(GL_DEPTH_ATTACHMENT, *targets.depth)
+            .drawBuffers({GL_COLOR_ATTACHMENT0});
+        accumFbo_.checkComplete("oit/moment (accumulation)");
+    }
+
+    void beginAccumulate(int pass, const OitFrameTargets& targets,
+                         const gpu::Program& program) override {
+        const float zero[4] = {0, 0, 0, 0};
+        if (pass == 0) {
+            momentFbo_.bind();
+            for (int i = 0; i < momentTargets(); ++i) {
+                if (variant_.storage16) {
+                    glClearTexImage(moments_[i].id(), 0, GL_RGBA, GL_FLOAT, zero);
+                    glBindImageTexture(VEIL_IMG_MOMENT0 + i, moments_[i].id(), 0, GL_FALSE, 0,
+                                       GL_READ_WRITE, momentFormat(i));
+                } else {
+                    glClearNamedFramebufferfv(momentFbo_.id(), GL_COLOR, i, zero);
+                }
+            }
+        } else {
+            accumFbo_.bind();
+            glClearNamedFramebufferfv(accumFbo_.id(), GL_COLOR, 0, zero);
+            for (int i = 0; i < momentTargets(); ++i)
+                moments_[i].bind(VEIL_TEX_OIT0 + i);
+        }
+        glViewport(0, 0, targets.width, targets.height);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+        glDepthMask(GL_FALSE);
+        glDisable(GL_CULL_FACE);
+        if (pass == 0 && variant_.storage16) {
+            glDisable(GL_BLEND);
+        } else {
+            glEnable(GL_BLEND);
+            glBlendFunc(GL_ONE, GL_ONE); // 002: additive passes
+            glBlendEquation(GL_FUNC_ADD);
+        }
+        prepareProgram(pass, program);
+    }
+
+    void prepareProgram(int, const gpu::Program& program) const override {
+        const cpu::MomentParams& r = params_.reconstruction;
+        program.set("momentOverestimation", static_cast<float>(r.overestimation))
+            .set("momentBias", static_cast<float>(r.bias))
+            .set("momentWrappingZone", static_cast<float>(r.wrappingZone))
+            .set("momentDepthRange", glm::vec2(params_.zMin, params_.zMax));
+    }
+
+    void endAccumulate(int pass) override {
+        glDisable(GL_BLEND);
+        glDepthMask(GL_TRUE);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        if (pass == 0 && variant_.storage16) {
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            for (int i = 0; i < momentTargets(); ++i)
+                glBindImageTexture(VEIL_IMG_MOMENT0 + i, 0, 0, GL_FALSE, 0, GL_READ_WRITE,
+                                   GL_RGBA16F);
+        }
+    }
+
+    void resolve(const OitFrameTargets& targets) override {
+        const gpu::Program& program = programs_.get(resolveProgram_);
+        program.use();
+        moments_[0].bind(VEIL_TEX_OIT0 + 0);
+        accum_.bind(VEIL_TEX_OIT0 + 3);
+        glBindImageTexture(VEIL_IMG_OUTPUT, targets.hdrColor->id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+                           GL_RGBA16F);
+        glDispatchCompute((targets.width + 7) / 8, (targets.height + 7) / 8, 1);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                        GL_FRAMEBUFFER_BARRIER_BIT);
+    }
+
+    std::size_t bytesPerPixel() const override {
+        const std::size_t texel = variant_.storage16 ? 8 : 16;
+        return texel * static_cast<std::size_t>(momentTargets()) + 16; // + RGBA32F accumulation
+    }
+
+private:
+    // The bias vector as a constant array: it is fixed per technique instance.
+    std::string biasVectorDefine() const {
+        std::array<double, 8> v{};
+        const auto& bv = params_.reconstruction.biasVector;
+        for (std::size_t i = 0; i < bv.size() && i < v.size(); ++i)
+            v[i] = bv[i];
+        return fmt::format("MOMENT_BIAS_VECTOR float[8]({:.17g})", fmt::join(v, ", "));
+    }
+    int momentTargets() const { return stored_ > 4 ? 3 : 2; }
+    // Target 0 holds (b_0, b_0 rgb); targets 1, 2 the moments (emit.glsl, storage16.glsl).
+    GLenum momentFormat(int target) const {
+        if (!variant_.storage16) return GL_RGBA32F;
+        if (target == 0) return GL_RGBA16F;
+        return variant_.basis == cpu::MomentBasis::Power ? GL_RGBA16 : GL_RGBA16_SNORM;
+    }
+
+    gpu::ProgramManager& programs_;
+    Variant variant_;
+    MomentTechniqueParams params_;
+    int stored_ = 0;
+    gpu::ProgramHandle resolveProgram_;
+    std::vector<gpu::Texture> moments_;
+    gpu::Texture accum_{gpu::NoCreate};
+    gpu::Framebuffer momentFbo_{gpu::NoCreate}, accumFbo_{gpu::NoCreate};
+};
+
+} // namespace
+
+MomentTechniqueParams defaultMomentTechniqueParams(const std::string& variant) {
+    const Variant& v = findVariant(variant);
+    MomentTechniqueParams p;
+    p.reconstruction = cpu::defaultMomentParams({v.basis, v.count}, v.storage16);
+    return p;
+}
+
+std::unique_ptr<Technique> createMomentTechnique(gpu::ProgramManager& programs,
+                                                 const std::string& variant,
+                                                 const MomentTechniqueParams& params) {
+    return std::make_unique<MomentTechnique>(programs, findVariant(variant), params);
+}
+
+void registerMoment(Registry& registry) {
+    for (const Variant& v : kVariants) {
+        const std::string variant = v.name;
+        std::function<bool(const gpu::ContextInfo&)> available;
+        if (v.storage16)
+            available = [](const gpu::ContextInfo& c) { return c.fragmentShaderInterlock; };
+        registry.add(
+            {std::string("moment-") + v.name,
+             fmt::format("moment-based OIT (002), {} {} moments, {} storage", v.count,
+                         v.basis == cpu::MomentBasis::Power ? "power" : "trigonometric",
+                         v.storage16 ? "16-bit (needs fragment shader interlock)" : "float32"),
+             available, [variant](gpu::ProgramManager& programs) {
+                 return createMomentTechnique(programs, variant,
+                                              defaultMomentTechniqueParams(variant));
+             }});
+    }
+}
+
+} // namespace veil::oit

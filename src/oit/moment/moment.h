@@ -1,0 +1,34 @@
+// `moment-p4`, `moment-p6`, `moment-p8`, `moment-t3`, `moment-t4`: moment-based
+// order-independent transparency (002, Muenstermann et al. 2018) with float32 storage and
+// additive blending only; `moment-p4-16`, `moment-t3-16`, `moment-t4-16`: 16-bit storage with a
+// read-modify-write under GL_ARB_fragment_shader_interlock (unavailable without it). See
+// moment.cpp for the parameter block and shaders/oit/moment/emit.glsl for the storage layout.
+#pragma once
+
+#include "oit/cpu/moments.h"
+#include "oit/technique.h"
+
+#include <memory>
+#include <string>
+
+namespace veil::oit {
+
+// Technique parameters (defaults: 002 and MOMENT-NOTES.md, see moment.cpp).
+struct MomentTechniqueParams {
+    cpu::MomentParams reconstruction; // overestimation, bias, bias vector, wrapping zone
+    // Log-depth warp range (002 section 3.3). zMin <= 0 means the camera's near/far planes;
+    // an application with a bounding sphere of its transparent geometry passes
+    // cpu::depthRangeFromSphere(...) here.
+    double zMin = 0.0, zMax = 0.0;
+};
+
+// Variants in one table; `variant` is the name without "moment-" ("p4", ..., "t4", "p4-16",
+// "t3-16", "t4-16"; the 16-bit ones need GL_ARB_fragment_shader_interlock).
+MomentTechniqueParams defaultMomentTechniqueParams(const std::string& variant);
+std::unique_ptr<Technique> createMomentTechnique(gpu::ProgramManager& programs,
+                                                 const std::string& variant,
+                                                 const MomentTechniqueParams& params);
+
+void registerMoment(Registry& registry);
+
+} // namespace veil::oit
