@@ -15,8 +15,8 @@ uint rangeMask(int w, int k0, int k1) {
 void writeRange(int passIndex, int k0, int k1, out uvec4 words[8]) {
     for (int t = 0; t < 8; ++t) {
         int w = passIndex * 32 + t * 4;
-        words[t] = uvec4(rangeMask(w, k0, k1), rangeMask(w + 1, k0, k1),
-                         rangeMask(w + 2, k0, k1), rangeMask(w + 3, k0, k1));
+        words[t] = uvec4(rangeMask(w, k0, k1), rangeMask(w + 1, k0, k1), rangeMask(w + 2, k0, k1),
+                         rangeMask(w + 3, k0, k1));
     }
 }
 

@@ -1,5 +1,7 @@
 #version 450
-// Compute surface voxelization, one thread per triangle (Schwarz & Seidel 2010, Sec. 3.1):
+// Compute surface voxelization, one thread per (triangle, tile) (Schwarz & Seidel 2010,
+// Sec. 3.1; tiles of 4 x 4 columns x 32 slices = one word, so no thread loops long: llvmpipe
+// ends loops after 65535 iterations, and big triangles would starve a warp on GPUs):
 // a cell of the triangle's bounding box is set iff the triangle's plane crosses the cell
 // (critical-point test) and the triangle's projections onto the xy, yz and zx planes overlap
 // the cell's projections (three 2D edge tests each). That is the exact triangle/box overlap
@@ -9,11 +11,22 @@
 layout(local_size_x = 64) in;
 layout(std430, binding = VEIL_SSBO_VOX_WORDS) buffer Words { uint words[]; };
 layout(std430, binding = VEIL_SSBO_VOX_TRIS) readonly buffer Tris { float tris[]; };
+// Exclusive prefix sum of tiles per triangle (count + 1 entries, CPU-built): work item i
+// belongs to the triangle t with tileStart[t] <= i < tileStart[t + 1].
+// COUNT_TILES: the pre-pass that writes each triangle's tile count into this buffer (one
+// thread per triangle) with the very bounds the voxelizing pass uses.
+#ifdef COUNT_TILES
+layout(std430, binding = VEIL_SSBO_VOX_TRIS + 1) writeonly buffer TileStart { uint tileStart[]; };
+#else
+layout(std430, binding = VEIL_SSBO_VOX_TRIS + 1) readonly buffer TileStart { uint tileStart[]; };
+#endif
 uniform ivec3 uGridSize;
 uniform vec3 uGridLo;
 uniform vec3 uVoxel;
-uniform uint uTriangleOffset;
+uniform uint uItemOffset;
+uniform uint uItemCount;
 uniform uint uTriangleCount;
+const ivec3 kTile = ivec3(4, 4, 32);
 
 const float kSlack = 1e-4; // in cell units: float rounding must not drop a touching cell
 
@@ -47,9 +60,21 @@ bool inside2D(Edges2D e, vec2 p) {
 }
 
 void main() {
-    uint t = gl_GlobalInvocationID.x;
-    if (t >= uTriangleCount) return;
-    t += uTriangleOffset;
+    if (gl_GlobalInvocationID.x >= uItemCount) return;
+    uint item = gl_GlobalInvocationID.x + uItemOffset;
+#ifdef COUNT_TILES
+    uint t = item, tile = 0u;
+#else
+    uint a = 0u, b = uTriangleCount; // binary search: tileStart[a] <= item < tileStart[b]
+    while (b - a > 1u) {
+        uint m = (a + b) / 2u;
+        if (tileStart[m] <= item)
+            a = m;
+        else
+            b = m;
+    }
+    uint t = a, tile = item - tileStart[t];
+#endif
     vec3 v0 = vertexAt(t, 0), v1 = vertexAt(t, 1), v2 = vertexAt(t, 2);
     vec3 n = cross(v1 - v0, v2 - v0);
     // Plane test: the cell [p, p+1] straddles the plane iff the plane separates the
@@ -62,6 +87,16 @@ void main() {
     Edges2D ezx = edges2D(v0.zx, v1.zx, v2.zx, n.y);
     ivec3 lo = max(ivec3(floor(min(v0, min(v1, v2)) - kSlack)), ivec3(0));
     ivec3 hi = min(ivec3(floor(max(v0, max(v1, v2)) + kSlack)), uGridSize - 1);
+    // Tiles are aligned to the grid (so a z tile is exactly one word); the CPU counted them
+    // with the same bounds (gpu_voxelizer.cpp tileCount).
+    ivec3 t0 = lo / kTile, tn = max(hi / kTile - t0 + 1, ivec3(0));
+#ifdef COUNT_TILES
+    tileStart[t] = any(lessThan(hi, lo)) ? 0u : uint(tn.x * tn.y * tn.z);
+    return;
+#endif
+    ivec3 ti = t0 + ivec3(int(tile) % tn.x, (int(tile) / tn.x) % tn.y, int(tile) / (tn.x * tn.y));
+    lo = max(lo, ti * kTile);
+    hi = min(hi, ti * kTile + kTile - 1);
     int wpc = (uGridSize.z + 31) / 32;
     for (int y = lo.y; y <= hi.y; ++y)
         for (int x = lo.x; x <= hi.x; ++x) {

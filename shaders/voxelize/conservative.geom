@@ -5,7 +5,9 @@
 // square overlaps the triangle (2D separating axes) and sets every slice between the
 // triangle's min and max depth over the pixel square. With NV_CONSERVATIVE defined (the
 // driver dilates itself) the triangle is emitted as is.
-// THREE_AXIS_AXIS (optional): emit only triangles whose dominant normal axis is uAxis.
+// THREE_AXIS: emit only triangles whose dominant normal axis is uAxis (three-axis method;
+// the fragment stage then tests the pixel's inscribed diamond, Schwarz & Seidel 2010's
+// 6-separating criterion).
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 4) out;
 
@@ -17,6 +19,11 @@ flat out vec3 gB;
 flat out vec3 gC;
 
 void main() {
+#ifdef THREE_AXIS
+    vec3 nrm = abs(cross(vWorld[1] - vWorld[0], vWorld[2] - vWorld[0]));
+    int dominant = nrm.x >= nrm.y && nrm.x >= nrm.z ? 0 : (nrm.y >= nrm.z ? 1 : 2);
+    if (dominant != uAxis) return;
+#endif
     vec3 p[3];
     for (int i = 0; i < 3; ++i) {
         // The grid fits the scene, so vertices lie in front of a perspective grid camera.

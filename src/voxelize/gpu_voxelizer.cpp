@@ -98,19 +98,19 @@ struct GpuVoxelizer::Impl {
             .set("uPerspective", view.perspective ? 1 : 0)
             .set("uNearFar", glm::vec2(view.nearPlane, view.farPlane));
     }
+    // axis >= 0: one dominant-axis view of the three-axis method.
     std::vector<gpu::ShaderStage> rasterStages(bool conservative, int axis) const {
         std::vector<gpu::ShaderStage> s{{GL_VERTEX_SHADER, "voxelize/voxelize.vert"}};
-        if (conservative)
+        if (conservative || axis >= 0)
             s.push_back({GL_GEOMETRY_SHADER, "voxelize/conservative.geom"});
-        else if (axis >= 0)
-            s.push_back({GL_GEOMETRY_SHADER, "voxelize/three_axis.geom"});
         s.push_back({GL_FRAGMENT_SHADER, "voxelize/voxelize.frag"});
         return s;
     }
-    std::vector<std::string> rasterDefines(bool conservative) const {
+    std::vector<std::string> rasterDefines(bool conservative, int axis = -1) const {
         std::vector<std::string> d;
-        if (conservative) d.push_back("CONSERVATIVE");
-        if (conservative && info.conservativeRaster) d.push_back("NV_CONSERVATIVE");
+        if (conservative || axis >= 0) d.push_back("CONSERVATIVE");
+        if ((conservative || axis >= 0) && info.conservativeRaster) d.push_back("NV_CONSERVATIVE");
+        if (axis >= 0) d.push_back("THREE_AXIS");
         return d;
     }
     void setRasterState(bool conservative) const {
@@ -188,7 +188,11 @@ void GpuVoxelizer::Impl::slicePass(const GpuVoxelizer& self, const SliceMap& vie
     gpu::Framebuffer fbo;
     for (int t = 0; t < 8; ++t) {
         targets.emplace_back(GL_TEXTURE_2D);
-        targets.back().storage2D(1, GL_RGBA32UI, view.width, view.height);
+        // Integer textures with the default linear filter are incomplete (texelFetch -> 0).
+        targets.back()
+            .storage2D(1, GL_RGBA32UI, view.width, view.height)
+            .parameter(GL_TEXTURE_MIN_FILTER, GL_NEAREST)
+            .parameter(GL_TEXTURE_MAG_FILTER, GL_NEAREST);
         fbo.attach(GL_COLOR_ATTACHMENT0 + t, targets.back());
     }
     fbo.drawBuffers({GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
@@ -200,11 +204,11 @@ void GpuVoxelizer::Impl::slicePass(const GpuVoxelizer& self, const SliceMap& vie
     const GLuint zero[4] = {0, 0, 0, 0};
     for (int t = 0; t < 8; ++t)
         glClearBufferuiv(GL_COLOR, t, zero);
-    setRasterState(conservative);
+    setRasterState(conservative || axis >= 0);
     // 003 Sec. 2: OR of fragments' bit masks; solid: XOR toggles parity of crossings.
     glEnable(GL_COLOR_LOGIC_OP);
     glLogicOp(solid ? GL_XOR : GL_OR);
-    std::vector<std::string> defines = rasterDefines(conservative);
+    std::vector<std::string> defines = rasterDefines(conservative, axis);
     if (solid) defines.push_back("SOLID");
     if (local) defines.push_back("LOCAL");
     const gpu::Program& p = program(rasterStages(conservative, axis), defines);
@@ -264,7 +268,9 @@ void GpuVoxelizer::voxelize(SliceMap& grid, const VoxelizeOptions& options) {
         gpu::Texture rangeTex{gpu::NoCreate};
         if (options.local) {
             rangeTex = gpu::Texture(GL_TEXTURE_2D);
-            rangeTex.storage2D(1, GL_RG32F, grid.width, grid.height);
+            rangeTex.storage2D(1, GL_RG32F, grid.width, grid.height)
+                .parameter(GL_TEXTURE_MIN_FILTER, GL_NEAREST)
+                .parameter(GL_TEXTURE_MAG_FILTER, GL_NEAREST);
             std::vector<float> rg(grid.nearDepth.size() * 2);
             for (std::size_t i = 0; i < grid.nearDepth.size(); ++i) {
                 rg[2 * i] = grid.nearDepth[i];
@@ -310,29 +316,56 @@ void GpuVoxelizer::voxelize(SliceMap& grid, const VoxelizeOptions& options) {
         glDispatchCompute(static_cast<GLuint>((total + 63) / 64), 1, 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         glUseProgram(0);
-        path_ = "three-axis: dominant-axis geometry-shader selection, 3 views, compute merge";
+        path_ = fmt::format("three-axis: dominant-axis geometry-shader selection, {} + "
+                            "diamond test (6-separating), 3 views, compute merge",
+                            im.info.conservativeRaster ? "GL_NV_conservative_raster"
+                                                       : "geometry-shader dilation");
     } else {
         glm::dvec3 lo, hi;
         gridBounds(grid, lo, hi);
         const glm::dvec3 voxel = (hi - lo) / glm::dvec3(grid.width, grid.height, grid.slices);
+        // Pre-pass: tiles per triangle (same bounds as the voxelizing pass), scanned here.
+        const gpu::Program& count =
+            im.program({{GL_COMPUTE_SHADER, "voxelize/compute.comp"}}, {"COUNT_TILES"});
         const gpu::Program& p = im.program({{GL_COMPUTE_SHADER, "voxelize/compute.comp"}}, {});
-        glProgramUniform3i(p.id(), p.uniformLocation("uGridSize"), grid.width, grid.height,
-                           grid.slices);
-        p.set("uGridLo", glm::vec3(lo)).set("uVoxel", glm::vec3(voxel));
+        gpu::Buffer tileStart;
+        tileStart.setStorage((im.triangles + 1) * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
         im.words.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_VOX_WORDS);
         im.vertices.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_VOX_TRIS);
-        p.use();
-        const std::size_t batch = std::clamp<std::size_t>(batchTriangles, 64, 65535u * 64u);
-        for (std::size_t first = 0; first < im.triangles; first += batch) {
-            const std::size_t n = std::min(batch, im.triangles - first);
-            p.set("uTriangleOffset", static_cast<unsigned>(first))
-                .set("uTriangleCount", static_cast<unsigned>(n));
-            glDispatchCompute(static_cast<GLuint>((n + 63) / 64), 1, 1);
-            if (progress) {
-                glFinish();
-                progress(double(first + n) / double(im.triangles));
+        tileStart.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_VOX_TRIS + 1);
+        const auto dispatch = [&](const gpu::Program& prog, std::uint64_t items, bool report) {
+            glProgramUniform3i(prog.id(), prog.uniformLocation("uGridSize"), grid.width,
+                               grid.height, grid.slices);
+            prog.set("uGridLo", glm::vec3(lo))
+                .set("uVoxel", glm::vec3(voxel))
+                .set("uTriangleCount", static_cast<unsigned>(im.triangles));
+            prog.use();
+            const std::uint64_t batch = 65535u * 64u;
+            for (std::uint64_t first = 0; first < items; first += batch) {
+                const std::uint64_t n = std::min(batch, items - first);
+                prog.set("uItemOffset", static_cast<unsigned>(first))
+                    .set("uItemCount", static_cast<unsigned>(n));
+                glDispatchCompute(static_cast<GLuint>((n + 63) / 64), 1, 1);
+                if (report && progress) {
+                    glFinish();
+                    progress(double(first + n) / double(items));
+                }
             }
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        };
+        dispatch(count, im.triangles, false);
+        std::vector<std::uint32_t> starts(im.triangles + 1, 0);
+        glGetNamedBufferSubData(tileStart.id(), 0, static_cast<GLsizeiptr>(im.triangles * 4),
+                                starts.data());
+        std::uint64_t items = 0;
+        for (std::size_t t = 0; t <= im.triangles; ++t) {
+            const std::uint64_t c = t < im.triangles ? starts[t] : 0;
+            starts[t] = static_cast<std::uint32_t>(items);
+            items += c;
         }
+        VEIL_CHECK(items < (1ull << 32), "compute voxelization: {} tiles exceed 2^32", items);
+        tileStart.setSubData(0, starts.size() * 4, starts.data());
+        dispatch(p, items, true);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         glUseProgram(0);
         path_ = "compute: one thread per triangle, plane + 2D edge tests (Schwarz-Seidel), "
