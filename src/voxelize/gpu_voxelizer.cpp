@@ -242,8 +242,9 @@ void GpuVoxelizer::voxelize(SliceMap& grid, const VoxelizeOptions& options) {
     VEIL_CHECK(!options.local || m == Method::Raster || m == Method::Conservative,
                "local slicing works with the raster and conservative methods, not '{}'",
                methodName(m));
-    VEIL_CHECK(!options.solid || m == Method::Raster || m == Method::Conservative,
-               "solid voxelization works with the raster and conservative methods, not '{}'",
+    VEIL_CHECK(!options.solid || m == Method::Raster,
+               "solid voxelization needs the raster method, not '{}' (XOR parity needs exactly "
+               "one crossing per surface and column centre)",
                methodName(m));
     VEIL_CHECK(!(m == Method::ThreeAxis || m == Method::Compute) || !grid.perspective,
                "the {} method needs an orthographic grid", methodName(m));

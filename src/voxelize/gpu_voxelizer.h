@@ -12,7 +12,8 @@
 //                 views of the same uniform orthographic grid, merged by a compute pass
 //   compute       compute shader, one thread per triangle, exact triangle/box overlap
 //                 (plane + 2D edge tests), atomicOr into the SSBO
-// Options: solid (XOR; raster and conservative read the crossing at the column centre),
+// Options: solid (XOR of crossings at column centres; raster only: a conservative fragment
+// in a column its triangle does not cross would break the parity),
 // local (003 Sec. 2.2 per-column near/far from a min/max range pass; raster, conservative).
 // Grids with more than 1024 slices take ceil(slices / 1024) geometry passes.
 // Result: the slice map's words in an SSBO (binding VEIL_SSBO_VOX_WORDS, queried by
