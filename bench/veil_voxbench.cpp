@@ -2,11 +2,13 @@
 // (GL_TIME_ELAPSED where the driver has it, else glFinish + CPU clock), next to
 // openvdb::tools::meshToUnsignedDistanceField at the same voxel size (CPU, TBB threads).
 // Links the core and veil_voxelize only (no OpenImageIO, no VTK) so it travels to the GPU
-// machine.
+// machine. --check also compares every method's voxels with the CPU exact overlap
+// (missed / extra / IoU), e.g. to check the GL_NV_conservative_raster path on the GPU.
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "gpu/context.h"
 #include "scene/scene.h"
+#include "voxelize/cpu_voxelizer.h"
 #include "voxelize/gpu_voxelizer.h"
 #include "voxelize/triangles.h"
 
@@ -31,7 +33,7 @@ double median(std::vector<double> v) {
 void usage() {
     std::puts("usage: veil-voxbench <mesh.obj|scene.json> [--res N]... [--runs N] [--warmup N]\n"
               "                     [--methods raster,conservative,three-axis,compute]\n"
-              "                     [--no-openvdb] [--json out.json]");
+              "                     [--no-openvdb] [--check] [--json out.json]");
 }
 
 } // namespace
@@ -41,7 +43,7 @@ int main(int argc, char** argv) try {
     std::string input, jsonPath, methodList = "raster,conservative,three-axis,compute";
     std::vector<int> resolutions;
     int runs = 20, warmup = 3;
-    bool openvdbToo = true;
+    bool openvdbToo = true, check = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&]() -> std::string {
@@ -58,6 +60,8 @@ int main(int argc, char** argv) try {
             methodList = next();
         else if (a == "--no-openvdb")
             openvdbToo = false;
+        else if (a == "--check")
+            check = true;
         else if (a == "--json")
             jsonPath = next();
         else if (a == "-h" || a == "--help")
@@ -95,6 +99,11 @@ int main(int argc, char** argv) try {
     nlohmann::json rows = nlohmann::json::array();
     std::printf("%zu triangles, %s\n", tris.count(), context.info().renderer.c_str());
     for (int res : resolutions) {
+        SliceMap reference{};
+        if (check) {
+            reference = makeFittedCubeGrid(lo, hi, res);
+            voxelizeSurfaceCpu(tris, reference);
+        }
         for (Method m : methods) {
             SliceMap grid = makeFittedCubeGrid(lo, hi, res);
             std::vector<double> ms;
@@ -105,6 +114,20 @@ int main(int argc, char** argv) try {
                 set = grid.countSet();
             }
             const double med = median(ms);
+            nlohmann::json checked;
+            if (check) {
+                std::uint64_t missed = 0, extra = 0;
+                for (std::size_t i = 0; i < grid.words.size(); ++i) {
+                    missed += std::popcount(reference.words[i] & ~grid.words[i]);
+                    extra += std::popcount(grid.words[i] & ~reference.words[i]);
+                }
+                const double ref = double(reference.countSet());
+                const double iou = (ref - double(missed)) / (ref + double(extra));
+                std::printf("  check vs CPU exact overlap: missed %llu extra %llu IoU %.4f (%s)\n",
+                            (unsigned long long)missed, (unsigned long long)extra, iou,
+                            vox.path().c_str());
+                checked = {{"missed", missed}, {"extra", extra}, {"iou", iou}};
+            }
             std::printf("res %4d %-13s median %9.3f ms  min %9.3f  max %9.3f  set %llu\n", res,
                         methodName(m).c_str(), med, *std::min_element(ms.begin(), ms.end()),
                         *std::max_element(ms.begin(), ms.end()), (unsigned long long)set);
@@ -114,7 +137,8 @@ int main(int argc, char** argv) try {
                             {"median_ms", med},
                             {"min_ms", *std::min_element(ms.begin(), ms.end())},
                             {"max_ms", *std::max_element(ms.begin(), ms.end())},
-                            {"voxels", set}});
+                            {"voxels", set},
+                            {"check", checked}});
         }
         if (openvdbToo) {
             openvdb::initialize();

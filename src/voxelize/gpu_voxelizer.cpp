@@ -369,7 +369,8 @@ void GpuVoxelizer::voxelize(SliceMap& grid, const VoxelizeOptions& options) {
         dispatch(p, items, true);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         glUseProgram(0);
-        path_ = "compute: one thread per triangle, plane + 2D edge tests (Schwarz-Seidel), "
+        path_ = "compute: one thread per (triangle, 4x4x32 tile), plane + 2D edge tests "
+                "(Schwarz-Seidel), "
                 "atomicOr";
     }
     timer.end();
