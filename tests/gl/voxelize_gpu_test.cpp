@@ -58,6 +58,17 @@ void writeProjection(const SliceMap& m, const std::string& name) {
     io::writeImage(outputDir() / (name + ".png"), img);
 }
 
+// The xz slice at column row y = height / 2 (x right, slices up), white = set.
+void writeSlice(const SliceMap& m, const std::string& name) {
+    ImageF img(m.width, m.slices, 3);
+    const int y = m.height / 2;
+    for (int s = 0; s < m.slices; ++s)
+        for (int x = 0; x < m.width; ++x)
+            for (int c = 0; c < 3; ++c)
+                img.at(x, m.slices - 1 - s, c) = m.get(x, y, s) ? 1.0f : 0.1f;
+    io::writeImage(outputDir() / (name + "-slice.png"), img);
+}
+
 struct Shape {
     std::string name;
     Triangles tris;
@@ -112,10 +123,17 @@ TEST_F(VoxelizeGpuGLTest, SurfaceMethodsAgainstExactOverlap) {
                 } else {
                     EXPECT_GE(c.iou(), 0.2) << tag;
                 }
-                if (res == 64)
-                    writeProjection(got, fmt::format("voxelize-{}-{}", shape.name, methodName(m)));
+                if (res == 128) {
+                    const std::string file =
+                        fmt::format("voxelize-{}-{}", shape.name, methodName(m));
+                    writeProjection(got, file);
+                    writeSlice(got, file);
+                }
             }
-            if (res == 64) writeProjection(ref, fmt::format("voxelize-{}-cpu", shape.name));
+            if (res == 128) {
+                writeProjection(ref, fmt::format("voxelize-{}-cpu", shape.name));
+                writeSlice(ref, fmt::format("voxelize-{}-cpu", shape.name));
+            }
         }
     }
 }
