@@ -53,8 +53,10 @@ bool smLocate(vec3 world, out ivec2 c, out int s) {
     vec2 r = smColumnRange(c);
     if (uSmLocal != 0 && smRange[smColumn(c)].x > smRange[smColumn(c)].y) return false;
     float fs = (smDepthToSliceCoord(ndc.z * 0.5 + 0.5) - r.x) / (r.y - r.x) * float(uSmSize.z);
-    if (fs < 0.0 || fs >= float(uSmSize.z)) return false;
-    s = int(fs);
+    // Local ranges are closed (near and far belong to the first and last slice).
+    float slack = uSmLocal != 0 ? 1e-3 : 0.0;
+    if (fs < -slack || fs >= float(uSmSize.z) + slack) return false;
+    s = clamp(int(floor(fs)), 0, uSmSize.z - 1);
     return true;
 }
 

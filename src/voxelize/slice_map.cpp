@@ -70,9 +70,12 @@ bool SliceMap::locate(const glm::dvec3& world, int& x, int& y, int& s) const {
     columnRange(x, y, t0, t1);
     if (local() && nearDepth[columnIndex(x, y)] > farDepth[columnIndex(x, y)]) return false;
     const double t = depthToSliceCoord(ndc.z * 0.5 + 0.5);
-    const double fs = (t - t0) / (t1 - t0) * slices;
-    if (fs < 0.0 || fs >= slices) return false;
-    s = static_cast<int>(fs);
+    double fs = (t - t0) / (t1 - t0) * slices;
+    // A local column's range is closed and came through float: its near and far surfaces
+    // (and rounding just past them) belong to the first and last slice.
+    const double slack = local() ? 1e-3 : 0.0;
+    if (fs < -slack || fs >= slices + slack) return false;
+    s = std::clamp(static_cast<int>(std::floor(fs)), 0, slices - 1);
     return true;
 }
 

@@ -56,6 +56,28 @@ TEST_F(VoxelizeSolidLocalGLTest, SolidMatchesCpuParity) {
     }
 }
 
+// 1300 slices need two geometry passes of 1024 (8 RGBA32UI targets): surface (conservative:
+// zero missed vs the exact overlap) and solid (zero mismatches vs CPU parity) across passes.
+TEST_F(VoxelizeSolidLocalGLTest, MoreThan1024SlicesTakeSeveralPasses) {
+    const Triangles sphere = fromMesh(scene::makeSphere(1.0f, 32, 16));
+    GpuVoxelizer vox(info());
+    vox.upload(sphere);
+    SliceMap ref = makeOrthoGrid({-1.1, -1.1, -1.1}, {1.1, 1.1, 1.1}, 20, 20, 1300);
+    SliceMap got = ref;
+    voxelizeSurfaceCpu(sphere, ref);
+    vox.voxelize(got, {Method::Conservative, false, false});
+    EXPECT_NE(vox.path().find("2 geometry passes"), std::string::npos) << vox.path();
+    std::uint64_t missed = 0;
+    for (std::size_t i = 0; i < ref.words.size(); ++i)
+        missed += std::popcount(ref.words[i] & ~got.words[i]);
+    EXPECT_EQ(missed, 0u);
+    EXPECT_GT(got.countSet(), ref.countSet() / 2);
+    voxelizeSolidCpu(sphere, ref);
+    vox.voxelize(got, {Method::Raster, true, false});
+    EXPECT_EQ(got.words, ref.words);
+    VEIL_EXPECT_NO_GL_ERROR();
+}
+
 // Two spheres of radius 0.5, 40 units apart along the view axis (z) and side by side in x:
 // uniform slicing spends 64 slices on 41 units of depth; local slicing spends them on each
 // column's own [near, far] (003 Sec. 2.2).
@@ -94,6 +116,41 @@ TEST_F(VoxelizeSolidLocalGLTest, LocalSlicingResolvesMoreDepth) {
     EXPECT_LT(std::abs(volume[1] - exact), 0.04 * exact);
     EXPECT_LT(std::abs(volume[1] - exact), 0.5 * std::abs(volume[0] - exact));
     EXPECT_GT(slicesPerColumn[1], 5.0 * slicesPerColumn[0]);
+}
+
+// Perspective grid camera (slices equal in eye depth), uniform and local: a conservative
+// voxelization must contain every point of every triangle, checked at the vertices,
+// centroids and edge midpoints of a torus through SliceMap::occupied (the cell holding the
+// point is set).
+TEST_F(VoxelizeSolidLocalGLTest, PerspectiveConservativeContainsTheSurface) {
+    const Triangles torus = fromMesh(scene::makeTorus(1.0f, 0.35f, 40, 20),
+                                     glm::rotate(glm::mat4(1.0f), 0.9f, glm::vec3(1, 0, 0)));
+    GpuVoxelizer vox(info());
+    vox.upload(torus);
+    for (bool local : {false, true}) {
+        SliceMap grid =
+            makePerspectiveGrid({0.3, 0.4, 5.0}, {0, 0, 0}, {0, 1, 0}, 40.0, 3.0, 7.0, 64, 64, 96);
+        vox.voxelize(grid, {Method::Conservative, false, local});
+        int outside = 0, missed = 0, checked = 0;
+        for (std::size_t t = 0; t < torus.count(); ++t) {
+            const glm::dvec3 a(torus.vertices[3 * t]), b(torus.vertices[3 * t + 1]),
+                c(torus.vertices[3 * t + 2]);
+            for (const glm::dvec3& p : {a, (a + b + c) / 3.0, 0.5 * (a + b), 0.5 * (b + c)}) {
+                int x, y, s;
+                if (!grid.locate(p, x, y, s)) {
+                    ++outside;
+                    continue;
+                }
+                ++checked;
+                missed += grid.get(x, y, s) ? 0 : 1;
+            }
+        }
+        std::printf("perspective %s: %d surface points checked, %d missed, %d outside, %llu set\n",
+                    local ? "local" : "uniform", checked, missed, outside,
+                    (unsigned long long)grid.countSet());
+        EXPECT_EQ(outside, 0);
+        EXPECT_EQ(missed, 0);
+    }
 }
 
 TEST_F(VoxelizeSolidLocalGLTest, GlslQueriesMatchCpp) {
