@@ -39,11 +39,12 @@ public:
         if (enabled_ && drawn_) std::fputc('\n', stderr);
     }
     void operator()(double fraction) {
-        if (!enabled_) return;
+        const int percent = static_cast<int>(fraction * 100.0 + 0.5);
+        if (!enabled_ || percent == lastPercent_) return;
+        lastPercent_ = percent;
         const int filled = static_cast<int>(fraction * 30.0 + 0.5);
         std::fprintf(stderr, "\r%-12s [%-30s] %3d%%", label_.c_str(),
-                     std::string(std::size_t(std::clamp(filled, 0, 30)), '#').c_str(),
-                     static_cast<int>(fraction * 100.0 + 0.5));
+                     std::string(std::size_t(std::clamp(filled, 0, 30)), '#').c_str(), percent);
         std::fflush(stderr);
         drawn_ = true;
     }
@@ -51,6 +52,7 @@ public:
 private:
     std::string label_;
     bool enabled_, drawn_ = false;
+    int lastPercent_ = -1;
 };
 
 void runVoxelize(const VoxelizeArgs& args) {
