@@ -44,6 +44,16 @@
 
 #define VEIL_MAX_LIGHTS 8
 
+// Voxelization (src/voxelize, shaders/voxelize): slice-map words, per-column local-slicing
+// ranges (near, far pairs), triangle soup, per-axis maps of three-axis voxelization.
+#define VEIL_SSBO_VOX_WORDS 8
+#define VEIL_SSBO_VOX_RANGE 9
+#define VEIL_SSBO_VOX_TRIS 10
+#define VEIL_SSBO_VOX_AXIS0 11
+// (voxelization runs outside the frame: its slots may coincide with the fog's)
+#define VEIL_TEX_VOX0 16
+#define VEIL_TEX_VOX_RANGE 24
+
 #define VEIL_ATTR_POSITION 0
 #define VEIL_ATTR_NORMAL 1
 #define VEIL_ATTR_UV 2

@@ -11,5 +11,6 @@ namespace veil::app {
 void addRenderCommand(CLI::App& app);
 void addInfoCommand(CLI::App& app);
 void addViewCommand(CLI::App& app);
+void addVoxelizeCommand(CLI::App& app);
 
 } // namespace veil::app

@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
     veil::app::addRenderCommand(app);
     veil::app::addInfoCommand(app);
     veil::app::addViewCommand(app);
+    veil::app::addVoxelizeCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -1,0 +1,183 @@
+// `veil voxelize scene.json --res 256 --slices 256 [--solid] [--method M] [--local]
+//  [--perspective [--camera NAME]] -o grid.vdb [--vti grid.vti] [--smooth W]`:
+// slice-map voxelization on the GPU (src/voxelize), written as OpenVDB grids ("density",
+// "mask") and optionally as a VTK image for ParaView.
+#include "app/commands.h"
+
+#include "base/error.h"
+#include "gpu/context.h"
+#include "io/vtk_export.h"
+#include "scene/scene.h"
+#include "voxelize/gpu_voxelizer.h"
+#include "voxelize/triangles.h"
+#include "voxelize/vdb_convert.h"
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+namespace veil::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct VoxelizeArgs {
+    std::string scene, output, vti, method, camera;
+    int res = 256, slices = 0, device = -1;
+    bool solid = false, local = false, perspective = false, quiet = false;
+    double smooth = 0.0, voxelSize = 0.0;
+    std::vector<std::string> overrides;
+};
+
+// A one-line progress bar on stderr, redrawn in place.
+class ProgressBar {
+public:
+    ProgressBar(std::string label, bool enabled) : label_(std::move(label)), enabled_(enabled) {}
+    ~ProgressBar() {
+        if (enabled_ && drawn_) std::fputc('\n', stderr);
+    }
+    void operator()(double fraction) {
+        const int percent = static_cast<int>(fraction * 100.0 + 0.5);
+        if (!enabled_ || percent == lastPercent_) return;
+        lastPercent_ = percent;
+        const int filled = static_cast<int>(fraction * 30.0 + 0.5);
+        std::fprintf(stderr, "\r%-12s [%-30s] %3d%%", label_.c_str(),
+                     std::string(std::size_t(std::clamp(filled, 0, 30)), '#').c_str(), percent);
+        std::fflush(stderr);
+        drawn_ = true;
+    }
+
+private:
+    std::string label_;
+    bool enabled_, drawn_ = false;
+    int lastPercent_ = -1;
+};
+
+void runVoxelize(const VoxelizeArgs& args) {
+    using namespace veil::voxelize;
+    const auto start = std::chrono::steady_clock::now();
+    // Everything that can be checked before work is checked first.
+    const Method method =
+        parseMethod(args.method.empty() ? (args.solid ? "raster" : "conservative") : args.method);
+    VEIL_CHECK(fs::path(args.output).extension() == ".vdb", "output '{}' must end in .vdb",
+               args.output);
+    VEIL_CHECK(args.vti.empty() || fs::path(args.vti).extension() == ".vti",
+               "--vti '{}' must end in .vti", args.vti);
+    for (const std::string& out : {args.output, args.vti}) {
+        if (out.empty()) continue;
+        const fs::path dir = fs::path(out).has_parent_path() ? fs::path(out).parent_path() : ".";
+        VEIL_CHECK(fs::is_directory(dir), "cannot write '{}': folder '{}' does not exist", out,
+                   dir.string());
+    }
+    const int slices = args.slices > 0 ? args.slices : args.res;
+    const scene::Scene scene = scene::loadScene(args.scene, args.overrides);
+    const Triangles tris = flattenScene(scene);
+    glm::vec3 lo, hi;
+    tris.bounds(lo, hi);
+
+    SliceMap grid;
+    if (args.perspective) {
+        const scene::Camera& cam = scene.camera(args.camera);
+        // Near/far fitted to the scene bounds along the view axis (with a 2% margin).
+        const glm::dvec3 eye(cam.position), dir = glm::normalize(glm::dvec3(cam.target) - eye);
+        double dmin = 1e300, dmax = -1e300;
+        for (int i = 0; i < 8; ++i) {
+            const glm::dvec3 c(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
+            dmin = std::min(dmin, glm::dot(c - eye, dir));
+            dmax = std::max(dmax, glm::dot(c - eye, dir));
+        }
+        const double n = std::max(dmin * 0.98, 1e-3 * dmax), f = dmax * 1.02;
+        VEIL_CHECK(f > n && dmax > 0.0, "the scene lies behind camera '{}'", cam.name);
+        grid = makePerspectiveGrid(eye, glm::dvec3(cam.target), glm::dvec3(cam.up), cam.fovYDegrees,
+                                   n, f, args.res, args.res, slices);
+    } else {
+        // Orthographic along +z world, fitted to the bounds with a 3% margin.
+        const glm::dvec3 e = glm::dvec3(hi - lo), c = 0.5 * glm::dvec3(lo + hi);
+        const glm::dvec3 half = 0.5 * glm::max(e, glm::dvec3(1e-6 * glm::length(e))) * 1.06;
+        grid = makeOrthoGrid(c - half, c + half, args.res, args.res, slices);
+    }
+
+    gpu::HeadlessContext context({args.device, false});
+    GpuVoxelizer vox(context.info());
+    const bool big = tris.count() > 200000 || double(args.res) * args.res * slices > 6.4e7;
+    {
+        ProgressBar bar("voxelize", big && !args.quiet);
+        vox.progress = [&bar](double f) { bar(f); };
+        vox.upload(tris);
+        vox.voxelize(grid, {method, args.solid, args.local});
+    }
+    VdbOptions vopt;
+    vopt.smoothing = args.smooth;
+    vopt.resampleVoxel = args.voxelSize;
+    VdbGrids grids;
+    {
+        ProgressBar bar("to OpenVDB", big && !args.quiet);
+        vopt.progress = [&bar](double f) { bar(f); };
+        grids = toVdb(grid, vopt);
+    }
+    writeVdb(args.output, grids);
+    if (!args.vti.empty()) {
+        io::DenseGrid dense;
+        dense.name = "density";
+        for (int i = 0; i < 3; ++i) {
+            dense.dims[i] = grids.dims[i];
+            dense.origin[i] = grids.origin[i];
+            dense.spacing[i] = grids.voxel[i];
+        }
+        dense.values.assign(std::size_t(grids.dims.x) * grids.dims.y * grids.dims.z, 0.0f);
+        for (auto it = grids.density->cbeginValueOn(); it; ++it) {
+            const openvdb::Coord c = it.getCoord();
+            if (c.x() < 0 || c.y() < 0 || c.z() < 0 || c.x() >= grids.dims.x ||
+                c.y() >= grids.dims.y || c.z() >= grids.dims.z)
+                continue; // smoothing spills past the box; the .vti keeps the grid's box
+            dense.values[(std::size_t(c.z()) * grids.dims.y + c.y()) * grids.dims.x + c.x()] = *it;
+        }
+        io::writeVti(args.vti, dense);
+    }
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::cout << fmt::format(
+        "voxelized {} triangles into {}x{}x{} {} cells: {} set ({} voxels in '{}')\n"
+        "method: {}\ngrid: {}\ntime: voxelize {:.2f} ms ({}), total {:.2f} s\nwrote {}{}\n",
+        tris.count(), grid.width, grid.height, grid.slices, args.solid ? "solid" : "surface",
+        grid.countSet(), grids.mask->activeVoxelCount(), args.output, vox.path(), grids.note,
+        vox.milliseconds(),
+        context.info().softwareRenderer ? "glFinish + CPU clock" : "GL_TIME_ELAPSED", seconds,
+        args.output, args.vti.empty() ? "" : " and " + args.vti);
+}
+
+} // namespace
+
+void addVoxelizeCommand(CLI::App& app) {
+    auto args = std::make_shared<VoxelizeArgs>();
+    CLI::App* cmd = app.add_subcommand("voxelize", "Voxelize a scene on the GPU into .vdb / .vti");
+    cmd->add_option("scene", args->scene, "Scene file (JSON, docs/scene-format.md)")->required();
+    cmd->add_option("-o,--output", args->output, "Output OpenVDB file (.vdb)")->required();
+    cmd->add_option("--vti", args->vti, "Also write a VTK image (.vti) for ParaView");
+    cmd->add_option("--res", args->res, "Columns per side of the grid camera")
+        ->check(CLI::Range(1, 8192));
+    cmd->add_option("--slices", args->slices, "Slices per column (default: --res)")
+        ->check(CLI::Range(1, 65536));
+    cmd->add_option("--method", args->method,
+                    "raster | conservative | three-axis | compute (default: conservative; "
+                    "raster with --solid)");
+    cmd->add_flag("--solid", args->solid, "Solid voxelization (XOR of crossings, closed meshes)");
+    cmd->add_flag("--local", args->local,
+                  "Local slicing: per-column near/far from a range pass (raster, conservative)");
+    cmd->add_flag("--perspective", args->perspective,
+                  "Perspective grid from the scene camera (default: orthographic along +z)");
+    cmd->add_option("--camera", args->camera, "Camera of --perspective (default: the first)");
+    cmd->add_option("--smooth", args->smooth,
+                    "Gaussian smoothing width in voxels for a soft fog density (default 0)")
+        ->check(CLI::Range(0.0, 64.0));
+    cmd->add_option("--voxel-size", args->voxelSize,
+                    "World voxel size of resampled (perspective/local) grids (default: auto)");
+    cmd->add_option("--set", args->overrides, "Override a scene value: key=value (repeatable)");
+    cmd->add_option("--device", args->device, "EGL device index");
+    cmd->add_flag("--quiet", args->quiet, "No progress bar");
+    cmd->callback([args] { runVoxelize(*args); });
+}
+
+} // namespace veil::app

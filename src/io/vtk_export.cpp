@@ -1,0 +1,65 @@
+#include "io/vtk_export.h"
+
+#include "base/atomic_file.h"
+#include "base/error.h"
+
+#include <vtkDataArray.h>
+#include <vtkFloatArray.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkXMLImageDataReader.h>
+#include <vtkXMLImageDataWriter.h>
+
+namespace veil::io {
+
+void writeVti(const std::filesystem::path& path, const DenseGrid& grid) {
+    const std::size_t n = std::size_t(grid.dims[0]) * grid.dims[1] * grid.dims[2];
+    VEIL_CHECK(n > 0 && grid.values.size() == n, "vti '{}': {} values for a {}x{}x{} grid",
+               path.string(), grid.values.size(), grid.dims[0], grid.dims[1], grid.dims[2]);
+    vtkNew<vtkImageData> image;
+    image->SetDimensions(grid.dims[0], grid.dims[1], grid.dims[2]);
+    image->SetOrigin(grid.origin[0], grid.origin[1], grid.origin[2]);
+    image->SetSpacing(grid.spacing[0], grid.spacing[1], grid.spacing[2]);
+    vtkNew<vtkFloatArray> values;
+    values->SetName(grid.name.c_str());
+    values->SetNumberOfComponents(1);
+    values->SetNumberOfTuples(static_cast<vtkIdType>(n));
+    std::copy(grid.values.begin(), grid.values.end(), values->GetPointer(0));
+    image->GetPointData()->SetScalars(values);
+    writeFileAtomically(path, [&](const std::filesystem::path& tmp) {
+        vtkNew<vtkXMLImageDataWriter> writer;
+        writer->SetFileName(tmp.string().c_str());
+        writer->SetInputData(image);
+        writer->SetDataModeToAppended();
+        writer->SetCompressorTypeToZLib();
+        VEIL_CHECK(writer->Write() == 1, "cannot write '{}' (VTK writer failed)", path.string());
+    });
+}
+
+DenseGrid readVti(const std::filesystem::path& path) {
+    VEIL_CHECK(std::filesystem::is_regular_file(path), "cannot read '{}': no such file",
+               path.string());
+    vtkNew<vtkXMLImageDataReader> reader;
+    reader->SetFileName(path.string().c_str());
+    reader->Update();
+    vtkImageData* image = reader->GetOutput();
+    VEIL_CHECK(image && image->GetPointData()->GetNumberOfArrays() > 0, "'{}' holds no image data",
+               path.string());
+    DenseGrid g;
+    int dims[3];
+    image->GetDimensions(dims);
+    double o[3], s[3];
+    image->GetOrigin(o);
+    image->GetSpacing(s);
+    for (int i = 0; i < 3; ++i)
+        g.dims[i] = dims[i], g.origin[i] = o[i], g.spacing[i] = s[i];
+    vtkDataArray* a = image->GetPointData()->GetArray(0);
+    g.name = a->GetName() ? a->GetName() : "";
+    g.values.resize(static_cast<std::size_t>(a->GetNumberOfTuples()));
+    for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i)
+        g.values[static_cast<std::size_t>(i)] = static_cast<float>(a->GetTuple1(i));
+    return g;
+}
+
+} // namespace veil::io

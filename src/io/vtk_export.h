@@ -1,0 +1,24 @@
+// VTK export for ParaView: dense scalar grids as .vti (vtkXMLImageDataWriter), written to a
+// temporary file renamed into place.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace veil::io {
+
+struct DenseGrid {
+    std::array<int, 3> dims{0, 0, 0};
+    std::array<double, 3> origin{0, 0, 0};  // world position of point (0, 0, 0)
+    std::array<double, 3> spacing{1, 1, 1}; // world distance between points per axis
+    std::vector<float> values;              // x fastest, then y, then z
+    std::string name = "density";
+};
+
+void writeVti(const std::filesystem::path& path, const DenseGrid& grid);
+// Reads a .vti written by writeVti (first point-data array) back; throws veil::Error.
+DenseGrid readVti(const std::filesystem::path& path);
+
+} // namespace veil::io

@@ -1,0 +1,83 @@
+// `veil voxelize` end to end: a scene to .vdb + .vti with the summary; bad --method, a
+// missing scene and an unwritable output end in one clear line, a non-zero exit and no file.
+#include "io/vtk_export.h"
+#include "support/test_support.h"
+
+#include <gtest/gtest.h>
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
+
+#include <algorithm>
+#include <fstream>
+
+namespace veil::test {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path dir() {
+    const fs::path d = outputDir() / "voxelize-cli";
+    fs::create_directories(d);
+    return d;
+}
+
+fs::path scene() {
+    const fs::path p = dir() / "scene.json";
+    std::ofstream(p) << R"({
+  "cameras": [{"name": "c", "position": [0, 1, 4], "target": [0, 0, 0]}],
+  "materials": {"m": {"base_color": 0.5}},
+  "objects": [{"shape": {"type": "sphere", "radius": 1}, "material": "m"},
+              {"shape": {"type": "box", "size": [0.5, 0.5, 0.5]}, "material": "m",
+               "transform": {"translate": [2, 0, 0]}}]
+})";
+    return p;
+}
+
+void expectFails(const std::string& args, const fs::path& out, const std::string& says) {
+    fs::remove(out);
+    const CommandResult r = runCommand(veilExe() + " voxelize " + args + " 2>&1");
+    EXPECT_NE(r.exitCode, 0) << r.output;
+    EXPECT_FALSE(fs::exists(out)) << out;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_NE(r.output.find("veil: error:"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(says), std::string::npos) << r.output;
+}
+
+} // namespace
+
+TEST(VoxelizeCliTest, WritesVdbAndVtiWithSummary) {
+    const fs::path vdb = dir() / "grid.vdb", vti = dir() / "grid.vti";
+    fs::remove(vdb);
+    fs::remove(vti);
+    const CommandResult r =
+        runCommand(veilExe() + " voxelize '" + scene().string() + "' --res 48 --slices 40 -o '" +
+                   vdb.string() + "' --vti '" + vti.string() + "' 2>&1");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("method: conservative"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(" set ("), std::string::npos) << r.output;
+    openvdb::initialize();
+    openvdb::io::File file(vdb.string());
+    file.open();
+    auto grid = file.readGrid("density");
+    file.close();
+    EXPECT_GT(grid->activeVoxelCount(), 1000u);
+    const io::DenseGrid d = io::readVti(vti);
+    EXPECT_EQ(d.dims, (std::array<int, 3>{48, 48, 40}));
+    const auto on = std::count(d.values.begin(), d.values.end(), 1.0f);
+    EXPECT_EQ(static_cast<openvdb::Index64>(on), grid->activeVoxelCount());
+}
+
+TEST(VoxelizeCliTest, BadInputFailsCleanly) {
+    const fs::path out = dir() / "bad.vdb";
+    const std::string s = "'" + scene().string() + "'";
+    expectFails(s + " --method splat -o '" + out.string() + "'", out,
+                "unknown voxelization method");
+    expectFails("'" + (dir() / "missing.json").string() + "' -o '" + out.string() + "'", out,
+                "missing.json");
+    const fs::path unwritable = dir() / "no-such-dir" / "x.vdb";
+    expectFails(s + " -o '" + unwritable.string() + "'", unwritable, "does not exist");
+    expectFails(s + " --method compute --solid -o '" + out.string() + "'", out, "solid");
+}
+
+} // namespace veil::test
