@@ -6,6 +6,10 @@
 #include "frame/renderer.h"
 #include "gpu/context.h"
 #include "scene/scene.h"
+#include "volume/cpu_reference.h"
+#include "volume/density_grid.h"
+
+#include <chrono>
 
 #include <nlohmann/json.hpp>
 
@@ -22,7 +26,9 @@ namespace {
 
 void usage() {
     std::puts("usage: veil-bench <scene.json> [--width W] [--height H] [--frames N] [--warmup N]\n"
-              "                  [--oit NAME] [--set key=value]... [--json out.json]");
+              "                  [--oit NAME] [--set key=value]... [--json out.json]\n"
+              "                  [--cpu-fog W H]  also time the CPU fog reference (double\n"
+              "                                   precision, all cores) on the same view at W x H");
 }
 
 double median(std::vector<double> v) {
@@ -35,7 +41,7 @@ double median(std::vector<double> v) {
 
 int main(int argc, char** argv) try {
     std::string scenePath, jsonPath, oit;
-    int width = 1920, height = 1080, frames = 100, warmup = 20;
+    int width = 1920, height = 1080, frames = 100, warmup = 20, cpuFogW = 0, cpuFogH = 0;
     std::vector<std::string> overrides;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -50,6 +56,10 @@ int main(int argc, char** argv) try {
         else if (a == "--oit") oit = next();
         else if (a == "--set") overrides.push_back(next());
         else if (a == "--json") jsonPath = next();
+        else if (a == "--cpu-fog") {
+            cpuFogW = std::stoi(next());
+            cpuFogH = std::stoi(next());
+        }
         else if (a == "-h" || a == "--help") { usage(); return 0; }
         else if (!a.empty() && a[0] == '-') throw veil::Error("unknown option " + a);
         else scenePath = a;
@@ -100,6 +110,26 @@ int main(int argc, char** argv) try {
     }
     out["passes"] = passes;
     out["total_median_ms"] = median(totals);
+    if (cpuFogW > 0 && cpuFogH > 0) {
+        // The CPU reference of the fog on the same camera (src/volume/cpu_reference.h).
+        std::vector<openvdb::FloatGrid::ConstPtr> grids;
+        for (const auto& v : scene.volumes)
+            if (v.procedural != "homogeneous") grids.push_back(veil::volume::loadVolume(v));
+        const veil::volume::CpuFogReference ref(scene, grids);
+        const auto t0 = std::chrono::steady_clock::now();
+        ref.render(renderer.camera(), cpuFogW, cpuFogH, scene.render.fogSteps);
+        const double ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        out["cpu_fog"] = {{"width", cpuFogW},
+                          {"height", cpuFogH},
+                          {"steps", scene.render.fogSteps},
+                          {"ms", ms},
+                          {"ns_per_pixel", ms * 1e6 / (double(cpuFogW) * cpuFogH)}};
+        for (const auto& p : out["passes"])
+            if (p["name"] == "fog")
+                out["cpu_fog"]["gpu_fog_ns_per_pixel"] =
+                    p["median_ms"].get<double>() * 1e6 / (double(width) * height);
+    }
     const std::string text = out.dump(2);
     if (!jsonPath.empty())
         veil::writeFileAtomically(jsonPath, [&](const std::filesystem::path& tmp) {

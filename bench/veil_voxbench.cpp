@@ -31,7 +31,7 @@ double median(std::vector<double> v) {
 }
 
 void usage() {
-    std::puts("usage: veil-voxbench <mesh.obj|scene.json> [--res N]... [--runs N] [--warmup N]\n"
+    std::puts("usage: veil-voxbench <mesh.obj|scene.json> [--res N]... [--slices N]... [--runs N] [--warmup N]\n"
               "                     [--methods raster,conservative,three-axis,compute]\n"
               "                     [--no-openvdb] [--check] [--json out.json]");
 }
@@ -42,6 +42,7 @@ int main(int argc, char** argv) try {
     using namespace veil::voxelize;
     std::string input, jsonPath, methodList = "raster,conservative,three-axis,compute";
     std::vector<int> resolutions;
+    std::vector<int> sliceCounts; // empty: as many slices as columns per side (cubic voxels)
     int runs = 20, warmup = 3;
     bool openvdbToo = true, check = false;
     for (int i = 1; i < argc; ++i) {
@@ -52,6 +53,8 @@ int main(int argc, char** argv) try {
         };
         if (a == "--res")
             resolutions.push_back(std::stoi(next()));
+        else if (a == "--slices")
+            sliceCounts.push_back(std::stoi(next()));
         else if (a == "--runs")
             runs = std::max(1, std::stoi(next()));
         else if (a == "--warmup")
@@ -98,14 +101,25 @@ int main(int argc, char** argv) try {
     report["timer"] = context.info().softwareRenderer ? "glFinish + CPU clock" : "GL_TIME_ELAPSED";
     nlohmann::json rows = nlohmann::json::array();
     std::printf("%zu triangles, %s\n", tris.count(), context.info().renderer.c_str());
-    for (int res : resolutions) {
+    if (sliceCounts.empty()) sliceCounts.push_back(0);
+    // res x res columns, `slices` slices over the same cube (0: res slices, cubic voxels).
+    auto makeGrid = [&](int res, int slices) {
+        if (slices <= 0) return makeFittedCubeGrid(lo, hi, res);
+        const SliceMap cube = makeFittedCubeGrid(lo, hi, res);
+        glm::dvec3 glo, ghi;
+        gridBounds(cube, glo, ghi);
+        return makeOrthoGrid(glo, ghi, res, res, slices);
+    };
+    for (int res : resolutions)
+    for (int slicesArg : sliceCounts) {
+        const int slices = slicesArg > 0 ? slicesArg : res;
         SliceMap reference{};
         if (check) {
-            reference = makeFittedCubeGrid(lo, hi, res);
+            reference = makeGrid(res, slicesArg);
             voxelizeSurfaceCpu(tris, reference);
         }
         for (Method m : methods) {
-            SliceMap grid = makeFittedCubeGrid(lo, hi, res);
+            SliceMap grid = makeGrid(res, slicesArg);
             std::vector<double> ms;
             std::uint64_t set = 0;
             for (int r = 0; r < warmup + runs; ++r) {
@@ -128,10 +142,11 @@ int main(int argc, char** argv) try {
                             vox.path().c_str());
                 checked = {{"missed", missed}, {"extra", extra}, {"iou", iou}};
             }
-            std::printf("res %4d %-13s median %9.3f ms  min %9.3f  max %9.3f  set %llu\n", res,
-                        methodName(m).c_str(), med, *std::min_element(ms.begin(), ms.end()),
+            std::printf("res %4d slices %4d %-13s median %9.3f ms  min %9.3f  max %9.3f  set %llu\n",
+                        res, slices, methodName(m).c_str(), med, *std::min_element(ms.begin(), ms.end()),
                         *std::max_element(ms.begin(), ms.end()), (unsigned long long)set);
             rows.push_back({{"res", res},
+                            {"slices", slices},
                             {"method", methodName(m)},
                             {"path", vox.path()},
                             {"median_ms", med},
@@ -140,7 +155,8 @@ int main(int argc, char** argv) try {
                             {"voxels", set},
                             {"check", checked}});
         }
-        if (openvdbToo) {
+        // OpenVDB at the column spacing (its voxels are cubes), once per resolution.
+        if (openvdbToo && slicesArg == sliceCounts.front()) {
             openvdb::initialize();
             const SliceMap grid = makeFittedCubeGrid(lo, hi, res);
             glm::dvec3 glo, ghi;

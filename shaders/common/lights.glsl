@@ -53,6 +53,20 @@ float shadowVisibility(vec3 P, vec3 N, vec3 L) {
     return sum / (n * n);
 }
 
+// One hardware-filtered tap (bilinear 2x2 comparison), for volume samples: the fog marcher
+// takes many samples per pixel, so per-sample PCF kernels are not worth their cost.
+float shadowVisibilityFast(vec3 P) {
+    if (lighting.shadowParams.w < 0.5) return 1.0;
+    vec4 s = lighting.shadowMatrix * vec4(P, 1.0);
+    if (s.w <= 0.0) return 1.0;
+    vec2 uv = s.xy / s.w;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
+    float z = shadowLinearDepth(P);
+    if (z > 1.0) return 1.0;
+    float range = lighting.shadowDepthRange.y - lighting.shadowDepthRange.x;
+    return texture(shadowMap, vec3(uv, z - lighting.shadowParams.x / range));
+}
+
 // Radiance arriving at P from light i (unshadowed) and the direction toward the light.
 vec3 incidentRadiance(int i, vec3 P, out vec3 L) {
     Light light = lighting.lights[i];

@@ -144,7 +144,7 @@ void main() {
                 vec3 e = incidentRadiance(l, P, L);
                 if (all(equal(e, vec3(0.0)))) continue;
                 float vis = 1.0;
-                if (lighting.lights[l].directionShadow.w > 0.5) vis *= shadowVisibility(P, L, L);
+                if (lighting.lights[l].directionShadow.w > 0.5) vis *= shadowVisibilityFast(P);
                 if (l == primaryLight) vis *= volumeTransmittanceToLight(P);
                 if (globalDensity > 0.0 && int(lighting.lights[l].positionType.w) != VEIL_LIGHT_DIRECTIONAL)
                     vis *= exp(-globalDensity * length(lighting.lights[l].positionType.xyz - P));

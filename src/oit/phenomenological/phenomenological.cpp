@@ -237,6 +237,15 @@ void registerPhenomenological(Registry& registry) {
                       return std::make_unique<PhenomenologicalTechnique>(
                           programs, phenomenologicalDefaults());
                   }});
+    // The paper's cost figures are given with and without diffusion; the variant without it
+    // (resolve without the gather) is the one the benchmark targets name.
+    registry.add({"phenomenological-nodiff",
+                  "phenomenological without diffusion (refraction and self-modulation kept)",
+                  nullptr, [](gpu::ProgramManager& programs) {
+                      PhenomenologicalParams p = phenomenologicalDefaults();
+                      p.diffusion = false;
+                      return std::make_unique<PhenomenologicalTechnique>(programs, p);
+                  }});
 }
 
 } // namespace veil::oit
