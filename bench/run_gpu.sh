@@ -20,7 +20,7 @@ for t in blend wboit phenomenological-nodiff phenomenological moment-p6 moment-p
     echo "oit $t failed" >> "$R/log.txt"
 done
 for r in 1 2 4; do
-  extra=""; [ $r = 1 ] && extra="--cpu-fog 480 270"
+  extra=""; [ $r = 1 ] && extra="--cpu-fog 128 72"
   timeout 200 veil-bench bench/scenes/cloud256.json --set render.fog_resolution=$r --width $W \
     --height $H --frames 30 --warmup 5 $extra --json "$R/fog-cloud256-r$r.json" > /dev/null \
     2>> "$R/log.txt" || echo "fog cloud r$r failed" >> "$R/log.txt"
