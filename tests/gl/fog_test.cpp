@@ -2,6 +2,7 @@
 // (src/volume/cpu_reference.h), and fog composited with glass under `reference`.
 #include "gl_fixture.h"
 
+#include "base/error.h"
 #include "frame/renderer.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
@@ -11,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <fstream>
 
 namespace veil::test {
 
@@ -162,6 +164,84 @@ TEST_F(FogTest, FogBetweenGlassPanesUnderReferenceIsTheAnalyticComposite) {
         EXPECT_NEAR(blend.at(16, 16, c), blended, 0.005) << "channel " << c;
     }
     EXPECT_GT(std::abs(ref.at(16, 16, 0) - blend.at(16, 16, 0)), 0.05);
+}
+
+TEST_F(FogTest, ReducedResolutionIsUpsampledAlongDepthEdges) {
+    // Dense fog in front of an emissive wall, a near opaque box occluding part of it. At 1/2
+    // and 1/4 resolution the joint bilateral upsampling must keep the fog off the box (little
+    // fog lies in front of it) and stay close to the full-resolution image elsewhere.
+    nlohmann::json doc = baseScene(96);
+    doc["render"]["background"] = {0, 0, 0};
+    doc["render"]["ambient"] = 0.3;
+    doc["materials"] = {{"wall", {{"base_color", 0}, {"emission", {0.2, 0.4, 0.8}}}},
+                        {"box", {{"base_color", 0}, {"emission", {1.0, 0.5, 0.1}}}}};
+    doc["objects"] = {{{"shape", {{"type", "plane"}, {"size", {4, 4}}}},
+                       {"material", "wall"},
+                       {"transform", {{"rotate", {90, 0, 0}}}}},
+                      {{"shape", {{"type", "box"}, {"size", {0.7, 0.7, 0.2}}}},
+                       {"material", "box"},
+                       {"transform", {{"translate", {0.1, 0.13, 3.6}}}}}};
+    doc["volumes"] = {{{"procedural", "homogeneous"}, {"density_scale", 0.5}, {"albedo", 1.0}}};
+    doc["render"]["fog_resolution"] = 1;
+    const ImageF full = render(doc, info());
+    for (int div : {2, 4}) {
+        doc["render"]["fog_resolution"] = div;
+        const ImageF low = render(doc, info());
+        const ImageDiff d = compareImages(low, full);
+        EXPECT_LT(d.rmse, 0.01) << "1/" << div;
+        // Box interior and its silhouette: within 2% of full resolution (no fog halo).
+        double worst = 0.0;
+        for (int y = 30; y < 62; ++y)
+            for (int x = 33; x < 66; ++x)
+                if (full.at(x, y, 0) > 0.5) // on the box
+                    worst = std::max(worst, double(std::abs(low.at(x, y, 0) - full.at(x, y, 0))));
+        EXPECT_LT(worst, 0.02) << "1/" << div << ": fog bled onto the near box; "
+                               << writeFailureImages("fog_upsample", low, full);
+    }
+}
+
+TEST_F(FogTest, GridOverBudgetIsCoarsenedOrRefused) {
+    // 240 x 240 x 50 voxels need about 12 MiB as bricks; the budget is 1 MiB.
+    nlohmann::json doc = baseScene(16);
+    doc["render"]["volume_budget_mib"] = 1;
+    doc["volumes"] = {{{"procedural", "box"}, {"size", {2.4, 2.4, 0.5}}, {"voxel_size", 0.01},
+                       {"density_scale", 2.0}}};
+    {
+        const scene::Scene s = scene::parseScene(doc, sourceDir());
+        frame::Renderer r(s, info());
+        ASSERT_NE(r.fog(), nullptr);
+        const auto stats = r.fog()->stats();
+        ASSERT_EQ(stats.size(), 1u);
+        EXPECT_GE(stats[0].coarsened, 1);
+        EXPECT_LE(stats[0].gpuBytes, std::size_t(1) << 20);
+        r.render();
+        // Coarsened, the slab still has its optical depth: T = exp(-1) within 2%.
+        EXPECT_NEAR(r.readHdr().at(8, 8, 0), std::exp(-1.0), 0.02 * std::exp(-1.0));
+    }
+    doc["render"]["volume_over_budget"] = "refuse";
+    const scene::Scene s = scene::parseScene(doc, sourceDir());
+    try {
+        frame::Renderer r(s, info());
+        FAIL() << "expected the over-budget grid to be refused";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("over the budget"), std::string::npos) << e.what();
+    }
+}
+
+TEST_F(FogTest, CorruptVolumeFileIsOneClearCliError) {
+    const std::filesystem::path dir = outputDir() / "fog-cli";
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "broken.vdb") << "not a vdb at all";
+    nlohmann::json doc = baseScene(16);
+    doc["volumes"] = {{{"path", "broken.vdb"}}};
+    std::ofstream(dir / "scene.json") << doc.dump();
+    const std::filesystem::path out = dir / "out.png";
+    std::filesystem::remove(out);
+    const CommandResult r = runCommand(veilExe() + " render '" + (dir / "scene.json").string() +
+                                       "' -o '" + out.string() + "'");
+    EXPECT_NE(r.exitCode, 0);
+    EXPECT_NE(r.output.find("broken.vdb"), std::string::npos) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 } // namespace veil::test
