@@ -28,27 +28,34 @@ float shadowLinearDepth(vec3 P) {
            (lighting.shadowDepthRange.y - lighting.shadowDepthRange.x);
 }
 
-float shadowVisibility(vec3 P, vec3 N, vec3 L) {
-    if (lighting.shadowParams.w < 0.5) return 1.0;
+// Shadow-map coordinates of P: texture uv and normalized linear depth. False where P is
+// outside the map (lit).
+bool shadowCoordinates(vec3 P, out vec2 uv, out float z) {
+    if (lighting.shadowParams.w < 0.5) return false;
     vec4 s = lighting.shadowMatrix * vec4(P, 1.0);
-    if (s.w <= 0.0) return 1.0;
-    vec2 uv = s.xy / s.w;
-    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
+    if (s.w <= 0.0) return false;
+    uv = s.xy / s.w;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return false;
     // The map stores linear depth along the light axis (uniform precision; the bias is in
     // world units), see shaders/frame/shadow.frag.
-    float z = shadowLinearDepth(P);
-    if (z > 1.0) return 1.0;
+    z = shadowLinearDepth(P);
+    return z <= 1.0;
+}
+
+float shadowVisibility(vec3 P, vec3 N, vec3 L) {
+    vec2 uv;
+    float z;
+    if (!shadowCoordinates(P, uv, z)) return 1.0;
     float NdotL = saturate(dot(N, L));
     // Slope-scaled receiver bias: grows where the light grazes the surface.
     float range = lighting.shadowDepthRange.y - lighting.shadowDepthRange.x;
     float bias = lighting.shadowParams.x * (1.0 + 4.0 * (1.0 - NdotL)) / range;
-    vec3 uvz = vec3(uv, z);
     int r = int(lighting.shadowParams.y);
     float texel = lighting.shadowParams.z;
     float sum = 0.0;
     for (int y = -r; y <= r; ++y)
         for (int x = -r; x <= r; ++x)
-            sum += texture(shadowMap, vec3(uvz.xy + vec2(x, y) * texel, uvz.z - bias));
+            sum += texture(shadowMap, vec3(uv + vec2(x, y) * texel, z - bias));
     float n = float(2 * r + 1);
     return sum / (n * n);
 }
@@ -56,13 +63,9 @@ float shadowVisibility(vec3 P, vec3 N, vec3 L) {
 // One hardware-filtered tap (bilinear 2x2 comparison), for volume samples: the fog marcher
 // takes many samples per pixel, so per-sample PCF kernels are not worth their cost.
 float shadowVisibilityFast(vec3 P) {
-    if (lighting.shadowParams.w < 0.5) return 1.0;
-    vec4 s = lighting.shadowMatrix * vec4(P, 1.0);
-    if (s.w <= 0.0) return 1.0;
-    vec2 uv = s.xy / s.w;
-    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
-    float z = shadowLinearDepth(P);
-    if (z > 1.0) return 1.0;
+    vec2 uv;
+    float z;
+    if (!shadowCoordinates(P, uv, z)) return 1.0;
     float range = lighting.shadowDepthRange.y - lighting.shadowDepthRange.x;
     return texture(shadowMap, vec3(uv, z - lighting.shadowParams.x / range));
 }

@@ -55,6 +55,20 @@ glm::ivec3 atlasLayout(std::size_t bricks) {
     return {bx, by, std::max(bz, 1)};
 }
 
+// R16F 3D texture with trilinear filtering and clamped edges, filled from `values`.
+gpu::Texture makeDensityTexture(int x, int y, int z, const std::vector<float>& values) {
+    gpu::Texture t(GL_TEXTURE_3D);
+    t.storage3D(1, GL_R16F, x, y, z)
+        .parameter(GL_TEXTURE_MIN_FILTER, GL_LINEAR)
+        .parameter(GL_TEXTURE_MAG_FILTER, GL_LINEAR)
+        .parameter(GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE)
+        .parameter(GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE)
+        .parameter(GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage3D(t.id(), 0, 0, 0, 0, x, y, z, GL_RED, GL_FLOAT, values.data());
+    return t;
+}
+
 bool useDense(const openvdb::CoordBBox& box, const GpuVolumeOptions& options) {
     const openvdb::Coord d = box.dim();
     return double(d.x() + 2) * (d.y() + 2) * (d.z() + 2) <= double(options.denseVoxelLimit);
@@ -130,16 +144,7 @@ void GpuVolume::buildDense(const openvdb::FloatGrid& grid, const openvdb::CoordB
     for (int z = lo.z(); z <= hi.z(); ++z)
         for (int y = lo.y(); y <= hi.y(); ++y)
             for (int x = lo.x(); x <= hi.x(); ++x) values[i++] = acc.getValue({x, y, z});
-    data_ = gpu::Texture(GL_TEXTURE_3D);
-    data_.storage3D(1, GL_R16F, d.x(), d.y(), d.z())
-        .parameter(GL_TEXTURE_MIN_FILTER, GL_LINEAR)
-        .parameter(GL_TEXTURE_MAG_FILTER, GL_LINEAR)
-        .parameter(GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE)
-        .parameter(GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE)
-        .parameter(GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage3D(data_.id(), 0, 0, 0, 0, d.x(), d.y(), d.z(), GL_RED, GL_FLOAT,
-                        values.data());
+    data_ = makeDensityTexture(d.x(), d.y(), d.z(), values);
     indexMin_ = glm::vec3(lo.x(), lo.y(), lo.z());
     indexMax_ = glm::vec3(hi.x(), hi.y(), hi.z());
     stats_.gpuBytes = values.size() * 2;
@@ -179,16 +184,7 @@ void GpuVolume::buildBricks(const openvdb::FloatGrid& grid) {
         table[(std::size_t(l.z()) * leaves.y() + l.y()) * leaves.x() + l.x()] = b + 1;
         ++b;
     }
-    data_ = gpu::Texture(GL_TEXTURE_3D);
-    data_.storage3D(1, GL_R16F, atlas.x, atlas.y, atlas.z)
-        .parameter(GL_TEXTURE_MIN_FILTER, GL_LINEAR)
-        .parameter(GL_TEXTURE_MAG_FILTER, GL_LINEAR)
-        .parameter(GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE)
-        .parameter(GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE)
-        .parameter(GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage3D(data_.id(), 0, 0, 0, 0, atlas.x, atlas.y, atlas.z, GL_RED, GL_FLOAT,
-                        values.data());
+    data_ = makeDensityTexture(atlas.x, atlas.y, atlas.z, values);
     indirection_ = gpu::Texture(GL_TEXTURE_3D);
     indirection_.storage3D(1, GL_R32UI, leaves.x(), leaves.y(), leaves.z())
         .parameter(GL_TEXTURE_MIN_FILTER, GL_NEAREST)
