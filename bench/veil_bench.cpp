@@ -49,20 +49,30 @@ int main(int argc, char** argv) try {
             VEIL_CHECK(i + 1 < argc, "{} needs a value", a);
             return argv[++i];
         };
-        if (a == "--width") width = std::stoi(next());
-        else if (a == "--height") height = std::stoi(next());
-        else if (a == "--frames") frames = std::stoi(next());
-        else if (a == "--warmup") warmup = std::stoi(next());
-        else if (a == "--oit") oit = next();
-        else if (a == "--set") overrides.push_back(next());
-        else if (a == "--json") jsonPath = next();
+        if (a == "--width")
+            width = std::stoi(next());
+        else if (a == "--height")
+            height = std::stoi(next());
+        else if (a == "--frames")
+            frames = std::stoi(next());
+        else if (a == "--warmup")
+            warmup = std::stoi(next());
+        else if (a == "--oit")
+            oit = next();
+        else if (a == "--set")
+            overrides.push_back(next());
+        else if (a == "--json")
+            jsonPath = next();
         else if (a == "--cpu-fog") {
             cpuFogW = std::stoi(next());
             cpuFogH = std::stoi(next());
-        }
-        else if (a == "-h" || a == "--help") { usage(); return 0; }
-        else if (!a.empty() && a[0] == '-') throw veil::Error("unknown option " + a);
-        else scenePath = a;
+        } else if (a == "-h" || a == "--help") {
+            usage();
+            return 0;
+        } else if (!a.empty() && a[0] == '-')
+            throw veil::Error("unknown option " + a);
+        else
+            scenePath = a;
     }
     if (scenePath.empty()) {
         usage();
@@ -72,7 +82,8 @@ int main(int argc, char** argv) try {
     const veil::scene::Scene scene = veil::scene::loadScene(scenePath, overrides);
     veil::gpu::HeadlessContext context;
     veil::frame::Renderer renderer(scene, context.info(), {width, height, {}, oit});
-    for (int i = 0; i < warmup; ++i) renderer.render();
+    for (int i = 0; i < warmup; ++i)
+        renderer.render();
     std::map<std::string, std::vector<double>> samples;
     std::vector<std::string> order;
     std::vector<double> totals;
@@ -98,7 +109,8 @@ int main(int argc, char** argv) try {
     out["timer"] = renderer.timerMode() == veil::gpu::GpuTimer::Mode::Query ? "GL_TIME_ELAPSED"
                                                                             : "glFinish+cpu";
     std::size_t triangles = 0;
-    for (const auto& o : scene.objects) triangles += scene.meshes.at(o.mesh).triangleCount();
+    for (const auto& o : scene.objects)
+        triangles += scene.meshes.at(o.mesh).triangleCount();
     out["triangles"] = triangles;
     nlohmann::json passes = nlohmann::json::array();
     for (const auto& name : order) {
@@ -119,7 +131,8 @@ int main(int argc, char** argv) try {
         const auto t0 = std::chrono::steady_clock::now();
         ref.render(renderer.camera(), cpuFogW, cpuFogH, scene.render.fogSteps);
         const double ms =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                .count();
         out["cpu_fog"] = {{"width", cpuFogW},
                           {"height", cpuFogH},
                           {"steps", scene.render.fogSteps},

@@ -31,7 +31,8 @@ double median(std::vector<double> v) {
 }
 
 void usage() {
-    std::puts("usage: veil-voxbench <mesh.obj|scene.json> [--res N]... [--slices N]... [--runs N] [--warmup N]\n"
+    std::puts("usage: veil-voxbench <mesh.obj|scene.json> [--res N]... [--slices N]... [--runs N] "
+              "[--warmup N]\n"
               "                     [--methods raster,conservative,three-axis,compute]\n"
               "                     [--no-openvdb] [--check] [--json out.json]");
 }
@@ -111,83 +112,86 @@ int main(int argc, char** argv) try {
         return makeOrthoGrid(glo, ghi, res, res, slices);
     };
     for (int res : resolutions)
-    for (int slicesArg : sliceCounts) {
-        const int slices = slicesArg > 0 ? slicesArg : res;
-        SliceMap reference{};
-        if (check) {
-            reference = makeGrid(res, slicesArg);
-            voxelizeSurfaceCpu(tris, reference);
-        }
-        for (Method m : methods) {
-            SliceMap grid = makeGrid(res, slicesArg);
-            std::vector<double> ms;
-            std::uint64_t set = 0;
-            for (int r = 0; r < warmup + runs; ++r) {
-                vox.voxelize(grid, {m, false, false});
-                if (r >= warmup) ms.push_back(vox.milliseconds());
-                set = grid.countSet();
-            }
-            const double med = median(ms);
-            nlohmann::json checked;
+        for (int slicesArg : sliceCounts) {
+            const int slices = slicesArg > 0 ? slicesArg : res;
+            SliceMap reference{};
             if (check) {
-                std::uint64_t missed = 0, extra = 0;
-                for (std::size_t i = 0; i < grid.words.size(); ++i) {
-                    missed += std::popcount(reference.words[i] & ~grid.words[i]);
-                    extra += std::popcount(grid.words[i] & ~reference.words[i]);
+                reference = makeGrid(res, slicesArg);
+                voxelizeSurfaceCpu(tris, reference);
+            }
+            for (Method m : methods) {
+                SliceMap grid = makeGrid(res, slicesArg);
+                std::vector<double> ms;
+                std::uint64_t set = 0;
+                for (int r = 0; r < warmup + runs; ++r) {
+                    vox.voxelize(grid, {m, false, false});
+                    if (r >= warmup) ms.push_back(vox.milliseconds());
+                    set = grid.countSet();
                 }
-                const double ref = double(reference.countSet());
-                const double iou = (ref - double(missed)) / (ref + double(extra));
-                std::printf("  check vs CPU exact overlap: missed %llu extra %llu IoU %.4f (%s)\n",
-                            (unsigned long long)missed, (unsigned long long)extra, iou,
-                            vox.path().c_str());
-                checked = {{"missed", missed}, {"extra", extra}, {"iou", iou}};
+                const double med = median(ms);
+                nlohmann::json checked;
+                if (check) {
+                    std::uint64_t missed = 0, extra = 0;
+                    for (std::size_t i = 0; i < grid.words.size(); ++i) {
+                        missed += std::popcount(reference.words[i] & ~grid.words[i]);
+                        extra += std::popcount(grid.words[i] & ~reference.words[i]);
+                    }
+                    const double ref = double(reference.countSet());
+                    const double iou = (ref - double(missed)) / (ref + double(extra));
+                    std::printf(
+                        "  check vs CPU exact overlap: missed %llu extra %llu IoU %.4f (%s)\n",
+                        (unsigned long long)missed, (unsigned long long)extra, iou,
+                        vox.path().c_str());
+                    checked = {{"missed", missed}, {"extra", extra}, {"iou", iou}};
+                }
+                std::printf(
+                    "res %4d slices %4d %-13s median %9.3f ms  min %9.3f  max %9.3f  set %llu\n",
+                    res, slices, methodName(m).c_str(), med,
+                    *std::min_element(ms.begin(), ms.end()),
+                    *std::max_element(ms.begin(), ms.end()), (unsigned long long)set);
+                rows.push_back({{"res", res},
+                                {"slices", slices},
+                                {"method", methodName(m)},
+                                {"path", vox.path()},
+                                {"median_ms", med},
+                                {"min_ms", *std::min_element(ms.begin(), ms.end())},
+                                {"max_ms", *std::max_element(ms.begin(), ms.end())},
+                                {"voxels", set},
+                                {"check", checked}});
             }
-            std::printf("res %4d slices %4d %-13s median %9.3f ms  min %9.3f  max %9.3f  set %llu\n",
-                        res, slices, methodName(m).c_str(), med, *std::min_element(ms.begin(), ms.end()),
-                        *std::max_element(ms.begin(), ms.end()), (unsigned long long)set);
-            rows.push_back({{"res", res},
-                            {"slices", slices},
-                            {"method", methodName(m)},
-                            {"path", vox.path()},
-                            {"median_ms", med},
-                            {"min_ms", *std::min_element(ms.begin(), ms.end())},
-                            {"max_ms", *std::max_element(ms.begin(), ms.end())},
-                            {"voxels", set},
-                            {"check", checked}});
-        }
-        // OpenVDB at the column spacing (its voxels are cubes), once per resolution.
-        if (openvdbToo && slicesArg == sliceCounts.front()) {
-            openvdb::initialize();
-            const SliceMap grid = makeFittedCubeGrid(lo, hi, res);
-            glm::dvec3 glo, ghi;
-            gridBounds(grid, glo, ghi);
-            const double voxel = (ghi.x - glo.x) / res;
-            auto xform = openvdb::math::Transform::createLinearTransform(voxel);
-            std::vector<openvdb::Vec3s> points;
-            std::vector<openvdb::Vec3I> faces;
-            for (const glm::vec3& v : tris.vertices)
-                points.emplace_back(v.x, v.y, v.z);
-            for (std::size_t t = 0; t < tris.count(); ++t)
-                faces.emplace_back(3 * t, 3 * t + 1, 3 * t + 2);
-            std::vector<double> ms;
-            openvdb::Index64 active = 0;
-            for (int r = 0; r < std::max(1, runs / 4); ++r) {
-                const auto t0 = std::chrono::steady_clock::now();
-                auto udf = openvdb::tools::meshToUnsignedDistanceField<openvdb::FloatGrid>(
-                    *xform, points, faces, std::vector<openvdb::Vec4I>(), 1.0f);
-                ms.push_back(
-                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                        .count());
-                active = udf->activeVoxelCount();
+            // OpenVDB at the column spacing (its voxels are cubes), once per resolution.
+            if (openvdbToo && slicesArg == sliceCounts.front()) {
+                openvdb::initialize();
+                const SliceMap grid = makeFittedCubeGrid(lo, hi, res);
+                glm::dvec3 glo, ghi;
+                gridBounds(grid, glo, ghi);
+                const double voxel = (ghi.x - glo.x) / res;
+                auto xform = openvdb::math::Transform::createLinearTransform(voxel);
+                std::vector<openvdb::Vec3s> points;
+                std::vector<openvdb::Vec3I> faces;
+                for (const glm::vec3& v : tris.vertices)
+                    points.emplace_back(v.x, v.y, v.z);
+                for (std::size_t t = 0; t < tris.count(); ++t)
+                    faces.emplace_back(3 * t, 3 * t + 1, 3 * t + 2);
+                std::vector<double> ms;
+                openvdb::Index64 active = 0;
+                for (int r = 0; r < std::max(1, runs / 4); ++r) {
+                    const auto t0 = std::chrono::steady_clock::now();
+                    auto udf = openvdb::tools::meshToUnsignedDistanceField<openvdb::FloatGrid>(
+                        *xform, points, faces, std::vector<openvdb::Vec4I>(), 1.0f);
+                    ms.push_back(std::chrono::duration<double, std::milli>(
+                                     std::chrono::steady_clock::now() - t0)
+                                     .count());
+                    active = udf->activeVoxelCount();
+                }
+                std::printf("res %4d %-13s median %9.3f ms  (CPU, band 1 voxel, %llu active)\n",
+                            res, "openvdb-udf", median(ms), (unsigned long long)active);
+                rows.push_back({{"res", res},
+                                {"method", "openvdb meshToUnsignedDistanceField (CPU)"},
+                                {"median_ms", median(ms)},
+                                {"voxels", active}});
             }
-            std::printf("res %4d %-13s median %9.3f ms  (CPU, band 1 voxel, %llu active)\n", res,
-                        "openvdb-udf", median(ms), (unsigned long long)active);
-            rows.push_back({{"res", res},
-                            {"method", "openvdb meshToUnsignedDistanceField (CPU)"},
-                            {"median_ms", median(ms)},
-                            {"voxels", active}});
         }
-    }
     report["results"] = rows;
     if (!jsonPath.empty())
         veil::writeFileAtomically(jsonPath, [&](const std::filesystem::path& tmp) {

@@ -19,9 +19,12 @@ namespace {
 
 const char* lightTypeName(scene::LightType t) {
     switch (t) {
-    case scene::LightType::Directional: return "directional";
-    case scene::LightType::Spot: return "spot";
-    case scene::LightType::Point: return "point";
+    case scene::LightType::Directional:
+        return "directional";
+    case scene::LightType::Spot:
+        return "spot";
+    case scene::LightType::Point:
+        return "point";
     }
     return "?";
 }
@@ -29,9 +32,11 @@ const char* lightTypeName(scene::LightType t) {
 void printScene(const fs::path& path) {
     const scene::Scene s = scene::loadScene(path);
     std::size_t triangles = 0;
-    for (const auto& o : s.objects) triangles += s.meshes.at(o.mesh).triangleCount();
+    for (const auto& o : s.objects)
+        triangles += s.meshes.at(o.mesh).triangleCount();
     std::size_t transparent = 0;
-    for (const auto& o : s.objects) transparent += s.materials.at(o.material).isTransparent();
+    for (const auto& o : s.objects)
+        transparent += s.materials.at(o.material).isTransparent();
     glm::vec3 lo, hi;
     s.bounds(lo, hi);
     std::cout << "scene " << path.string() << "\n"

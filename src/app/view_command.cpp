@@ -148,7 +148,8 @@ void runView(const ViewArgs& args) {
                                    "%.2f", ImGuiSliderFlags_Logarithmic);
                 ImGui::PopID();
             }
-            if (ImGui::Button("Reload shaders (R)") || (!io.WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_R))) {
+            if (ImGui::Button("Reload shaders (R)") ||
+                (!io.WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_R))) {
                 const int failed = renderer->reloadShaders();
                 status = failed ? fmt::format("{} program(s) failed: see the log", failed)
                                 : "shaders reloaded";

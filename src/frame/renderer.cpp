@@ -50,13 +50,14 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
         for (int pass = 0; pass < oit_->geometryPasses(); ++pass) {
             std::vector<std::string> defines = oit_->defines(pass);
             defines.push_back(fmt::format("OIT_PASS {}", pass));
-            fogEmitPrograms_.push_back(programs_.add(
-                ProgramDesc::graphics("volume/fullscreen.vert", "volume/fog_emit.frag",
-                                      std::move(defines), {{"veil:oit_emit", oit_->emitInclude()}})));
+            fogEmitPrograms_.push_back(programs_.add(ProgramDesc::graphics(
+                "volume/fullscreen.vert", "volume/fog_emit.frag", std::move(defines),
+                {{"veil:oit_emit", oit_->emitInclude()}})));
         }
 
     meshes_.reserve(scene.meshes.size());
-    for (const auto& mesh : scene.meshes) meshes_.emplace_back(mesh);
+    for (const auto& mesh : scene.meshes)
+        meshes_.emplace_back(mesh);
 
     for (std::size_t i = 0; i < scene.lights.size() && i < VEIL_MAX_LIGHTS; ++i) {
         const auto& light = scene.lights[i];
@@ -138,9 +139,9 @@ void Renderer::updateUniforms() {
         block.shadowMatrix = shadowMap_->textureMatrix();
         block.shadowView = shadowMap_->view();
         block.shadowDepthRange = glm::vec4(shadowMap_->nearPlane(), shadowMap_->farPlane(), 0, 0);
-        block.shadowParams = glm::vec4(scene_.render.shadowBias,
-                                       static_cast<float>(scene_.render.pcfRadius),
-                                       1.0f / static_cast<float>(shadowMap_->size()), 1.0f);
+        block.shadowParams =
+            glm::vec4(scene_.render.shadowBias, static_cast<float>(scene_.render.pcfRadius),
+                      1.0f / static_cast<float>(shadowMap_->size()), 1.0f);
     }
     lightsUbo_.setSubData(0, sizeof(block), &block);
 }
@@ -256,7 +257,8 @@ gpu::ImageF Renderer::readLdr() const { return gpu::readTexture(ldr_); }
 
 std::size_t Renderer::gpuBytes() const {
     std::size_t bytes = static_cast<std::size_t>(width_) * height_ * (8 + 4 + 4);
-    for (const auto& m : meshes_) bytes += m.gpuBytes();
+    for (const auto& m : meshes_)
+        bytes += m.gpuBytes();
     if (shadowMap_) bytes += static_cast<std::size_t>(shadowMap_->size()) * shadowMap_->size() * 4;
     bytes += static_cast<std::size_t>(width_) * height_ * oit_->bytesPerPixel();
     if (fog_) bytes += fog_->gpuBytes();

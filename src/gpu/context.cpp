@@ -45,8 +45,7 @@ ContextInfo queryContextInfo() {
     GLint count = 0;
     glGetIntegerv(GL_NUM_EXTENSIONS, &count);
     info.extensions.assign(1, ' ');
-    for (GLint i = 0; i < count; ++i)
-    {
+    for (GLint i = 0; i < count; ++i) {
         info.extensions.append(reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, i)));
         info.extensions.push_back(' ');
     }
@@ -71,17 +70,28 @@ struct HeadlessContext::Impl {
 namespace {
 const char* eglErrorName(EGLint e) {
     switch (e) {
-    case EGL_SUCCESS: return "EGL_SUCCESS";
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-    default: return "EGL error";
+    case EGL_SUCCESS:
+        return "EGL_SUCCESS";
+    case EGL_NOT_INITIALIZED:
+        return "EGL_NOT_INITIALIZED";
+    case EGL_BAD_ACCESS:
+        return "EGL_BAD_ACCESS";
+    case EGL_BAD_ALLOC:
+        return "EGL_BAD_ALLOC";
+    case EGL_BAD_ATTRIBUTE:
+        return "EGL_BAD_ATTRIBUTE";
+    case EGL_BAD_CONFIG:
+        return "EGL_BAD_CONFIG";
+    case EGL_BAD_CONTEXT:
+        return "EGL_BAD_CONTEXT";
+    case EGL_BAD_DISPLAY:
+        return "EGL_BAD_DISPLAY";
+    case EGL_BAD_MATCH:
+        return "EGL_BAD_MATCH";
+    case EGL_BAD_PARAMETER:
+        return "EGL_BAD_PARAMETER";
+    default:
+        return "EGL error";
     }
 }
 
@@ -146,8 +156,8 @@ HeadlessContext::HeadlessContext(const HeadlessOptions& options) : impl_(std::ma
     log::debug("EGL client extensions: {}", client.empty() ? "(none)" : client);
     // Entry points through eglGetProcAddress: some glvnd setups list the device extensions
     // only once a vendor library is loaded, so the string alone is not a reliable test.
-    auto queryDevices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(
-        eglGetProcAddress("eglQueryDevicesEXT"));
+    auto queryDevices =
+        reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
     VEIL_CHECK(queryDevices && eglGetProcAddress("eglGetPlatformDisplayEXT"),
                "no headless OpenGL: the EGL library has no EGL_EXT_device_enumeration / "
                "EGL_EXT_platform_device (client extensions: '{}'; install Mesa's libegl-mesa0 "

@@ -17,8 +17,8 @@ struct ContextInfo {
     int maxDrawBuffers = 0;
     int max3DTextureSize = 0;
     int timerQueryBits = 0;
-    bool softwareRenderer = false; // llvmpipe / softpipe / swrast: timer queries unusable
-    bool conservativeRaster = false;  // GL_NV_conservative_raster
+    bool softwareRenderer = false;        // llvmpipe / softpipe / swrast: timer queries unusable
+    bool conservativeRaster = false;      // GL_NV_conservative_raster
     bool fragmentShaderInterlock = false; // GL_ARB_fragment_shader_interlock
     bool hasExtension(const std::string& name) const;
     std::string extensions; // space separated, with a leading and trailing space

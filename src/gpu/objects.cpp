@@ -14,10 +14,9 @@ void Buffer::setStorage(std::size_t bytes, const void* data, GLbitfield flags) {
 }
 
 void Buffer::setSubData(std::size_t offset, std::size_t bytes, const void* data) {
-    VEIL_CHECK(offset + bytes <= size_, "buffer {}: write of {} bytes at {} past its {} bytes",
-               id_, bytes, offset, size_);
-    glNamedBufferSubData(id_, static_cast<GLintptr>(offset), static_cast<GLsizeiptr>(bytes),
-                         data);
+    VEIL_CHECK(offset + bytes <= size_, "buffer {}: write of {} bytes at {} past its {} bytes", id_,
+               bytes, offset, size_);
+    glNamedBufferSubData(id_, static_cast<GLintptr>(offset), static_cast<GLsizeiptr>(bytes), data);
 }
 
 Texture::Texture(GLenum target) : GlObject(NoCreate), target_(target) {

@@ -100,8 +100,8 @@ public:
     using GlObject::GlObject;
     VertexArray();
     // Float attribute `location` with `components` floats read from `buffer` at `binding`.
-    VertexArray& attribute(GLuint location, GLuint binding, const Buffer& buffer,
-                           GLint components, GLsizei stride, GLuint offset = 0);
+    VertexArray& attribute(GLuint location, GLuint binding, const Buffer& buffer, GLint components,
+                           GLsizei stride, GLuint offset = 0);
     VertexArray& indexBuffer(const Buffer& buffer);
     void bind() const { glBindVertexArray(id_); }
 };

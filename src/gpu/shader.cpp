@@ -57,8 +57,7 @@ struct Preprocessor {
         fs::path rooted = root / name;
         if (fs::exists(rooted)) return fs::weakly_canonical(rooted);
         throw Error(fmt::format("{}: #include \"{}\" not found (looked in '{}' and '{}')",
-                                from.string(), name, from.parent_path().string(),
-                                root.string()));
+                                from.string(), name, from.parent_path().string(), root.string()));
     }
 
     void process(const fs::path& path) {
@@ -78,15 +77,15 @@ struct Preprocessor {
             ++lineNo;
             std::smatch m;
             if (std::regex_match(line, m, versionRe)) {
-                VEIL_CHECK(!versionSeen, "{}:{}: #version in an included file",
-                           path.string(), lineNo);
+                VEIL_CHECK(!versionSeen, "{}:{}: #version in an included file", path.string(),
+                           lineNo);
                 versionSeen = true;
                 out << line << "\n";
-                for (const auto& d : defines) out << "#define " << d << "\n";
+                for (const auto& d : defines)
+                    out << "#define " << d << "\n";
                 out << "#line " << lineNo + 1 << " " << index << "\n";
             } else if (std::regex_match(line, m, includeRe)) {
-                VEIL_CHECK(versionSeen, "{}:{}: #include before #version", path.string(),
-                           lineNo);
+                VEIL_CHECK(versionSeen, "{}:{}: #include before #version", path.string(), lineNo);
                 process(resolve(m[1].str(), path));
                 out << "#line " << lineNo + 1 << " " << index << "\n";
             } else {
@@ -107,8 +106,9 @@ ShaderSource preprocessShader(const fs::path& file, const std::vector<std::strin
     pp.defines = defines;
     pp.aliases = aliases;
     fs::path path = file.is_absolute() ? file : root / file;
-    VEIL_CHECK(fs::exists(path), "shader file '{}' not found (shader folder '{}'; set "
-                                 "VEIL_SHADER_DIR to move it)",
+    VEIL_CHECK(fs::exists(path),
+               "shader file '{}' not found (shader folder '{}'; set "
+               "VEIL_SHADER_DIR to move it)",
                path.string(), root.string());
     pp.process(fs::weakly_canonical(path));
     return {pp.out.str(), std::move(pp.files)};
@@ -168,10 +168,12 @@ Program::Program(const ProgramDesc& desc) : GlObject(NoCreate) {
     id_ = program; // owned from here: a throw below deletes it
     std::vector<GLuint> shaders;
     auto cleanup = [&] {
-        for (GLuint s : shaders) glDeleteShader(s);
+        for (GLuint s : shaders)
+            glDeleteShader(s);
     };
     for (const auto& stage : desc.stages) {
-        ShaderSource src = preprocessShader(stage.file, desc.defines, shaderDirectory(), desc.aliases);
+        ShaderSource src =
+            preprocessShader(stage.file, desc.defines, shaderDirectory(), desc.aliases);
         GLuint shader = glCreateShader(stage.type);
         shaders.push_back(shader);
         const char* text = src.text.c_str();
@@ -188,8 +190,8 @@ Program::Program(const ProgramDesc& desc) : GlObject(NoCreate) {
             std::string translated = translateShaderLog(log.c_str(), src.files);
             while (!translated.empty() && (translated.back() == '\n' || translated.back() == ' '))
                 translated.pop_back();
-            throw Error(fmt::format("shader compile error in {}:\n{}", stage.file.string(),
-                                    translated));
+            throw Error(
+                fmt::format("shader compile error in {}:\n{}", stage.file.string(), translated));
         }
         glAttachShader(program, shader);
     }

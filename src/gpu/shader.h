@@ -55,8 +55,7 @@ struct ProgramDesc {
     std::string label() const;
 
     static ProgramDesc graphics(std::filesystem::path vertex, std::filesystem::path fragment,
-                                std::vector<std::string> defines = {},
-                                IncludeAliases aliases = {});
+                                std::vector<std::string> defines = {}, IncludeAliases aliases = {});
     static ProgramDesc compute(std::filesystem::path file, std::vector<std::string> defines = {});
 };
 

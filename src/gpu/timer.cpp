@@ -27,9 +27,9 @@ void GpuTimer::end() {
         glEndQuery(GL_TIME_ELAPSED);
     } else {
         glFinish();
-        scope.cpuMs =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - scope.start)
-                .count();
+        scope.cpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
+                                                                scope.start)
+                          .count();
     }
 }
 

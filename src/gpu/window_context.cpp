@@ -17,8 +17,9 @@ std::string lastGlfwError() {
 } // namespace
 
 WindowContext::WindowContext(int width, int height, const std::string& title, bool debug) {
-    VEIL_CHECK(glfwInit() == GLFW_TRUE, "no window: GLFW could not initialise ({}); use "
-                                        "`veil render` for headless rendering",
+    VEIL_CHECK(glfwInit() == GLFW_TRUE,
+               "no window: GLFW could not initialise ({}); use "
+               "`veil render` for headless rendering",
                lastGlfwError());
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);

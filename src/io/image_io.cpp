@@ -17,8 +17,8 @@ void writeImage(const fs::path& path, const ImageF& image, bool dropAlpha) {
     VEIL_CHECK(ext == ".png" || ext == ".exr", "cannot write '{}': use a .png or .exr name",
                path.string());
     VEIL_CHECK(image.width > 0 && image.height > 0 && image.channels > 0 &&
-                   image.pixels.size() == static_cast<std::size_t>(image.width) *
-                                              image.height * image.channels,
+                   image.pixels.size() ==
+                       static_cast<std::size_t>(image.width) * image.height * image.channels,
                "cannot write '{}': empty or inconsistent image", path.string());
     const int outChannels = (dropAlpha && image.channels == 4) ? 3 : image.channels;
     std::vector<float> data(static_cast<std::size_t>(image.width) * image.height * outChannels);
@@ -46,8 +46,8 @@ ImageF readImage(const fs::path& path) {
     VEIL_CHECK(in, "cannot read image '{}': {}", path.string(), OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
     ImageF image(spec.width, spec.height, spec.nchannels);
-    const bool ok = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT,
-                                   image.pixels.data());
+    const bool ok =
+        in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data());
     const std::string err = in->geterror();
     in->close();
     VEIL_CHECK(ok, "cannot read image '{}': {}", path.string(), err);

@@ -2,11 +2,11 @@
 
 #include "base/error.h"
 #include "oit/blend/blend.h"
-#include "oit/reference/reference.h"
-#include "oit/wboit/wboit.h"
-#include "oit/phenomenological/phenomenological.h"
-#include "oit/stochastic/stochastic.h"
 #include "oit/moment/moment.h"
+#include "oit/phenomenological/phenomenological.h"
+#include "oit/reference/reference.h"
+#include "oit/stochastic/stochastic.h"
+#include "oit/wboit/wboit.h"
 
 #include <fmt/ranges.h>
 
@@ -45,7 +45,8 @@ const TechniqueInfo* Registry::find(const std::string& name) const {
 
 std::vector<std::string> Registry::names() const {
     std::vector<std::string> n;
-    for (const auto& t : techniques_) n.push_back(t.name);
+    for (const auto& t : techniques_)
+        n.push_back(t.name);
     return n;
 }
 
@@ -53,8 +54,7 @@ std::unique_ptr<Technique> Registry::create(const std::string& name,
                                             const gpu::ContextInfo& context,
                                             gpu::ProgramManager& programs) const {
     const TechniqueInfo* info = find(name);
-    VEIL_CHECK(info, "unknown OIT technique '{}' (known: {})", name,
-               fmt::join(names(), ", "));
+    VEIL_CHECK(info, "unknown OIT technique '{}' (known: {})", name, fmt::join(names(), ", "));
     VEIL_CHECK(!info->isAvailable || info->isAvailable(context),
                "OIT technique '{}' is not available on this GL driver ({})", name,
                context.renderer);

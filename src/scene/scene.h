@@ -88,8 +88,8 @@ struct RenderSettings {
     float exposure = 1.0f;
     std::string tonemap = "aces"; // "aces" (Narkowicz fit) or "clamp"
     int shadowMapSize = 2048;
-    float shadowBias = 0.01f;      // world units along the light axis, slope-scaled in the shader
-    int pcfRadius = 1;          // PCF kernel is (2r+1)^2 taps
+    float shadowBias = 0.01f; // world units along the light axis, slope-scaled in the shader
+    int pcfRadius = 1;        // PCF kernel is (2r+1)^2 taps
     // Fog marcher (src/volume): steps per ray through a volume's bounds, resolution divisor
     // (1 = full, 2 = half, 4 = quarter, joint-bilateral upsampled), jitter of the start.
     int fogSteps = 128;

@@ -258,7 +258,8 @@ void parseRender(const Obj& o, RenderSettings& r) {
     r.fogResolution = static_cast<int>(o.integer("fog_resolution", r.fogResolution, 1, 4));
     if (r.fogResolution == 3) fail(o.ctx(), o.ptr("fog_resolution"), "must be 1, 2 or 4");
     r.fogJitter = o.boolean("fog_jitter", r.fogJitter);
-    r.volumeBudgetMiB = static_cast<int>(o.integer("volume_budget_mib", r.volumeBudgetMiB, 1, 1 << 20));
+    r.volumeBudgetMiB =
+        static_cast<int>(o.integer("volume_budget_mib", r.volumeBudgetMiB, 1, 1 << 20));
     r.volumeOverBudget = o.str("volume_over_budget", r.volumeOverBudget, {"coarsen", "refuse"});
     r.pcfRadius = int(o.integer("pcf_radius", r.pcfRadius, 0, 16));
 }
@@ -501,10 +502,9 @@ void parseObject(const Context& ctx, const json& j, const std::string& ptr, std:
 }
 
 VolumeRef parseVolume(const Context& ctx, const json& j, const std::string& ptr, std::size_t i) {
-    Obj o(
-        ctx, j, ptr,
-        {"name", "path", "procedural", "size", "voxel_size", "seed", "grid", "transform",
-         "density_scale", "albedo", "anisotropy", "emission"});
+    Obj o(ctx, j, ptr,
+          {"name", "path", "procedural", "size", "voxel_size", "seed", "grid", "transform",
+           "density_scale", "albedo", "anisotropy", "emission"});
     VolumeRef v;
     v.name = o.str("name", fmt::format("volume{}", i));
     if (o.get("path") && o.get("procedural"))
@@ -549,12 +549,12 @@ Scene parseSceneDocument(const json& doc, const fs::path& baseDir, const std::st
     Obj root(ctx, doc, "", {"render", "cameras", "lights", "materials", "objects", "volumes"});
 
     if (const json* r = root.get("render"))
-        parseRender(Obj(ctx, *r, root.ptr("render"),
-                        {"width", "height", "camera", "oit", "seed", "ambient", "background",
-                         "exposure", "tonemap", "shadow_map_size", "shadow_bias", "pcf_radius",
-                         "fog_steps", "fog_resolution", "fog_jitter", "volume_budget_mib",
-                         "volume_over_budget"}),
-                    scene.render);
+        parseRender(
+            Obj(ctx, *r, root.ptr("render"),
+                {"width", "height", "camera", "oit", "seed", "ambient", "background", "exposure",
+                 "tonemap", "shadow_map_size", "shadow_bias", "pcf_radius", "fog_steps",
+                 "fog_resolution", "fog_jitter", "volume_budget_mib", "volume_over_budget"}),
+            scene.render);
 
     forEach(root, "cameras", [&](const json& j, const std::string& p, std::size_t i) {
         scene.cameras.push_back(parseCamera(ctx, j, p, i));

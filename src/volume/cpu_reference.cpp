@@ -31,7 +31,8 @@ CpuFogReference::CpuFogReference(const scene::Scene& scene,
     std::size_t g = 0;
     for (const auto& ref : scene.volumes) {
         if (ref.procedural == "homogeneous") {
-            globalAlbedo_ = (globalAlbedo_ * globalDensity_ + glm::dvec3(ref.albedo) * double(ref.densityScale)) /
+            globalAlbedo_ = (globalAlbedo_ * globalDensity_ +
+                             glm::dvec3(ref.albedo) * double(ref.densityScale)) /
                             std::max(globalDensity_ + ref.densityScale, 1e-20);
             globalAnisotropy_ = ref.anisotropy;
             globalDensity_ += ref.densityScale;
@@ -48,7 +49,8 @@ CpuFogReference::CpuFogReference(const scene::Scene& scene,
                                      (c & 2) ? box.max().y() + 1 : box.min().y() - 1,
                                      (c & 4) ? box.max().z() + 1 : box.min().z() - 1);
             const openvdb::Vec3d o = v.grid->indexToWorld(idx);
-            const glm::dvec3 w = glm::dvec3(glm::dmat4(ref.transform) * glm::dvec4(o.x(), o.y(), o.z(), 1.0));
+            const glm::dvec3 w =
+                glm::dvec3(glm::dmat4(ref.transform) * glm::dvec4(o.x(), o.y(), o.z(), 1.0));
             v.lo = glm::min(v.lo, w);
             v.hi = glm::max(v.hi, w);
         }
@@ -72,7 +74,8 @@ double CpuFogReference::densityOf(const Volume& v, const glm::dvec3& world) cons
 
 double CpuFogReference::extinction(const glm::dvec3& world) const {
     double sigma = globalDensity_;
-    for (const auto& v : volumes_) sigma += v.ref->densityScale * densityOf(v, world);
+    for (const auto& v : volumes_)
+        sigma += v.ref->densityScale * densityOf(v, world);
     return sigma;
 }
 
@@ -118,7 +121,8 @@ double CpuFogReference::transmittanceToLight(const glm::dvec3& p, int light, int
         const double dt = distance / steps;
         for (int s = 0; s < steps; ++s) {
             double sigma = 0.0;
-            for (const auto& v : volumes_) sigma += v.ref->densityScale * densityOf(v, p + dir * ((s + 0.5) * dt));
+            for (const auto& v : volumes_)
+                sigma += v.ref->densityScale * densityOf(v, p + dir * ((s + 0.5) * dt));
             tau += sigma * dt;
         }
     }
@@ -128,11 +132,12 @@ double CpuFogReference::transmittanceToLight(const glm::dvec3& p, int light, int
 
 FogSample CpuFogReference::pixel(const scene::Camera& camera, int width, int height, double px,
                                  double py, int steps, double maxDistance) const {
-    const glm::dmat4 vp = glm::dmat4(camera.projection(float(width) / float(height))) *
-                          glm::dmat4(camera.view());
+    const glm::dmat4 vp =
+        glm::dmat4(camera.projection(float(width) / float(height))) * glm::dmat4(camera.view());
     const glm::dmat4 inv = glm::inverse(vp);
     const double nx = px / width * 2.0 - 1.0, ny = 1.0 - py / height * 2.0;
-    const glm::dvec4 a = inv * glm::dvec4(nx, ny, -1.0, 1.0), b = inv * glm::dvec4(nx, ny, 1.0, 1.0);
+    const glm::dvec4 a = inv * glm::dvec4(nx, ny, -1.0, 1.0),
+                     b = inv * glm::dvec4(nx, ny, 1.0, 1.0);
     const glm::dvec3 ro = glm::dvec3(a) / a.w, re = glm::dvec3(b) / b.w;
     double tEnd = glm::length(re - ro);
     const glm::dvec3 rd = (re - ro) / tEnd;
@@ -200,7 +205,8 @@ ImageF CpuFogReference::render(const scene::Camera& camera, int width, int heigh
     tbb::parallel_for(0, height, [&](int y) {
         for (int x = 0; x < width; ++x) {
             const FogSample s = pixel(camera, width, height, x + 0.5, y + 0.5, steps);
-            for (int c = 0; c < 3; ++c) image.at(x, y, c) = static_cast<float>(s.radiance[c]);
+            for (int c = 0; c < 3; ++c)
+                image.at(x, y, c) = static_cast<float>(s.radiance[c]);
             image.at(x, y, 3) = static_cast<float>(s.transmittance);
         }
     });

@@ -46,8 +46,7 @@ GridSummary summarize(const openvdb::GridBase& grid) {
     s.activeVoxels = grid.activeVoxelCount();
     s.indexBounds = grid.evalActiveVoxelBoundingBox();
     s.voxelSize = grid.voxelSize();
-    if (!s.indexBounds.empty())
-        s.worldBounds = grid.transform().indexToWorld(s.indexBounds);
+    if (!s.indexBounds.empty()) s.worldBounds = grid.transform().indexToWorld(s.indexBounds);
     return s;
 }
 
@@ -96,7 +95,8 @@ float fbm(float x, float y, float z, std::uint32_t seed) {
 std::vector<GridSummary> listGrids(const fs::path& path) {
     std::vector<GridSummary> out;
     const openvdb::GridPtrVecPtr grids = readAllGrids(path); // keep it alive while iterating
-    for (const auto& g : *grids) out.push_back(summarize(*g));
+    for (const auto& g : *grids)
+        out.push_back(summarize(*g));
     return out;
 }
 
@@ -123,15 +123,14 @@ openvdb::FloatGrid::Ptr loadDensityGrid(const fs::path& path, const std::string&
     openvdb::GridBase::Ptr found;
     std::string names;
     for (const auto& g : *grids) {
-        names += fmt::format("{}'{}' ({})", names.empty() ? "" : ", ", g->getName(),
-                             g->valueType());
+        names +=
+            fmt::format("{}'{}' ({})", names.empty() ? "" : ", ", g->getName(), g->valueType());
         if (!found && g->getName() == gridName) found = g;
     }
     VEIL_CHECK(found, "volume '{}' has no grid named '{}' (grids: {})", path.string(), gridName,
                names.empty() ? "none" : names);
     auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(found);
-    VEIL_CHECK(grid,
-               "grid '{}' of '{}' holds {} values; a density must be a scalar float grid",
+    VEIL_CHECK(grid, "grid '{}' of '{}' holds {} values; a density must be a scalar float grid",
                gridName, path.string(), found->valueType());
     VEIL_CHECK(grid->activeVoxelCount() > 0, "grid '{}' of '{}' is empty (no active voxels)",
                gridName, path.string());
@@ -143,8 +142,8 @@ openvdb::FloatGrid::Ptr loadDensityGrid(const fs::path& path, const std::string&
         openvdb::tools::sdfToFogVolume(*grid);
     }
     if (const std::size_t bad = sanitizeDensity(*grid))
-        log::warn("grid '{}' of '{}': {} NaN, infinite or negative densities set to 0",
-                  gridName, path.string(), bad);
+        log::warn("grid '{}' of '{}': {} NaN, infinite or negative densities set to 0", gridName,
+                  path.string(), bad);
     VEIL_CHECK(grid->activeVoxelCount() > 0, "grid '{}' of '{}' is empty (no active voxels)",
                gridName, path.string());
     return grid;
@@ -177,15 +176,16 @@ openvdb::FloatGrid::Ptr makeProceduralGrid(const std::string& kind, const glm::v
                     d = glm::length(p) <= radius ? 1.0f : 0.0f;
                 } else if (kind == "smoke-ball") {
                     const float r = glm::length(p) / radius;
-                    const float noise = fbm(p.x / radius * 3.0f, p.y / radius * 3.0f,
-                                            p.z / radius * 3.0f, seed);
+                    const float noise =
+                        fbm(p.x / radius * 3.0f, p.y / radius * 3.0f, p.z / radius * 3.0f, seed);
                     d = glm::clamp((1.0f - r) * 2.0f, 0.0f, 1.0f) * (0.4f + 1.2f * noise);
                     d = r < 1.0f ? d : 0.0f;
                 } else if (kind == "noise-cloud") {
                     const glm::vec3 q = p / glm::max(size.x, glm::max(size.y, size.z)) * 4.0f;
                     const float edge = glm::clamp(
-                        4.0f * glm::min(glm::min(half.x - std::abs(p.x), half.y - std::abs(p.y)),
-                                        half.z - std::abs(p.z)) /
+                        4.0f *
+                            glm::min(glm::min(half.x - std::abs(p.x), half.y - std::abs(p.y)),
+                                     half.z - std::abs(p.z)) /
                             glm::min(half.x, glm::min(half.y, half.z)),
                         0.0f, 1.0f);
                     d = glm::clamp((fbm(q.x, q.y, q.z, seed) - 0.45f) * 4.0f, 0.0f, 1.0f) * edge;
@@ -218,8 +218,8 @@ openvdb::FloatGrid::Ptr meshToFogGrid(const scene::MeshData& mesh, const glm::ma
         triangles.emplace_back(mesh.indices[i], mesh.indices[i + 1], mesh.indices[i + 2]);
     openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> adapter(points,
                                                                                        triangles);
-    auto sdf = openvdb::tools::meshToVolume<openvdb::FloatGrid>(adapter, *xform, bandVoxels,
-                                                                bandVoxels);
+    auto sdf =
+        openvdb::tools::meshToVolume<openvdb::FloatGrid>(adapter, *xform, bandVoxels, bandVoxels);
     openvdb::tools::sdfToFogVolume(*sdf);
     sdf->setName("density");
     VEIL_CHECK(sdf->activeVoxelCount() > 0,
@@ -229,8 +229,8 @@ openvdb::FloatGrid::Ptr meshToFogGrid(const scene::MeshData& mesh, const glm::ma
 }
 
 openvdb::FloatGrid::Ptr loadVolume(const scene::VolumeRef& ref) {
-    VEIL_CHECK(ref.procedural != "homogeneous",
-               "volume '{}' is homogeneous fog and has no grid", ref.name);
+    VEIL_CHECK(ref.procedural != "homogeneous", "volume '{}' is homogeneous fog and has no grid",
+               ref.name);
     if (!ref.procedural.empty())
         return makeProceduralGrid(ref.procedural, ref.size, ref.voxelSize, ref.seed);
     return loadDensityGrid(ref.path, ref.grid);

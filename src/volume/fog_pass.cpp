@@ -57,9 +57,9 @@ FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs)
         glm::vec3 lo, hi;
         e.gpu->worldBounds(lo, hi);
         const glm::vec3 extent = hi - lo;
-        const glm::ivec3 dims = glm::clamp(
-            glm::ivec3(glm::ceil(extent / (2.0f * e.gpu->voxelSize()))), glm::ivec3(4),
-            glm::ivec3(128));
+        const glm::ivec3 dims =
+            glm::clamp(glm::ivec3(glm::ceil(extent / (2.0f * e.gpu->voxelSize()))), glm::ivec3(4),
+                       glm::ivec3(128));
         e.light = gpu::Texture(GL_TEXTURE_3D);
         e.light.storage3D(1, GL_R16F, dims.x, dims.y, dims.z)
             .parameter(GL_TEXTURE_MIN_FILTER, GL_LINEAR)
@@ -76,15 +76,16 @@ FogPass::~FogPass() = default;
 
 std::vector<GpuVolumeStats> FogPass::stats() const {
     std::vector<GpuVolumeStats> s;
-    for (const auto& e : volumes_) s.push_back(e.gpu->stats());
+    for (const auto& e : volumes_)
+        s.push_back(e.gpu->stats());
     return s;
 }
 
 std::size_t FogPass::gpuBytes() const {
     std::size_t bytes = 0;
     for (const auto& e : volumes_)
-        bytes += e.gpu->stats().gpuBytes + std::size_t(e.light.width()) * e.light.height() *
-                                               e.light.depth() * 2;
+        bytes += e.gpu->stats().gpuBytes +
+                 std::size_t(e.light.width()) * e.light.height() * e.light.depth() * 2;
     return bytes + std::size_t(width_) * height_ * 16;
 }
 

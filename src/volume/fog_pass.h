@@ -20,8 +20,8 @@
 namespace veil::volume {
 
 struct FogTargets {
-    int width = 0, height = 0;                 // full resolution
-    const gpu::Texture* depth = nullptr;       // opaque depth
+    int width = 0, height = 0;           // full resolution
+    const gpu::Texture* depth = nullptr; // opaque depth
     glm::mat4 viewProjection{1.0f}, projection{1.0f};
     std::uint32_t seed = 1;
 };

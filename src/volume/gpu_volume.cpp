@@ -20,8 +20,9 @@ constexpr int kBrick = kLeaf + 2; // one voxel of apron on each side
 
 glm::mat4 affineIndexToWorld(const openvdb::FloatGrid& grid) {
     const openvdb::math::Transform& t = grid.transform();
-    VEIL_CHECK(t.isLinear(), "grid '{}' has a non-linear (frustum) transform; only affine "
-                             "grid transforms are supported",
+    VEIL_CHECK(t.isLinear(),
+               "grid '{}' has a non-linear (frustum) transform; only affine "
+               "grid transforms are supported",
                grid.getName());
     const openvdb::Vec3d o = t.indexToWorld(openvdb::Vec3d(0, 0, 0));
     const openvdb::Vec3d x = t.indexToWorld(openvdb::Vec3d(1, 0, 0)) - o;
@@ -97,8 +98,8 @@ std::size_t estimateGpuBytes(const openvdb::FloatGrid& grid, const GpuVolumeOpti
     const std::size_t bricks = brickOrigins(grid).size();
     const glm::ivec3 l = atlasLayout(bricks);
     const openvdb::Coord d = box.dim();
-    const std::size_t leaves = std::size_t(d.x() / kLeaf + 3) * (d.y() / kLeaf + 3) *
-                               (d.z() / kLeaf + 3);
+    const std::size_t leaves =
+        std::size_t(d.x() / kLeaf + 3) * (d.y() / kLeaf + 3) * (d.z() / kLeaf + 3);
     return std::size_t(l.x) * l.y * l.z * kBrick * kBrick * kBrick * 2 + leaves * 4;
 }
 
@@ -143,7 +144,8 @@ void GpuVolume::buildDense(const openvdb::FloatGrid& grid, const openvdb::CoordB
     std::size_t i = 0;
     for (int z = lo.z(); z <= hi.z(); ++z)
         for (int y = lo.y(); y <= hi.y(); ++y)
-            for (int x = lo.x(); x <= hi.x(); ++x) values[i++] = acc.getValue({x, y, z});
+            for (int x = lo.x(); x <= hi.x(); ++x)
+                values[i++] = acc.getValue({x, y, z});
     data_ = makeDensityTexture(d.x(), d.y(), d.z(), values);
     indexMin_ = glm::vec3(lo.x(), lo.y(), lo.z());
     indexMax_ = glm::vec3(hi.x(), hi.y(), hi.z());

@@ -30,7 +30,7 @@ struct GpuVolumeStats {
     std::size_t gridBytes = 0; // openvdb's own memory for the grid
     std::size_t bricks = 0;    // 0 for the dense path
     bool dense = false;
-    int coarsened = 0;         // times the voxel size was doubled to fit the budget
+    int coarsened = 0; // times the voxel size was doubled to fit the budget
     openvdb::Index64 activeVoxels = 0;
 };
 
@@ -46,7 +46,7 @@ public:
               const GpuVolumeOptions& options = {});
 
     const GpuVolumeStats& stats() const { return stats_; }
-    const gpu::Texture& data() const { return data_; }             // atlas or dense R16F
+    const gpu::Texture& data() const { return data_; }               // atlas or dense R16F
     const gpu::Texture& indirection() const { return indirection_; } // R32UI (bricks only)
     const glm::mat4& worldToIndex() const { return worldToIndex_; }
     const glm::mat4& indexToWorld() const { return indexToWorld_; }

@@ -71,8 +71,8 @@ TEST(CliTest, RenderWritesImageAndReport) {
         names.push_back(p["name"]);
         EXPECT_GE(p["ms"].get<double>(), 0.0);
     }
-    EXPECT_EQ(names, (std::vector<std::string>{"shadow", "opaque", "transparent", "resolve",
-                                               "tonemap"}));
+    EXPECT_EQ(names,
+              (std::vector<std::string>{"shadow", "opaque", "transparent", "resolve", "tonemap"}));
 }
 
 TEST(CliTest, MalformedSceneIsOneClearError) {
@@ -142,8 +142,8 @@ TEST(CliTest, InfoListsVdbGridsAndRefusesCorruptFiles) {
 }
 
 TEST(CliTest, InfoSummarisesScene) {
-    const CommandResult r =
-        runCommand(veilExe() + " info '" + (sourceDir() / "datasets/scenes/default.json").string() + "'");
+    const CommandResult r = runCommand(
+        veilExe() + " info '" + (sourceDir() / "datasets/scenes/default.json").string() + "'");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("11 ("), std::string::npos) << r.output; // 11 objects
     EXPECT_NE(r.output.find("spot"), std::string::npos);

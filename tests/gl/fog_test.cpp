@@ -47,8 +47,10 @@ TEST_F(FogTest, HomogeneousSlabTransmittanceIsExponential) {
     // for the dense texture path (voxel 0.05) and the brick atlas path (voxel 0.01).
     for (double voxel : {0.05, 0.01}) {
         nlohmann::json doc = baseScene(32);
-        doc["volumes"] = {{{"procedural", "box"}, {"size", {2.4, 2.4, 0.5}},
-                           {"voxel_size", voxel}, {"density_scale", 2.0}}};
+        doc["volumes"] = {{{"procedural", "box"},
+                           {"size", {2.4, 2.4, 0.5}},
+                           {"voxel_size", voxel},
+                           {"density_scale", 2.0}}};
         const ImageF img = render(doc, info());
         const double expected = std::exp(-2.0 * 0.5);
         for (int y : {4, 16, 27})
@@ -78,8 +80,8 @@ TEST_F(FogTest, ConstantDensitySphereMatchesChordLength) {
     // is 2 sqrt(R^2 - e^2). The voxelized ball (voxel 0.02) differs from the ideal sphere by
     // its staircase, so the analytic check allows 2%; the CPU reference over the same grid 0.5%.
     nlohmann::json doc = baseScene(64);
-    doc["volumes"] = {{{"procedural", "sphere"}, {"size", 1.0}, {"voxel_size", 0.02},
-                       {"density_scale", 1.5}}};
+    doc["volumes"] = {
+        {{"procedural", "sphere"}, {"size", 1.0}, {"voxel_size", 0.02}, {"density_scale", 1.5}}};
     const ImageF img = render(doc, info());
     const double e = std::sqrt(2.0) * (0.5 * 2.0 / 64.0); // pixel (32, 32) centre off the axis
     const double chord = 2.0 * std::sqrt(0.25 - e * e);
@@ -100,12 +102,24 @@ TEST_F(FogTest, GpuMatchesCpuReferenceWithLightsAndSelfShadowing) {
     nlohmann::json doc = baseScene(64);
     doc["render"]["background"] = {0, 0, 0};
     doc["render"]["ambient"] = 0.05;
-    doc["cameras"] = {{{"name", "p"}, {"position", {0.3, 0.4, 3.0}}, {"target", {0, 0, 0}},
-                       {"fov_y", 40}, {"near", 0.5}, {"far", 10}}};
-    doc["lights"] = {{{"type", "spot"}, {"position", {2.0, 3.0, 1.0}}, {"target", {0, 0, 0}},
-                      {"intensity", 20}, {"inner_cone", 20}, {"outer_cone", 30}}};
-    doc["volumes"] = {{{"procedural", "smoke-ball"}, {"size", 1.6}, {"voxel_size", 0.025},
-                       {"density_scale", 3.0}, {"albedo", {0.9, 0.8, 0.7}}, {"anisotropy", 0.4},
+    doc["cameras"] = {{{"name", "p"},
+                       {"position", {0.3, 0.4, 3.0}},
+                       {"target", {0, 0, 0}},
+                       {"fov_y", 40},
+                       {"near", 0.5},
+                       {"far", 10}}};
+    doc["lights"] = {{{"type", "spot"},
+                      {"position", {2.0, 3.0, 1.0}},
+                      {"target", {0, 0, 0}},
+                      {"intensity", 20},
+                      {"inner_cone", 20},
+                      {"outer_cone", 30}}};
+    doc["volumes"] = {{{"procedural", "smoke-ball"},
+                       {"size", 1.6},
+                       {"voxel_size", 0.025},
+                       {"density_scale", 3.0},
+                       {"albedo", {0.9, 0.8, 0.7}},
+                       {"anisotropy", 0.4},
                        {"seed", 5}}};
     const ImageF gpu = render(doc, info());
     const scene::Scene s = scene::parseScene(doc, sourceDir());
@@ -150,8 +164,11 @@ TEST_F(FogTest, FogBetweenGlassPanesUnderReferenceIsTheAnalyticComposite) {
                               {"transform", {{"translate", {0, 0, z}}, {"rotate", {90, 0, 0}}}}};
     };
     doc["objects"] = {pane("back", -1.0), pane("wall", -3.0), pane("front", 1.0)};
-    doc["volumes"] = {{{"procedural", "box"}, {"size", {3, 3, 0.5}}, {"voxel_size", 0.05},
-                       {"density_scale", 1.2}, {"albedo", 1.0}}};
+    doc["volumes"] = {{{"procedural", "box"},
+                       {"size", {3, 3, 0.5}},
+                       {"voxel_size", 0.05},
+                       {"density_scale", 1.2},
+                       {"albedo", 1.0}}};
     const double Tf = std::exp(-1.2 * 0.5), A = 0.5;
     const double T1[3] = {0.9, 0.6, 0.3}, T2[3] = {0.4, 0.7, 0.9}, E[3] = {1.0, 0.8, 0.6};
     const ImageF ref = render(doc, info(), "reference");
@@ -204,7 +221,9 @@ TEST_F(FogTest, GridOverBudgetIsCoarsenedOrRefused) {
     // 240 x 240 x 50 voxels need about 12 MiB as bricks; the budget is 1 MiB.
     nlohmann::json doc = baseScene(16);
     doc["render"]["volume_budget_mib"] = 1;
-    doc["volumes"] = {{{"procedural", "box"}, {"size", {2.4, 2.4, 0.5}}, {"voxel_size", 0.01},
+    doc["volumes"] = {{{"procedural", "box"},
+                       {"size", {2.4, 2.4, 0.5}},
+                       {"voxel_size", 0.01},
                        {"density_scale", 2.0}}};
     {
         const scene::Scene s = scene::parseScene(doc, sourceDir());

@@ -70,8 +70,8 @@ class LightingTest : public GlTest {};
 TEST_F(LightingTest, DirectionalLightShadowAndLitPoint) {
     // Light travels along +x and down at 45 degrees: the box's shadow covers x in [0.5, 1.5].
     const double s = 1.0 / std::sqrt(2.0);
-    const nlohmann::json light = {{"type", "directional"}, {"direction", {s, -s, 0}},
-                                  {"intensity", 2.0}, {"shadows", true}};
+    const nlohmann::json light = {
+        {"type", "directional"}, {"direction", {s, -s, 0}}, {"intensity", 2.0}, {"shadows", true}};
     const scene::Scene sc = scene::parseScene(boxOnFloor(light), sourceDir());
     frame::Renderer renderer(sc, info());
     renderer.render();
@@ -81,7 +81,8 @@ TEST_F(LightingTest, DirectionalLightShadowAndLitPoint) {
     const double ambient = 0.1 * 0.5;
     // In the shadow: floor at (1.0, 0, 0). Only ambient arrives.
     const int sx = px(1.0), sy = px(0.0);
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(img.at(sx, sy, c), ambient, 2e-3) << "channel " << c;
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(img.at(sx, sy, c), ambient, 2e-3) << "channel " << c;
 
     // Lit: floor at (-2.5, 0, 2.5), viewed from straight above (orthographic: V = +y).
     const Vec n{0, 1, 0}, v{0, 1, 0}, l{-s, s, 0};
@@ -96,8 +97,8 @@ TEST_F(LightingTest, DirectionalLightShadowAndLitPoint) {
 TEST_F(LightingTest, PointLightInverseSquare) {
     // Point light 3 above the floor at (2, 3, 2): below it E = I / 9 at normal incidence;
     // at (2 + 3, 0, 2)... out of frame, so also check (-1, 0, 2): d^2 = 9 + 9, cos = 3/sqrt(18).
-    const nlohmann::json light = {{"type", "point"}, {"position", {2, 3, 2}}, {"intensity", 9.0},
-                                  {"shadows", false}};
+    const nlohmann::json light = {
+        {"type", "point"}, {"position", {2, 3, 2}}, {"intensity", 9.0}, {"shadows", false}};
     const scene::Scene sc = scene::parseScene(boxOnFloor(light), sourceDir());
     frame::Renderer renderer(sc, info());
     renderer.render();

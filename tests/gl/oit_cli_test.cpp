@@ -56,9 +56,9 @@ TEST(OitCliGLTest, AllTechniquesContactSheet) {
     fs::create_directories(dir);
     const fs::path out = dir / "sheet.png";
     fs::remove(out);
-    const CommandResult r = runCommand(veilExe() + " render " + glassScene() +
-                                       " --oit all --width 96 --height 54 -o " + out.string() +
-                                       " --report " + (dir / "sheet.json").string());
+    const CommandResult r =
+        runCommand(veilExe() + " render " + glassScene() + " --oit all --width 96 --height 54 -o " +
+                   out.string() + " --report " + (dir / "sheet.json").string());
     ASSERT_EQ(r.exitCode, 0) << r.output;
     ASSERT_TRUE(fs::exists(out));
     const nlohmann::json j = readJson(dir / "sheet.json");

@@ -44,7 +44,8 @@ TEST_F(ShaderTest, IncludeIsExpandedOnceWithLineMarkers) {
     const auto first = src.text.find("float helper()");
     EXPECT_EQ(src.text.find("float helper()", first + 1), std::string::npos);
     gpu::ProgramDesc desc;
-    desc.stages = {{GL_VERTEX_SHADER, writeShader("inc.vert", kVertex)}, {GL_FRAGMENT_SHADER, main}};
+    desc.stages = {{GL_VERTEX_SHADER, writeShader("inc.vert", kVertex)},
+                   {GL_FRAGMENT_SHADER, main}};
     EXPECT_NO_THROW(gpu::Program p(desc));
 }
 
@@ -56,7 +57,8 @@ TEST_F(ShaderTest, CompileErrorNamesIncludedFileAndLine) {
                                                        "out vec4 c;\n"
                                                        "void main() { c = vec4(bad()); }\n");
     gpu::ProgramDesc desc;
-    desc.stages = {{GL_VERTEX_SHADER, writeShader("err.vert", kVertex)}, {GL_FRAGMENT_SHADER, main}};
+    desc.stages = {{GL_VERTEX_SHADER, writeShader("err.vert", kVertex)},
+                   {GL_FRAGMENT_SHADER, main}};
     try {
         gpu::Program p(desc);
         FAIL() << "expected a compile error";
@@ -69,16 +71,19 @@ TEST_F(ShaderTest, CompileErrorNamesIncludedFileAndLine) {
 TEST_F(ShaderTest, TranslatesMesaAndNvidiaLogFormats) {
     const std::vector<std::string> files = {"a.frag", "b.glsl"};
     EXPECT_EQ(gpu::translateShaderLog("1:7(12): error: x\n", files), "b.glsl:7:12: error: x\n");
-    EXPECT_EQ(gpu::translateShaderLog("0(3) : error C1008: y\n", files), "a.frag:3 : error C1008: y\n");
+    EXPECT_EQ(gpu::translateShaderLog("0(3) : error C1008: y\n", files),
+              "a.frag:3 : error C1008: y\n");
     EXPECT_EQ(gpu::translateShaderLog("plain line\n", files), "plain line\n");
 }
 
 TEST_F(ShaderTest, MissingIncludeAndCycleAreErrors) {
-    const fs::path missing = writeShader("missing.frag", "#version 450 core\n#include \"nope.glsl\"\n");
+    const fs::path missing =
+        writeShader("missing.frag", "#version 450 core\n#include \"nope.glsl\"\n");
     EXPECT_THROW(gpu::preprocessShader(missing, {}, missing.parent_path()), Error);
     writeShader("cycle_a.glsl", "#include \"cycle_b.glsl\"\n");
     writeShader("cycle_b.glsl", "#include \"cycle_a.glsl\"\n");
-    const fs::path cyc = writeShader("cycle.frag", "#version 450 core\n#include \"cycle_a.glsl\"\n");
+    const fs::path cyc =
+        writeShader("cycle.frag", "#version 450 core\n#include \"cycle_a.glsl\"\n");
     try {
         gpu::preprocessShader(cyc, {}, cyc.parent_path());
         FAIL() << "expected an include-cycle error";
@@ -93,7 +98,8 @@ TEST_F(ShaderTest, ReloadSwapsProgramBehindStableHandle) {
     const fs::path frag = writeShader("reload.frag", "#version 450 core\nout vec4 c;\n"
                                                      "void main() { c = vec4(1.0); }\n");
     gpu::ProgramManager manager;
-    gpu::ProgramHandle h = manager.add(gpu::ProgramDesc::graphics(writeShader("reload.vert", kVertex), frag));
+    gpu::ProgramHandle h =
+        manager.add(gpu::ProgramDesc::graphics(writeShader("reload.vert", kVertex), frag));
     const GLuint before = manager.get(h).id();
     EXPECT_EQ(manager.reloadAll(), 0);
     const GLuint after = manager.get(h).id();

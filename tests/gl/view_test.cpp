@@ -17,9 +17,9 @@ TEST(ViewTest, ViewerScreenshotEqualsHeadlessRender) {
     const fs::path rendered = outputDir() / "view-render.png";
     fs::remove(viewed);
     fs::remove(rendered);
-    CommandResult r = runCommand("xvfb-run -a -s '-screen 0 640x480x24' " + veilExe() +
-                                 " view '" + scene.string() + "' --frames 3 --screenshot '" +
-                                 viewed.string() + "'");
+    CommandResult r =
+        runCommand("xvfb-run -a -s '-screen 0 640x480x24' " + veilExe() + " view '" +
+                   scene.string() + "' --frames 3 --screenshot '" + viewed.string() + "'");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     r = runCommand(veilExe() + " render '" + scene.string() + "' -o '" + rendered.string() + "'");
     ASSERT_EQ(r.exitCode, 0) << r.output;
@@ -32,10 +32,9 @@ TEST(ViewTest, ViewerScreenshotEqualsHeadlessRender) {
 }
 
 TEST(ViewTest, NoDisplayIsOneClearError) {
-    const CommandResult r = runCommand("env -u DISPLAY -u WAYLAND_DISPLAY " + veilExe() +
-                                       " view '" +
-                                       (sourceDir() / "datasets/scenes/default.json").string() +
-                                       "' --frames 1");
+    const CommandResult r =
+        runCommand("env -u DISPLAY -u WAYLAND_DISPLAY " + veilExe() + " view '" +
+                   (sourceDir() / "datasets/scenes/default.json").string() + "' --frames 1");
     EXPECT_NE(r.exitCode, 0);
     EXPECT_NE(r.output.find("veil: error:"), std::string::npos) << r.output;
 }

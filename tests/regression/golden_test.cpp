@@ -80,7 +80,8 @@ TEST_F(GoldenTest, RenderMatchesGolden) {
     const ImageDiff d = compareImages(render_, golden_);
     const bool ok = d.maxAbs <= 0.05 && d.rmse <= 0.002;
     EXPECT_TRUE(ok) << "max-abs " << d.maxAbs << " (<= 0.05), RMSE " << d.rmse
-                    << " (<= 0.002); images in " << writeFailureImages("golden_basic", render_, golden_);
+                    << " (<= 0.002); images in "
+                    << writeFailureImages("golden_basic", render_, golden_);
 }
 
 TEST_F(GoldenTest, GoldenKeyPixelsAreAnalytic) {
@@ -93,7 +94,8 @@ TEST_F(GoldenTest, GoldenKeyPixelsAreAnalytic) {
         EXPECT_NEAR(img->at(bx, by, 1), 0.3, 1e-3);
         EXPECT_NEAR(img->at(bx, by, 2), 0.4, 1e-3);
         // 2. Floor in the box's shadow (x in [0.5, 1.5] for |z| < 0.5): ambient only.
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(img->at(pix(1.0), pix(0.0), c), e.ambient, 2e-3);
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(img->at(pix(1.0), pix(0.0), c), e.ambient, 2e-3);
         // 3. Lit floor: ambient + E * f * N.L.
         for (int c = 0; c < 3; ++c)
             EXPECT_NEAR(img->at(pix(-1.0), pix(-0.2), c), e.litFloor, 2e-3 * e.litFloor + 1e-4);

@@ -54,7 +54,8 @@ protected:
 TEST_P(OitGoldenTest, MatchesGoldenAndGoldenIsCloseToReference) {
     const Case c = GetParam();
     const ImageF img = render(c.name);
-    const auto path = sourceDir() / "tests/regression/golden" / (std::string("oit-") + c.name + ".exr");
+    const auto path =
+        sourceDir() / "tests/regression/golden" / (std::string("oit-") + c.name + ".exr");
     if (std::getenv("VEIL_UPDATE_GOLDEN")) {
         io::writeImage(path, img);
         frame::Renderer r(*scene_, context_->info(), {128, 72, "", c.name});

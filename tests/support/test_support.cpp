@@ -64,7 +64,8 @@ CommandResult runCommand(const std::string& commandLine) {
     if (!pipe) return result;
     std::array<char, 4096> buf{};
     std::size_t n;
-    while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) result.output.append(buf.data(), n);
+    while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0)
+        result.output.append(buf.data(), n);
     const int status = pclose(pipe);
     result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return result;

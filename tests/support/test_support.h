@@ -8,9 +8,9 @@
 
 namespace veil::test {
 
-std::filesystem::path sourceDir();  // repository root
-std::filesystem::path sharedDir();  // ../shared (third-party data)
-std::filesystem::path outputDir();  // build/test-output, created on demand
+std::filesystem::path sourceDir(); // repository root
+std::filesystem::path sharedDir(); // ../shared (third-party data)
+std::filesystem::path outputDir(); // build/test-output, created on demand
 
 struct ImageDiff {
     double maxAbs = 0.0; // largest per-channel absolute difference

@@ -48,11 +48,12 @@ TEST(VolumeTest, LoadsRealGridsByName) {
 }
 
 TEST(VolumeTest, WrongGridNameListsTheGrids) {
-    const std::string msg = errorOf(
-        [] { volume::loadDensityGrid(third("vdb-torus-fog/torus01.vdb"), "density"); });
+    const std::string msg =
+        errorOf([] { volume::loadDensityGrid(third("vdb-torus-fog/torus01.vdb"), "density"); });
     EXPECT_NE(msg.find("no grid named 'density'"), std::string::npos) << msg;
     EXPECT_NE(msg.find("voxel_fog_density"), std::string::npos) << msg;
-    EXPECT_NO_THROW(volume::loadDensityGrid(third("vdb-torus-fog/torus01.vdb"), "voxel_fog_density"));
+    EXPECT_NO_THROW(
+        volume::loadDensityGrid(third("vdb-torus-fog/torus01.vdb"), "voxel_fog_density"));
 }
 
 TEST(VolumeTest, TruncatedCorruptAndMissingFilesAreErrors) {
@@ -72,8 +73,9 @@ TEST(VolumeTest, TruncatedCorruptAndMissingFilesAreErrors) {
     const fs::path text = dir() / "not-a-vdb.vdb";
     std::ofstream(text) << "hello";
     EXPECT_FALSE(errorOf([&] { volume::loadDensityGrid(text, "density"); }).empty());
-    EXPECT_NE(errorOf([&] { volume::loadDensityGrid(dir() / "missing.vdb", "density"); })
-                  .find("no such file"),
+    EXPECT_NE(errorOf([&] {
+                  volume::loadDensityGrid(dir() / "missing.vdb", "density");
+              }).find("no such file"),
               std::string::npos);
 }
 
@@ -107,7 +109,8 @@ TEST(VolumeTest, NanAndInfiniteDensitiesAreSanitized) {
     auto loaded = volume::loadDensityGrid(p, "density");
     auto a = loaded->getConstAccessor();
     EXPECT_EQ(a.getValue({0, 0, 0}), 1.0f);
-    for (int x = 1; x <= 3; ++x) EXPECT_EQ(a.getValue({x, 0, 0}), 0.0f) << x;
+    for (int x = 1; x <= 3; ++x)
+        EXPECT_EQ(a.getValue({x, 0, 0}), 0.0f) << x;
 }
 
 TEST(VolumeTest, LevelSetIsConvertedToFog) {

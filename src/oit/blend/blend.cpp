@@ -47,7 +47,8 @@ private:
 
 void registerBlend(Registry& registry) {
     registry.add({"blend", "unsorted alpha blending (single-pass baseline, order-dependent)",
-                  nullptr, [](gpu::ProgramManager&) { return std::make_unique<BlendTechnique>(); }});
+                  nullptr,
+                  [](gpu::ProgramManager&) { return std::make_unique<BlendTechnique>(); }});
 }
 
 } // namespace veil::oit
