@@ -6,6 +6,8 @@
 // boundaries, so pixel centres are never on an edge.
 #include "gl_fixture.h"
 
+#include "oit/cpu/composite.h"
+
 #include "base/error.h"
 #include "frame/renderer.h"
 #include "io/image_io.h"
@@ -88,21 +90,20 @@ std::vector<const Plane*> covering(const std::vector<Plane>& planes, int px, int
 
 double factor(const Plane& p, int c) { return 1.0 - p.alpha + p.alpha * p.transmission[c]; }
 
-// Exact sorted composite (000 Eq. 2 per channel), front to back.
+// Exact sorted composite: src/oit/cpu/composite.h over the planes covering each pixel
+// (nearer planes have larger y: the camera looks down).
 ImageF exactComposite(const std::vector<Plane>& planes) {
     ImageF img(kSize, kSize, 4);
+    const glm::dvec3 background(kBackground[0], kBackground[1], kBackground[2]);
     for (int py = 0; py < kSize; ++py)
         for (int px = 0; px < kSize; ++px) {
-            auto stack = covering(planes, px, py);
-            std::sort(stack.begin(), stack.end(), [](auto a, auto b) { return a->y > b->y; });
-            for (int c = 0; c < 3; ++c) {
-                double L = 0.0, T = 1.0;
-                for (const Plane* p : stack) {
-                    L += T * p->alpha * p->emission[c];
-                    T *= factor(*p, c);
-                }
-                img.at(px, py, c) = static_cast<float>(L + T * kBackground[c]);
-            }
+            std::vector<oit::cpu::Fragment> frags;
+            for (const Plane* p : covering(planes, px, py))
+                frags.push_back(oit::cpu::makeFragment(
+                    -p->y, glm::dvec3(p->emission[0], p->emission[1], p->emission[2]), p->alpha,
+                    glm::dvec3(p->transmission[0], p->transmission[1], p->transmission[2])));
+            const glm::dvec3 c = oit::cpu::compositeSorted(frags, background);
+            for (int k = 0; k < 3; ++k) img.at(px, py, k) = static_cast<float>(c[k]);
             img.at(px, py, 3) = 1.0f;
         }
     return img;

@@ -5,6 +5,8 @@
 // hash includes the pixel), so one 64x64 frame gives 4096 samples of the estimator.
 #include "gl_fixture.h"
 
+#include "oit/cpu/composite.h"
+
 #include "base/error.h"
 #include "frame/renderer.h"
 #include "io/image_io.h"
@@ -81,25 +83,24 @@ ImageF render(const std::vector<Plane>& planes, std::array<double, 3> background
     return img;
 }
 
-// Exact sorted composite (004 Eq. 1, 000 Eq. 2 for T) at each pixel centre, in double.
-ImageF sortedComposite(std::vector<Plane> planes, std::array<double, 3> background) {
-    std::sort(planes.begin(), planes.end(),
-              [](const Plane& a, const Plane& b) { return a.height > b.height; }); // near first
+// Exact sorted composite (src/oit/cpu/composite.h) at each pixel centre; nearer planes are
+// higher (the camera looks down).
+ImageF sortedComposite(const std::vector<Plane>& planes, std::array<double, 3> background) {
     ImageF out(kSize, kSize, 4);
     for (int y = 0; y < kSize; ++y)
         for (int x = 0; x < kSize; ++x) {
             const double wx = (x + 0.5) / kSize * kView - kView / 2;
             const double wz = (y + 0.5) / kSize * kView - kView / 2; // row 0 = -z (up = -z)
-            std::array<double, 3> c{0, 0, 0}, t{1, 1, 1};
-            for (const Plane& p : planes) {
-                if (wx < p.x0 || wx > p.x1 || wz < p.z0 || wz > p.z1) continue;
-                for (int k = 0; k < 3; ++k) {
-                    c[k] += t[k] * p.alpha * p.emission[k];
-                    t[k] *= 1 - p.alpha + p.alpha * p.transmission[k];
-                }
-            }
-            for (int k = 0; k < 3; ++k)
-                out.at(x, y, k) = static_cast<float>(c[k] + t[k] * background[k]);
+            std::vector<oit::cpu::Fragment> frags;
+            for (const Plane& p : planes)
+                if (wx >= p.x0 && wx <= p.x1 && wz >= p.z0 && wz <= p.z1)
+                    frags.push_back(oit::cpu::makeFragment(
+                        -p.height, glm::dvec3(p.emission[0], p.emission[1], p.emission[2]),
+                        p.alpha,
+                        glm::dvec3(p.transmission[0], p.transmission[1], p.transmission[2])));
+            const glm::dvec3 c = oit::cpu::compositeSorted(
+                frags, glm::dvec3(background[0], background[1], background[2]));
+            for (int k = 0; k < 3; ++k) out.at(x, y, k) = static_cast<float>(c[k]);
             out.at(x, y, 3) = 1.0f;
         }
     return out;
