@@ -4,6 +4,11 @@
 // coverage 1 and transmission T, at the fog's representative depth. Reduced-resolution fog is
 // upsampled with a joint bilateral filter keyed on the opaque depth (000 section 5).
 #include "../common/camera.glsl"
+
+// Fog is no billboard: techniques that split passes by mesh kind (phenomenological's
+// low-resolution particle pass) see it as a full-resolution surface.
+uniform bool billboard = false;
+
 #include "veil:oit_emit"
 
 layout(binding = VEIL_TEX_FOG_RADIANCE) uniform sampler2D fogRadiance;
@@ -13,9 +18,6 @@ layout(binding = VEIL_TEX_DEPTH) uniform sampler2D opaqueDepth;
 uniform int resolutionDivisor;
 uniform mat4 invProjection;
 uniform mat4 projection;
-// Fog is no billboard: techniques that split passes by mesh kind (phenomenological's
-// low-resolution particle pass) see it as a full-resolution surface.
-uniform bool billboard = false;
 
 float viewDepthAt(ivec2 p) {
     ivec2 full = textureSize(opaqueDepth, 0);
