@@ -224,6 +224,27 @@ TEST_F(OitRefractionTest, ThickSlabShiftsMoreThanThinPane) {
     EXPECT_GT(std::abs(thick), std::abs(thin) + 1.5);
 }
 
+// The frame's fog emission draws in every geometry pass: in the slice-map pass it must leave
+// no bits (oitEmit discards), in the accumulation it multiplies in as before. Homogeneous fog
+// (sigma 0.2) over 13 units to an emissive floor: E exp(-2.6), and through the absorbing box
+// additionally c^(d / L) (both products are exact in the technique's beta).
+TEST_F(OitRefractionTest, FogWithVolumeRefraction) {
+    nlohmann::json doc = baseScene({0.0, 0.0, 0.0});
+    doc["render"]["fog_steps"] = 256;
+    doc["render"]["fog_jitter"] = false;
+    doc["materials"]["lamp"] = {{"base_color", 0.0}, {"emission", {2.0, 1.0, 0.5}}};
+    doc["materials"]["glass"] = glass({0.5, 0.7, 0.9}, 4.0);
+    addObject(doc, {{"type", "plane"}, {"size", {8.0, 8.0}}}, "lamp", {0, -4.0, 0});
+    addObject(doc, box(4, 2, 4), "glass", {0, 0, 0});
+    doc["volumes"] = {{{"procedural", "homogeneous"}, {"density_scale", 0.2}}};
+    const ImageF img = render(doc, "phenomenological-volume", "refr_fog");
+    VEIL_EXPECT_NO_GL_ERROR();
+    const double T = std::exp(-0.2 * 13.0);
+    EXPECT_NEAR(img.at(8, 8, 0), 2.0 * T, 0.01 * 2.0 * T);
+    EXPECT_NEAR(img.at(64, 64, 0), 2.0 * T * std::sqrt(0.5), 0.01 * 2.0 * T);
+    EXPECT_NEAR(img.at(64, 64, 2), 0.5 * T * std::pow(0.9, 0.5), 0.01 * 0.5 * T + 1e-3);
+}
+
 // Bad parameters end in veil::Error.
 TEST_F(OitRefractionTest, RejectsBadVolumeParameters) {
     oit::PhenomenologicalParams p;
