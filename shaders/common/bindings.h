@@ -16,6 +16,8 @@
 #define VEIL_PHEN_TEX_BD (VEIL_TEX_OIT0 + 2)
 #define VEIL_PHEN_TEX_DELTA (VEIL_TEX_OIT0 + 3)
 #define VEIL_PHEN_TEX_BKG (VEIL_TEX_OIT0 + 4)
+#define VEIL_PHEN_TEX_THICKNESS (VEIL_TEX_OIT0 + 5) // volumeRefraction: thickness per pixel
+#define VEIL_PHEN_TEX_SLICES (VEIL_TEX_OIT0 + 0)    // thickness.comp: 8 slice-map words
 
 #define VEIL_IMG_OUTPUT 0
 #define VEIL_IMG_MOMENT0 1 // moment OIT 16-bit storage: images 1..3

@@ -10,6 +10,11 @@ uniform vec3 transmission;   // T, 000 Eq. 2
 uniform float collimation;   // c, 000 section 4.1
 uniform float ior;           // eta of the medium behind the surface, 000 Eq. 8
 uniform bool billboard;
+// KHR_materials_volume (scene::Material): attenuationColor^(distance / attenuationDistance) is
+// the transmittance of the medium behind the surface; attenuationDistance 0 = no absorption.
+uniform vec3 attenuationColor;
+uniform float attenuationDistance;
+#define VEIL_MATERIAL_UNIFORMS 1
 
 in vec3 vWorldPos;
 in vec3 vNormal;

@@ -165,7 +165,9 @@ void Renderer::drawObjects(const gpu::Program& program, Subset subset) const {
             .set("coverage", m.alpha)
             .set("transmission", m.transmission)
             .set("collimation", m.collimation)
-            .set("ior", m.ior);
+            .set("ior", m.ior)
+            .set("attenuationColor", m.attenuationColor)
+            .set("attenuationDistance", m.attenuationDistance);
         mesh.draw();
     }
     glBindVertexArray(0);

@@ -19,14 +19,34 @@
 // o.betaD.a; delta += o.delta; one invocation owns one pixel, so no atomics are needed when
 // the fog pass runs apart from the raster pass). The host side of that (binding the targets
 // as images and the phen* uniforms for the fog program) is not written yet.
+//
+// Volume refraction (PhenomenologicalParams::volumeRefraction, defines PHEN_VOLUME): a first
+// geometry pass (PHEN_THICKNESS) writes each transparent fragment as one bit of its view-depth
+// slice into a front-face and a back-face slice map (003 section 3; 512 slices uniform in view
+// depth between the camera's near and far planes, 4 RGBA32UI targets each, OR logic op);
+// thickness.comp walks them into a thickness per pixel, which the accumulation pass uses for
+// the refraction offset (Delta z := thickness), Beer-Lambert absorption at front faces and a
+// thickness x roughness diffusion term (see oitEmitSurface below).
 #include "../../common/camera.glsl"
 #include "../../common/math.glsl"
 
-#ifndef OIT_EMIT_COMPUTE
+#if defined(PHEN_THICKNESS)
+layout(location = 0) out uvec4 phenSliceFront[4]; // slices 0..511, 128 per target
+layout(location = 4) out uvec4 phenSliceBack[4];
+#elif !defined(OIT_EMIT_COMPUTE)
 layout(location = 0) out vec4 phenOutA;
 layout(location = 1) out vec4 phenOutBetaD;
 layout(location = 2) out vec4 phenOutDelta;
 #endif
+
+#ifdef PHEN_VOLUME
+layout(binding = VEIL_PHEN_TEX_THICKNESS) uniform sampler2D phenThickness;
+uniform float phenThicknessRef;     // > 0: t := t^(thickness / phenThicknessRef) at front faces
+uniform float phenVolumeBlur;       // k_r of the thickness x roughness diffusion term
+#endif
+// The volume code reads the material uniforms of shaders/frame/material.glsl (billboard,
+// roughness, attenuation*), declared only in surface programs (VEIL_MATERIAL_UNIFORMS); the fog
+// emission program never calls oitEmitSurface and gets none of it.
 
 // A copy of the opaque depth (the original is attached for the depth test).
 layout(binding = VEIL_PHEN_TEX_DEPTH) uniform sampler2D phenOpaqueDepth;
@@ -73,8 +93,11 @@ struct PhenOutput {
 // medium of index ior from air, ior leaving it).
 // X, n: camera-space position and unit normal facing the viewer. zB: view distance of the
 // opaque background behind the fragment.
+// refractionDepth: Eq. 9 Delta z. extraD: diffusion std-dev in world units added to Eq. 7's
+// (volume refraction's thickness x roughness term; 0 otherwise).
 PhenOutput phenComputeOutput(vec3 radiance, float alpha, vec3 t, float viewDepth, float c,
-                             float eta, vec3 X, vec3 n, float zB) {
+                             float eta, vec3 X, vec3 n, float zB, float refractionDepth,
+                             float extraD) {
     PhenOutput o;
     float netCoverage = alpha * (1.0 - dot(t, vec3(1.0 / 3.0)));
     // 000 Eq. 5: w = clamp([10 (1 - 0.99 f) alpha (1 - mean t)]^3, 0.01, 30)
@@ -89,12 +112,13 @@ PhenOutput phenComputeOutput(vec3 radiance, float alpha, vec3 t, float viewDepth
     // times pixels per unit at this depth (W / (2 tan(theta/2)) / |z| for a perspective camera,
     // constant for an orthographic one). Listing 1 weights by net coverage, as here.
     float D2 = 0.0;
-    if (phenDiffusion && c < 1.0) {
+    if (phenDiffusion && (c < 1.0 || extraD > 0.0)) {
         float dz = abs(zB - viewDepth);
         float clipW = camera.projection[2][3] * (-viewDepth) + camera.projection[3][3];
         float ppu = phenPixelsPerUnit > 0.0 ? phenPixelsPerUnit
                                             : 0.5 * camera.viewport.x * camera.projection[0][0];
-        float D = phenK0 * netCoverage * (1.0 - c) * (dz / (phenK1 + dz)) * ppu / abs(clipW);
+        float D = netCoverage * (phenK0 * (1.0 - c) * (dz / (phenK1 + dz)) + extraD) * ppu /
+                  abs(clipW);
         D2 = D * D / (phenMaxDiffusionPixels * phenMaxDiffusionPixels);
         // 000 appendix: round non-zero values up so they survive the target's precision.
         if (D2 > 0.0) D2 = max(D2, 4.0 / 65535.0);
@@ -111,7 +135,7 @@ PhenOutput phenComputeOutput(vec3 radiance, float alpha, vec3 t, float viewDepth
         vec3 I = camera.cameraForward.w > 0.5 ? vec3(0.0, 0.0, -1.0) : normalize(X);
         vec3 wi = refract(I, n, eta);
         if (dot(wi, wi) > 0.0) {
-            vec3 B = X + wi * (phenRefractionDepth / max(-wi.z, 1e-4));
+            vec3 B = X + wi * (refractionDepth / max(-wi.z, 1e-4));
             delta = phenProjectToPixels(B) - phenProjectToPixels(X);
         }
     }
@@ -138,6 +162,31 @@ float phenBackgroundDepth() {
     return phenViewDepthFromWindow(texelFetch(phenOpaqueDepth, ivec2(gl_FragCoord.xy), 0).r);
 }
 
+#if defined(PHEN_THICKNESS)
+#ifdef VEIL_MATERIAL_UNIFORMS
+// Slice-map pass (003 section 2-3): one bit at the fragment's view-depth slice, in the front or
+// back map by gl_FrontFacing (closed meshes wound counter-clockwise outward). Every output is
+// written (zeros elsewhere): the targets are OR-ed (glLogicOp).
+void oitEmitSurface(vec3 radiance, float alpha, vec3 transmission, float viewDepth,
+                    float collimation, float eta, vec3 viewPos, vec3 viewNormal) {
+    if (billboard) discard; // particles have no volume
+    float near = camera.viewport.z, far = camera.viewport.w;
+    int s = clamp(int(floor((viewDepth - near) / (far - near) * 512.0)), 0, 511);
+    int word = s >> 5;
+    uvec4 bits = uvec4(0u);
+    bits[word & 3] = 1u << uint(s & 31);
+    for (int k = 0; k < 4; ++k) {
+        uvec4 v = k == (word >> 2) ? bits : uvec4(0u);
+        phenSliceFront[k] = gl_FrontFacing ? v : uvec4(0u);
+        phenSliceBack[k] = gl_FrontFacing ? uvec4(0u) : v;
+    }
+}
+#endif
+
+// Fog has no surfaces: nothing in the slice maps.
+void oitEmit(vec3 radiance, float alpha, vec3 transmission, float viewDepth) { discard; }
+
+#else
 void phenWrite(PhenOutput o) {
     phenOutA = o.A;
     phenOutBetaD = o.betaD;
@@ -147,13 +196,38 @@ void phenWrite(PhenOutput o) {
 void oitEmitSurface(vec3 radiance, float alpha, vec3 transmission, float viewDepth,
                     float collimation, float eta, vec3 viewPos, vec3 viewNormal) {
     phenPassFilter();
-    phenWrite(phenComputeOutput(radiance, alpha, transmission, viewDepth, collimation, eta,
-                                viewPos, viewNormal, phenBackgroundDepth()));
+    float refractionDepth = phenRefractionDepth;
+    float extraD = 0.0;
+    vec3 t = transmission;
+#if defined(PHEN_VOLUME) && defined(VEIL_MATERIAL_UNIFORMS)
+    // h: thickness of transparent media along this pixel's eye ray (thickness.comp).
+    vec2 hn = billboard ? vec2(0.0) : texelFetch(phenThickness, ivec2(gl_FragCoord.xy), 0).rg;
+    float h = hn.x;
+    // The n front faces along the ray share the path: h / n each (exact for one material).
+    float hFront = h / max(hn.y, 1.0);
+    // (a) 000 Eq. 9 with Delta z := h: the ray travels h inside the medium.
+    if (eta != 1.0 && !billboard) refractionDepth = h;
+    if (gl_FrontFacing && h > 0.0) {
+        // (b) Beer-Lambert once per pixel, at the faces entering a medium (back faces keep
+        // their own t): glTF KHR_materials_volume T = attenuationColor^(h / distance), or
+        // without attenuation, the front face's t taken as that of phenThicknessRef of medium.
+        if (attenuationDistance > 0.0)
+            t *= pow(attenuationColor, vec3(hFront / attenuationDistance));
+        else if (phenThicknessRef > 0.0)
+            t = pow(t, vec3(hFront / phenThicknessRef));
+        // (c) rough interfaces blur in proportion to the path behind them: sigma = k_r r h / n
+        // (world units), added to 000 Eq. 7's k_0 (1 - c) term before the pixel scale.
+        extraD = phenVolumeBlur * roughness * hFront;
+    }
+#endif
+    phenWrite(phenComputeOutput(radiance, alpha, t, viewDepth, collimation, eta, viewPos,
+                                viewNormal, phenBackgroundDepth(), refractionDepth, extraD));
 }
 
 void oitEmit(vec3 radiance, float alpha, vec3 transmission, float viewDepth) {
     phenPassFilter();
     phenWrite(phenComputeOutput(radiance, alpha, transmission, viewDepth, 1.0, 1.0, vec3(0.0),
-                                vec3(0.0, 0.0, 1.0), viewDepth));
+                                vec3(0.0, 0.0, 1.0), viewDepth, phenRefractionDepth, 0.0));
 }
+#endif // PHEN_THICKNESS
 #endif // OIT_EMIT_COMPUTE

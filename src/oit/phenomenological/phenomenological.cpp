@@ -4,6 +4,7 @@
 
 #include "shaders/common/bindings.h"
 
+#include <array>
 #include <cmath>
 
 namespace veil::oit {
@@ -24,6 +25,11 @@ void PhenomenologicalParams::validate() const {
                particleDownsample);
     VEIL_CHECK(refractionDepth > 0.0f && std::isfinite(refractionDepth),
                "phenomenological: refractionDepth must be > 0, got {}", refractionDepth);
+    VEIL_CHECK(thicknessReference >= 0.0f && std::isfinite(thicknessReference),
+               "phenomenological: thicknessReference must be >= 0 (0 = off), got {}",
+               thicknessReference);
+    VEIL_CHECK(volumeBlur >= 0.0f && std::isfinite(volumeBlur),
+               "phenomenological: volumeBlur must be >= 0, got {}", volumeBlur);
 }
 
 PhenomenologicalParams& phenomenologicalDefaults() {
@@ -50,6 +56,9 @@ public:
         params_.validate();
         resolveProgram_ =
             programs_.add(gpu::ProgramDesc::compute("oit/phenomenological/resolve.comp"));
+        if (params_.volumeRefraction)
+            thicknessProgram_ =
+                programs_.add(gpu::ProgramDesc::compute("oit/phenomenological/thickness.comp"));
         if (lowRes()) {
             downsampleProgram_ = programs_.add(
                 gpu::ProgramDesc::compute("oit/phenomenological/downsample_depth.comp"));
@@ -62,10 +71,15 @@ public:
     std::filesystem::path emitInclude() const override { return "oit/phenomenological/emit.glsl"; }
     // Reduced-resolution particles: pass 0 draws all but billboards at full resolution,
     // pass 1 only billboards at 1/particleDownsample (000 section 3).
-    int geometryPasses() const override { return lowRes() ? 2 : 1; }
+    // Volume refraction adds the slice-map pass in front of them.
+    int geometryPasses() const override { return (lowRes() ? 2 : 1) + (volume() ? 1 : 0); }
     std::vector<std::string> defines(int pass) const override {
-        if (!lowRes()) return {"OIT_WANTS_SURFACE"};
-        return {"OIT_WANTS_SURFACE", pass == 0 ? "PHEN_SKIP_BILLBOARDS" : "PHEN_LOWRES"};
+        if (isThicknessPass(pass)) return {"OIT_WANTS_SURFACE", "PHEN_VOLUME", "PHEN_THICKNESS"};
+        const int inner = innerPass(pass);
+        std::vector<std::string> d = {"OIT_WANTS_SURFACE"};
+        if (lowRes()) d.push_back(inner == 0 ? "PHEN_SKIP_BILLBOARDS" : "PHEN_LOWRES");
+        if (volume() && inner == 0) d.push_back("PHEN_VOLUME");
+        return d;
     }
 
     void resize(const OitFrameTargets& targets) override {
@@ -84,6 +98,19 @@ public:
             .attach(GL_DEPTH_ATTACHMENT, *targets.depth)
             .drawBuffers({GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2});
         framebuffer_.checkComplete("oit/phenomenological");
+        if (volume()) {
+            sliceFramebuffer_ = gpu::Framebuffer();
+            for (int k = 0; k < 8; ++k) {
+                slices_[k] = makeTarget(GL_RGBA32UI, w, h, GL_NEAREST);
+                sliceFramebuffer_.attach(GL_COLOR_ATTACHMENT0 + k, slices_[k]);
+            }
+            sliceFramebuffer_.attach(GL_DEPTH_ATTACHMENT, *targets.depth)
+                .drawBuffers({GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                              GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4, GL_COLOR_ATTACHMENT5,
+                              GL_COLOR_ATTACHMENT6, GL_COLOR_ATTACHMENT7});
+            sliceFramebuffer_.checkComplete("oit/phenomenological (slice maps)");
+            thickness_ = makeTarget(GL_RG32F, w, h, GL_NEAREST);
+        }
         if (lowRes()) {
             const int s = params_.particleDownsample;
             lowWidth_ = (w + s - 1) / s;
@@ -103,6 +130,15 @@ public:
 
     void beginAccumulate(int pass, const OitFrameTargets& targets,
                          const gpu::Program& program) override {
+        if (isThicknessPass(pass)) {
+            beginSlicePass(targets);
+            return;
+        }
+        if (volume() && innerPass(pass) == 0) {
+            computeThickness(targets);
+            thickness_.bind(VEIL_PHEN_TEX_THICKNESS);
+        }
+        pass = innerPass(pass);
         const gpu::Framebuffer* fbo = &framebuffer_;
         if (pass == 0) {
             // The surfaces read the opaque depth (z_B of 000 Eq. 7) while it is attached for
@@ -143,6 +179,8 @@ public:
         glBlendFunci(0, GL_ONE, GL_ONE);
         glBlendFuncSeparatei(1, GL_ZERO, GL_ONE_MINUS_SRC_COLOR, GL_ONE, GL_ONE);
         glBlendFunci(2, GL_ONE, GL_ONE);
+        program.set("phenThicknessRef", params_.thicknessReference)
+            .set("phenVolumeBlur", params_.volumeBlur);
         prepareProgram(pass, program);
     }
 
@@ -159,6 +197,7 @@ public:
     }
 
     void endAccumulate(int) override {
+        glDisable(GL_COLOR_LOGIC_OP);
         glDisable(GL_BLEND);
         glBlendFunc(GL_ONE, GL_ZERO);
         glDepthMask(GL_TRUE);
@@ -190,11 +229,50 @@ public:
 
     std::size_t bytesPerPixel() const override {
         const int s = params_.particleDownsample;
-        return 8 + 8 + 8 + 4 + 8 + (lowRes() ? (8 + 8 + 8 + 4) / (s * s) : 0);
+        return 8 + 8 + 8 + 4 + 8 + (lowRes() ? (8 + 8 + 8 + 4) / (s * s) : 0) +
+               (volume() ? 8 * 16 + 8 : 0);
     }
 
 private:
     bool lowRes() const { return params_.particleDownsample > 1; }
+    bool volume() const { return params_.volumeRefraction; }
+    bool isThicknessPass(int pass) const { return volume() && pass == 0; }
+    // The pass index without the slice-map pass (0: full resolution, 1: particles).
+    int innerPass(int pass) const { return volume() ? pass - 1 : pass; }
+
+    // 003 section 2: slice maps of the transparent surfaces, bits OR-ed in 8 RGBA32UI targets,
+    // depth-tested against the opaque depth (hidden media do not count).
+    void beginSlicePass(const OitFrameTargets& targets) {
+        sliceFramebuffer_.bind();
+        glViewport(0, 0, targets.width, targets.height);
+        const GLuint zero[4] = {0, 0, 0, 0};
+        for (int k = 0; k < 8; ++k)
+            glClearNamedFramebufferuiv(sliceFramebuffer_.id(), GL_COLOR, k, zero);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+        glDepthMask(GL_FALSE);
+        glDisable(GL_CULL_FACE);
+        glDisable(GL_BLEND);
+        glEnable(GL_COLOR_LOGIC_OP);
+        glLogicOp(GL_OR);
+    }
+
+    // 003 section 3: the slice maps walked into a thickness per pixel (thickness.comp).
+    void computeThickness(const OitFrameTargets& targets) {
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+        const gpu::Program& program = programs_.get(thicknessProgram_);
+        program.use();
+        for (int k = 0; k < 8; ++k)
+            slices_[k].bind(VEIL_PHEN_TEX_SLICES + k);
+        glBindImageTexture(VEIL_IMG_OUTPUT, thickness_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                           GL_RG32F);
+        glDispatchCompute((targets.width + 7) / 8, (targets.height + 7) / 8, 1);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+        glBindImageTexture(VEIL_IMG_OUTPUT, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+        // The slice textures sat on the units of the accumulation's inputs: unbind them.
+        for (int k = 0; k < 8; ++k)
+            glBindTextureUnit(VEIL_PHEN_TEX_SLICES + k, 0);
+    }
 
     // 000 section 5 "Upsample" into the full-resolution buffers (upsample.comp).
     void upsample(const OitFrameTargets& targets) {
@@ -217,7 +295,13 @@ private:
 
     gpu::ProgramManager& programs_;
     PhenomenologicalParams params_;
-    gpu::ProgramHandle resolveProgram_, downsampleProgram_, upsampleProgram_;
+    gpu::ProgramHandle resolveProgram_, downsampleProgram_, upsampleProgram_, thicknessProgram_;
+    std::array<gpu::Texture, 8> slices_{gpu::Texture(gpu::NoCreate), gpu::Texture(gpu::NoCreate),
+                                        gpu::Texture(gpu::NoCreate), gpu::Texture(gpu::NoCreate),
+                                        gpu::Texture(gpu::NoCreate), gpu::Texture(gpu::NoCreate),
+                                        gpu::Texture(gpu::NoCreate), gpu::Texture(gpu::NoCreate)};
+    gpu::Texture thickness_{gpu::NoCreate};
+    gpu::Framebuffer sliceFramebuffer_{gpu::NoCreate};
     int lowWidth_ = 0, lowHeight_ = 0;
     gpu::Texture lowA_{gpu::NoCreate}, lowBetaD_{gpu::NoCreate}, lowDelta_{gpu::NoCreate};
     gpu::Texture lowDepth_{gpu::NoCreate};
@@ -244,6 +328,15 @@ void registerPhenomenological(Registry& registry) {
                   nullptr, [](gpu::ProgramManager& programs) {
                       PhenomenologicalParams p = phenomenologicalDefaults();
                       p.diffusion = false;
+                      return std::make_unique<PhenomenologicalTechnique>(programs, p);
+                  }});
+    // Thickness-dependent refraction and absorption from slice maps (003).
+    registry.add({"phenomenological-volume",
+                  "phenomenological with volume refraction: per-pixel thickness from front/back "
+                  "slice maps scales refraction, Beer-Lambert absorption and roughness blur",
+                  nullptr, [](gpu::ProgramManager& programs) {
+                      PhenomenologicalParams p = phenomenologicalDefaults();
+                      p.volumeRefraction = true;
                       return std::make_unique<PhenomenologicalTechnique>(programs, p);
                   }});
 }

@@ -22,6 +22,20 @@
 //   diffusion           [on]    000 section 5 "Diffuse".
 //   particleDownsample  [1]     2 or 4: billboard (particle) meshes accumulate at 1/2 or 1/4
 //                               resolution and are joint-bilateral upsampled (000 section 5).
+//   volumeRefraction    [off]   replaces 000's fixed-distance assumption (section 3) by the
+//                               per-pixel thickness h of the transparent geometry, from
+//                               front/back slice maps (003 section 3; technique name
+//                               `phenomenological-volume`). One extra geometry pass (the first)
+//                               and a compute walk (thickness.comp); then in the accumulation:
+//                               Eq. 9 Delta z := h for eta != 1 (refractionDepth unused there),
+//                               Beer-Lambert at each of the n front faces along the pixel:
+//                               t *= attenuationColor^(h / (n d_att))
+//                               (glTF KHR_materials_volume, material attenuation_color/_distance)
+//                               or, without it, t := t^(h / (n thicknessReference)), and the Eq. 7
+//                               std-dev gains volumeBlur * roughness * h (world units).
+//   thicknessReference  [0]     medium thickness a surface's transmission t stands for; 0 =
+//                               t is not rescaled (only attenuation_distance absorbs).
+//   volumeBlur          [0.25]  k_r of the thickness x roughness diffusion term.
 //
 // Framebuffer (000 Table 2 with changed formats):
 //   RT0 A          RGBA16F    as the paper.
@@ -32,6 +46,7 @@
 //                  delta / 63: 001 section 4.3.2 averages the layers' offsets weighted by net
 //                  coverage c_i, which needs the weight sum.
 // 24 bytes per pixel of accumulation plus a depth copy (4) and a background copy (8).
+// volumeRefraction adds 8 RGBA32UI slice targets (128) and an RG32F thickness, count (8).
 //
 // Not implemented: caustic stochastic shadow maps (Eq. 10-12), inferred ambient
 // occlusion (001 section 6; the frame has no AO buffer), the host side of the fog path
@@ -54,6 +69,9 @@ struct PhenomenologicalParams {
     bool refraction = true;
     bool diffusion = true;
     int particleDownsample = 1;
+    bool volumeRefraction = false;
+    float thicknessReference = 0.0f;
+    float volumeBlur = 0.25f;
 
     // Throws veil::Error naming the bad parameter.
     void validate() const;
