@@ -68,6 +68,38 @@ TEST(VoxelizeCliTest, WritesVdbAndVtiWithSummary) {
     EXPECT_EQ(static_cast<openvdb::Index64>(on), grid->activeVoxelCount());
 }
 
+TEST(VoxelizeCliTest, ThirdPartyTeapotToVdbAndVtiReadBack) {
+    // The issue's acceptance: the third-party mesh through `veil voxelize` into a .vdb and a
+    // .vti that read back with the same voxels, inside the mesh's bounds.
+    const fs::path teapot = sharedDir() / "datasets/third_party/utah-teapot/teapot.obj";
+    ASSERT_TRUE(fs::exists(teapot)) << teapot;
+    const fs::path sc = dir() / "teapot.json";
+    std::ofstream(sc) << R"({"cameras": [{"position": [0, 1, 3], "target": [0, 0, 0]}],
+      "objects": [{"mesh": ")" << teapot.string() << R"("}]})";
+    const fs::path vdb = dir() / "teapot.vdb", vti = dir() / "teapot.vti";
+    fs::remove(vdb);
+    fs::remove(vti);
+    const CommandResult r = runCommand(veilExe() + " voxelize '" + sc.string() +
+                                       "' --res 64 --method compute --quiet -o '" + vdb.string() +
+                                       "' --vti '" + vti.string() + "' 2>&1");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    openvdb::initialize();
+    openvdb::io::File file(vdb.string());
+    file.open();
+    auto grid = file.readGrid("density");
+    file.close();
+    EXPECT_GT(grid->activeVoxelCount(), 2000u);
+    // Teapot bounds (-0.5, -0.245, -0.311)..(0.5, 0.245, 0.311), plus one voxel.
+    const openvdb::BBoxd wb = grid->transform().indexToWorld(grid->evalActiveVoxelBoundingBox());
+    const double v = grid->voxelSize().x();
+    EXPECT_NEAR(wb.min().x(), -0.5, 1.5 * v);
+    EXPECT_NEAR(wb.max().x(), 0.5, 1.5 * v);
+    EXPECT_NEAR(wb.max().y(), 0.245, 1.5 * v);
+    const io::DenseGrid d = io::readVti(vti);
+    const auto on = std::count(d.values.begin(), d.values.end(), 1.0f);
+    EXPECT_EQ(static_cast<openvdb::Index64>(on), grid->activeVoxelCount());
+}
+
 TEST(VoxelizeCliTest, BadInputFailsCleanly) {
     const fs::path out = dir() / "bad.vdb";
     const std::string s = "'" + scene().string() + "'";
