@@ -126,8 +126,16 @@ void FogPass::march(const FogTargets& targets) {
     if (targets.width != width_ * divisor_ || targets.height != height_ * divisor_ || !radiance_)
         resize(targets.width, targets.height);
     // 1. Transmittance toward the primary light through all volumes (self-shadowing).
-    if (primaryLight_ >= 0 && !volumes_.empty()) {
-        const scene::Light& light = scene_.lights[static_cast<std::size_t>(primaryLight_)];
+    const scene::Light* light =
+        primaryLight_ >= 0 ? &scene_.lights[static_cast<std::size_t>(primaryLight_)] : nullptr;
+    const bool directional = light && light->type == scene::LightType::Directional;
+    const glm::vec4 key =
+        light ? glm::vec4(directional ? glm::normalize(light->direction) : light->position,
+                          directional ? float(VEIL_LIGHT_DIRECTIONAL) : float(VEIL_LIGHT_SPOT))
+              : glm::vec4(0.0f);
+    if (light && !volumes_.empty() && (!lightValid_ || key != lightKey_)) {
+        lightKey_ = key;
+        lightValid_ = true;
         const gpu::Program& lp = programs_.get(lightProgram_);
         setVolumeUniforms(lp);
         glm::vec3 lo(1e30f), hi(-1e30f);
@@ -137,10 +145,7 @@ void FogPass::march(const FogTargets& targets) {
             lo = glm::min(lo, a);
             hi = glm::max(hi, b);
         }
-        const bool directional = light.type == scene::LightType::Directional;
-        lp.set("lightPositionType",
-               glm::vec4(directional ? glm::normalize(light.direction) : light.position,
-                         directional ? float(VEIL_LIGHT_DIRECTIONAL) : float(VEIL_LIGHT_SPOT)))
+        lp.set("lightPositionType", key)
             .set("steps", 64)
             .set("maxDistance", glm::length(hi - lo));
         lp.use();

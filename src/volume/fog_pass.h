@@ -66,6 +66,10 @@ private:
     int divisor_ = 1;
     int primaryLight_ = -1;
     int width_ = 0, height_ = 0;
+    // Light the transmittance volumes were computed for: they are recomputed only when the
+    // primary light moves (DESIGN.md: derived structures are rebuilt when the light moved).
+    glm::vec4 lightKey_{0.0f};
+    bool lightValid_ = false;
     gpu::Texture radiance_{gpu::NoCreate}, transmittance_{gpu::NoCreate};
     gpu::VertexArray emptyVao_{gpu::NoCreate};
 };
