@@ -1,14 +1,12 @@
 #!/usr/bin/env bash
 # Runs every benchmark of bench/RESULTS.md on the GPU machine in one device call.
 # Here:  cmake --build build --target veil-bench veil-voxbench
-#        ../shared/tools/gpu-bundle build/bench/veil-bench build/bench/veil-voxbench \
-#            ../shared/datasets/third_party/vdb-smoke/smoke.vdb
+#        ../shared/tools/gpu-bundle build/bench/veil-bench build/bench/veil-voxbench
+#        (datasets/third_party travels with the working tree)
 # There (device run, carry .gpu):  bash bench/run_gpu.sh   -> $OUT/bench-all.json + logs
 set -uo pipefail
 source .gpu/env.sh
 export VEIL_SHADER_DIR=$PWD/shaders
-mkdir -p ../shared/datasets/third_party/vdb-smoke
-cp "$GPU_FILES/smoke.vdb" ../shared/datasets/third_party/vdb-smoke/
 R=$(mktemp -d)
 nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.mem --format=csv > "$R/gpu.txt"
 W=1920; H=1080

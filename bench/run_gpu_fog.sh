@@ -3,8 +3,6 @@
 set -uo pipefail
 source .gpu/env.sh
 export VEIL_SHADER_DIR=$PWD/shaders
-mkdir -p ../shared/datasets/third_party/vdb-smoke
-cp "$GPU_FILES/smoke.vdb" ../shared/datasets/third_party/vdb-smoke/
 for r in 1 2 4; do
   for rep in a b; do
     veil-bench bench/scenes/cloud256.json --set render.fog_resolution=$r --width 1920 \

@@ -124,7 +124,7 @@ TEST(CliTest, NoGlDeviceIsOneClearError) {
 }
 
 TEST(CliTest, InfoListsVdbGridsAndRefusesCorruptFiles) {
-    const fs::path vdb = sharedDir() / "datasets/third_party/vdb-smoke/smoke.vdb";
+    const fs::path vdb = dataDir() / "vdb-smoke/smoke.vdb";
     ASSERT_TRUE(fs::exists(vdb)) << vdb;
     CommandResult r = runCommand(veilExe() + " info '" + vdb.string() + "'");
     ASSERT_EQ(r.exitCode, 0) << r.output;

@@ -71,7 +71,7 @@ TEST(VoxelizeCliTest, WritesVdbAndVtiWithSummary) {
 TEST(VoxelizeCliTest, ThirdPartyTeapotToVdbAndVtiReadBack) {
     // The issue's acceptance: the third-party mesh through `veil voxelize` into a .vdb and a
     // .vti that read back with the same voxels, inside the mesh's bounds.
-    const fs::path teapot = sharedDir() / "datasets/third_party/utah-teapot/teapot.obj";
+    const fs::path teapot = dataDir() / "utah-teapot/teapot.obj";
     ASSERT_TRUE(fs::exists(teapot)) << teapot;
     const fs::path sc = dir() / "teapot.json";
     std::ofstream(sc) << R"({"cameras": [{"position": [0, 1, 3], "target": [0, 0, 0]}],

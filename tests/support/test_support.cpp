@@ -13,7 +13,7 @@ namespace veil::test {
 namespace fs = std::filesystem;
 
 fs::path sourceDir() { return VEIL_SOURCE_DIR; }
-fs::path sharedDir() { return VEIL_SHARED_DIR; }
+fs::path dataDir() { return VEIL_DATA_DIR; }
 fs::path outputDir() {
     fs::path dir = VEIL_TEST_OUTPUT_DIR;
     fs::create_directories(dir);

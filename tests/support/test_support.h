@@ -9,7 +9,7 @@
 namespace veil::test {
 
 std::filesystem::path sourceDir(); // repository root
-std::filesystem::path sharedDir(); // ../shared (third-party data)
+std::filesystem::path dataDir();   // datasets/third_party (third-party data, in the repository)
 std::filesystem::path outputDir(); // build/test-output, created on demand
 
 struct ImageDiff {

@@ -20,7 +20,7 @@ using namespace veil::scene;
 
 namespace {
 
-const fs::path kThirdParty = VEIL_SHARED_DIR "/datasets/third_party";
+const fs::path kThirdParty = VEIL_DATA_DIR;
 
 fs::path outputDir() {
     fs::path dir = fs::path(VEIL_TEST_OUTPUT_DIR) / "scene_test";

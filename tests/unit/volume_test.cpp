@@ -18,7 +18,7 @@ namespace veil::test {
 namespace fs = std::filesystem;
 
 namespace {
-fs::path third(const char* rel) { return sharedDir() / "datasets/third_party" / rel; }
+fs::path third(const char* rel) { return dataDir() / rel; }
 
 fs::path dir() {
     const fs::path d = outputDir() / "volume";
