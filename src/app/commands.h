@@ -12,5 +12,6 @@ void addRenderCommand(CLI::App& app);
 void addInfoCommand(CLI::App& app);
 void addViewCommand(CLI::App& app);
 void addVoxelizeCommand(CLI::App& app);
+void addTechniquesCommand(CLI::App& app);
 
 } // namespace veil::app

@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
     veil::app::addInfoCommand(app);
     veil::app::addViewCommand(app);
     veil::app::addVoxelizeCommand(app);
+    veil::app::addTechniquesCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -8,7 +8,6 @@
 #include "frame/renderer.h"
 #include "gpu/context.h"
 #include "io/image_io.h"
-#include "oit/reference/reference.h"
 #include "oit/technique.h"
 #include "scene/scene.h"
 
@@ -51,7 +50,8 @@ struct Rendered {
     int width = 0, height = 0;
     std::string camera;
     gpu::GpuTimer::Mode timer = gpu::GpuTimer::Mode::CpuFinish;
-    nlohmann::json oitStats; // technique-specific counters (reference: fragments, pool)
+    nlohmann::json oitStats;      // technique-specific counters (reference: fragments, pool)
+    nlohmann::json oitProperties; // effective values of the technique's properties
     nlohmann::json volumes = nlohmann::json::array();
 };
 
@@ -81,22 +81,17 @@ Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, con
     r.height = renderer.height();
     r.camera = renderer.camera().name;
     r.timer = renderer.timerMode();
-    if (const auto* ref = dynamic_cast<const oit::ReferenceTechnique*>(&renderer.technique())) {
-        const oit::ReferenceStats& st = ref->stats();
-        r.oitStats = {{"fragments", st.fragments},
-                      {"pool_nodes", st.poolNodes},
-                      {"pool_growths", st.poolGrowths},
-                      {"accumulation_repeats", st.accumulationRepeats},
-                      {"pixel_overflow_fragments", st.pixelOverflowFragments}};
-    }
+    if (nlohmann::json stats = renderer.technique().stats(); !stats.empty())
+        r.oitStats = std::move(stats);
+    r.oitProperties = renderer.technique().properties().values();
     return r;
 }
 
-// Fails before any rendering, naming the known techniques.
-void checkKnown(const std::string& name, const char* option) {
+// Fails before any rendering, naming the known techniques and where the name came from.
+void checkKnown(const std::string& name, const std::string& where) {
     const auto& registry = oit::Registry::instance();
-    VEIL_CHECK(registry.find(name), "{}: unknown OIT technique '{}' (known: {}{})", option, name,
-               fmt::join(registry.names(), ", "), std::string(option) == "--oit" ? ", or all" : "");
+    VEIL_CHECK(registry.find(name), "{}: unknown OIT technique '{}' (known: {}{})", where, name,
+               fmt::join(registry.names(), ", "), where == "--oit" ? ", or all" : "");
 }
 
 nlohmann::json errorJson(const std::string& against, const ImageError& e) {
@@ -133,7 +128,13 @@ void runRender(const RenderArgs& args) {
     scene::Scene scene = scene::loadScene(args.scene, args.overrides);
     const std::string oitName = args.oit.empty() ? scene.render.oit : args.oit;
     const bool all = oitName == "all";
-    if (!all) checkKnown(oitName, "--oit");
+    if (!all) {
+        checkKnown(oitName, args.oit.empty() ? scene.render.oitWhere + "/type" : "--oit");
+        // Bad property names or values fail here, before a context or an output exists.
+        if (oitName == scene.render.oit)
+            oit::Registry::instance().resolve(oitName, scene.render.oitProperties,
+                                              scene.render.oitWhere);
+    }
     if (!args.compareTo.empty()) {
         VEIL_CHECK(!all, "--compare-to cannot be combined with --oit all (which compares "
                          "every technique with reference)");
@@ -205,6 +206,7 @@ void runRender(const RenderArgs& args) {
                                   {"passes", f.passes},
                                   {"total_ms", f.totalMs},
                                   {"oit_stats", f.oitStats},
+                                  {"oit_properties", f.oitProperties},
                                   {"compare", errorJson("reference", errors[i].second)}});
         }
         report["techniques"] = techniques;
@@ -214,6 +216,7 @@ void runRender(const RenderArgs& args) {
         report["passes"] = main.passes;
         report["total_ms"] = main.totalMs;
         if (!main.oitStats.is_null()) report["oit_stats"] = main.oitStats;
+        report["oit_properties"] = main.oitProperties;
         if (!main.volumes.empty()) report["volumes"] = main.volumes;
         if (!args.compareTo.empty()) {
             report["compare"] = errorJson(args.compareTo, errors.front().second);

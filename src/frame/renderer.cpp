@@ -28,7 +28,14 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
                "image size {}x{} out of range 1..16384", width_, height_);
     camera_ = scene.camera(options.camera.empty() ? scene.render.camera : options.camera);
     oitName_ = options.oit.empty() ? scene.render.oit : options.oit;
-    oit_ = oit::Registry::instance().create(oitName_, context_, programs_);
+    if (!options.oitProperties.is_null())
+        oit_ = oit::Registry::instance().create(oitName_, context_, programs_,
+                                                options.oitProperties, "OIT properties");
+    else if (oitName_ == scene.render.oit)
+        oit_ = oit::Registry::instance().create(oitName_, context_, programs_,
+                                                scene.render.oitProperties, scene.render.oitWhere);
+    else // another technique than the scene's (--oit): its defaults
+        oit_ = oit::Registry::instance().create(oitName_, context_, programs_, {}, "--oit");
     scene.bounds(boundsLo_, boundsHi_);
 
     using gpu::ProgramDesc;

@@ -25,10 +25,17 @@
 namespace veil::frame {
 
 struct RendererOptions {
+    RendererOptions(int width_ = 0, int height_ = 0, std::string camera_ = {},
+                    std::string oit_ = {}, nlohmann::json oitProperties_ = {})
+        : width(width_), height(height_), camera(std::move(camera_)), oit(std::move(oit_)),
+          oitProperties(std::move(oitProperties_)) {}
     int width = 0;      // 0 = the scene's render.width
     int height = 0;     // 0 = the scene's render.height
     std::string camera; // empty = the scene's render.camera
     std::string oit;    // empty = the scene's render.oit
+    // The technique's properties (a JSON object, see `veil techniques`). Null = the scene's
+    // render.oit properties when the technique is the scene's, else the defaults.
+    nlohmann::json oitProperties;
 };
 
 class Renderer {

@@ -50,15 +50,32 @@ std::vector<std::string> Registry::names() const {
     return n;
 }
 
+const TechniqueInfo& Registry::get(const std::string& name, const std::string& where) const {
+    const TechniqueInfo* info = find(name);
+    VEIL_CHECK(info, "{}unknown OIT technique '{}' (known: {})", where.empty() ? "" : where + ": ",
+               name, fmt::join(names(), ", "));
+    return *info;
+}
+
+Properties Registry::resolve(const std::string& name, const nlohmann::json& values,
+                             const std::string& where) const {
+    return get(name, where.empty() ? where : where + "/type")
+        .properties.resolve(values, where, fmt::format("OIT technique '{}'", name));
+}
+
 std::unique_ptr<Technique> Registry::create(const std::string& name,
                                             const gpu::ContextInfo& context,
-                                            gpu::ProgramManager& programs) const {
-    const TechniqueInfo* info = find(name);
-    VEIL_CHECK(info, "unknown OIT technique '{}' (known: {})", name, fmt::join(names(), ", "));
-    VEIL_CHECK(!info->isAvailable || info->isAvailable(context),
+                                            gpu::ProgramManager& programs,
+                                            const nlohmann::json& values,
+                                            const std::string& where) const {
+    const TechniqueInfo& info = get(name, where.empty() ? where : where + "/type");
+    Properties properties = resolve(name, values, where);
+    VEIL_CHECK(!info.isAvailable || info.isAvailable(context),
                "OIT technique '{}' is not available on this GL driver ({})", name,
                context.renderer);
-    return info->create(programs);
+    std::unique_ptr<Technique> technique = info.create(programs, properties);
+    technique->properties_ = std::move(properties);
+    return technique;
 }
 
 } // namespace veil::oit

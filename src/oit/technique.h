@@ -6,6 +6,7 @@
 // behind the contribution is modulated by (1 - alpha + alpha * transmission) (000 Eq. 2).
 #pragma once
 
+#include "base/properties.h"
 #include "gpu/context.h"
 #include "gpu/objects.h"
 #include "gpu/shader.h"
@@ -68,13 +69,25 @@ public:
     virtual void resolve(const OitFrameTargets& targets) = 0;
     // Bytes of technique-owned storage per pixel (memory reports, benchmarks).
     virtual std::size_t bytesPerPixel() const = 0;
+    // Counters of the last frame for reports and the viewer (e.g. `reference`'s node pool),
+    // as a JSON object; empty for techniques that keep none.
+    virtual nlohmann::json stats() const { return nlohmann::json::object(); }
+
+    // The effective values of the technique's declared properties (Registry::create sets them).
+    const Properties& properties() const { return properties_; }
+
+private:
+    friend class Registry;
+    Properties properties_;
 };
 
 struct TechniqueInfo {
     std::string name;
     std::string description;
-    std::function<bool(const gpu::ContextInfo&)> isAvailable;
-    std::function<std::unique_ptr<Technique>(gpu::ProgramManager&)> create;
+    std::function<bool(const gpu::ContextInfo&)> isAvailable; // null = always
+    // Creates the technique from validated, complete properties of `properties` below.
+    std::function<std::unique_ptr<Technique>(gpu::ProgramManager&, const Properties&)> create;
+    PropertySchema properties; // declared once: scene, --set, report, `veil techniques`
 };
 
 // Technique ids in one registry (nvpro's renderer registry: STYLE.md). Built-in techniques
@@ -88,8 +101,18 @@ public:
     const std::vector<TechniqueInfo>& all() const { return techniques_; }
     std::vector<std::string> names() const;
     // Throws veil::Error listing the known names, or saying why it is unavailable here.
+    const TechniqueInfo& get(const std::string& name, const std::string& where = {}) const;
+    // Validates `values` (a JSON object of the technique's properties; "type" is ignored;
+    // null = defaults) against the technique's schema; `where` is the JSON path for messages
+    // ("scene.json: /render/oit").
+    Properties resolve(const std::string& name, const nlohmann::json& values,
+                       const std::string& where) const;
+    // Throws veil::Error listing the known names, saying why it is unavailable here, or naming
+    // a bad property (see resolve()).
     std::unique_ptr<Technique> create(const std::string& name, const gpu::ContextInfo& context,
-                                      gpu::ProgramManager& programs) const;
+                                      gpu::ProgramManager& programs,
+                                      const nlohmann::json& values = {},
+                                      const std::string& where = "render.oit") const;
 
 private:
     std::vector<TechniqueInfo> techniques_;

@@ -102,6 +102,9 @@ void applyOverrides(nlohmann::json& doc, const std::vector<std::string>& overrid
                            walked, node->size());
                 node = &(*node)[index];
             } else {
+                // A typed object in its plain string form ("oit": "stochastic") opens into
+                // {"type": "stochastic"} when a key below it is set (render.oit.samples=16).
+                if (node->is_string()) *node = nlohmann::json{{"type", *node}};
                 VEIL_CHECK(node->is_object() || node->is_null(),
                            "override '{}': '{}' is a {}, not an object or array", ov, walked,
                            node->type_name());

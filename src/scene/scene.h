@@ -6,7 +6,7 @@
 #include "scene/mesh.h"
 
 #include <glm/glm.hpp>
-#include <nlohmann/json_fwd.hpp>
+#include <nlohmann/json.hpp>
 
 #include <cstdint>
 #include <filesystem>
@@ -82,6 +82,11 @@ struct RenderSettings {
     int height = 360;
     std::string camera;        // name; empty = first camera
     std::string oit = "blend"; // OIT technique name (registry of src/oit)
+    // The technique's properties as written ("render": {"oit": {"type": NAME, ...}}, without
+    // "type"; null for the plain string form). Validated against the technique's declared
+    // properties when the frame creates it; oitWhere names the place for messages.
+    nlohmann::json oitProperties;
+    std::string oitWhere = "render.oit";
     std::uint32_t seed = 1;
     glm::vec3 ambient{0.03f};   // constant ambient irradiance term (times base color)
     glm::vec3 background{0.0f}; // radiance where nothing is drawn

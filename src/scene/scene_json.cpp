@@ -245,7 +245,18 @@ void parseRender(const Obj& o, RenderSettings& r) {
     r.width = int(o.integer("width", r.width, 1, 16384));
     r.height = int(o.integer("height", r.height, 1, 16384));
     r.camera = o.str("camera", r.camera);
-    r.oit = o.str("oit", r.oit);
+    // "oit": NAME or {"type": NAME, property: value, ...} (properties checked by src/oit).
+    if (const json* oit = o.get("oit"); oit && oit->is_object()) {
+        const json* type = oit->contains("type") ? &(*oit)["type"] : nullptr;
+        if (!type || !type->is_string())
+            fail(o.ctx(), o.ptr("oit") + "/type", "expected the technique name as a string");
+        r.oit = type->get<std::string>();
+        r.oitProperties = *oit;
+        r.oitProperties.erase("type");
+    } else {
+        r.oit = o.str("oit", r.oit);
+    }
+    r.oitWhere = fmt::format("{}: {}", o.ctx().source, o.ptr("oit"));
     if (r.oit.empty()) fail(o.ctx(), o.ptr("oit"), "technique name must not be empty");
     r.seed = std::uint32_t(o.integer("seed", r.seed, 0, std::numeric_limits<std::uint32_t>::max()));
     r.ambient = o.color("ambient", r.ambient);

@@ -103,7 +103,8 @@ ImageF exactComposite(const std::vector<Plane>& planes) {
                     -p->y, glm::dvec3(p->emission[0], p->emission[1], p->emission[2]), p->alpha,
                     glm::dvec3(p->transmission[0], p->transmission[1], p->transmission[2])));
             const glm::dvec3 c = oit::cpu::compositeSorted(frags, background);
-            for (int k = 0; k < 3; ++k) img.at(px, py, k) = static_cast<float>(c[k]);
+            for (int k = 0; k < 3; ++k)
+                img.at(px, py, k) = static_cast<float>(c[k]);
             img.at(px, py, 3) = 1.0f;
         }
     return img;

@@ -160,10 +160,13 @@ protected:
     // Renders with the given technique and parameters; writes an LDR PNG to look at.
     static ImageF render(const nlohmann::json& doc, const std::string& technique,
                          const std::string& png, const oit::PhenomenologicalParams& params = {}) {
-        oit::phenomenologicalDefaults() = params;
         const scene::Scene sc = scene::parseScene(doc, sourceDir());
-        frame::Renderer renderer(sc, info(), {kSize, kSize, "", technique});
-        oit::phenomenologicalDefaults() = {};
+        // The technique's defaults, except where the test's params differ from the struct's.
+        nlohmann::json props = oit::toProperties(params);
+        const nlohmann::json base = oit::toProperties({});
+        for (auto it = base.begin(); it != base.end(); ++it)
+            if (props[it.key()] == it.value()) props.erase(it.key());
+        frame::Renderer renderer(sc, info(), {kSize, kSize, "", technique, props});
         renderer.render();
         io::writeImage(outputDir() / (png + ".png"), renderer.readLdr());
         return renderer.readHdr();
@@ -403,7 +406,6 @@ TEST_F(OitPhenomenologicalTest, BadParametersThrowError) {
     EXPECT_THROW(
         render(makeScene({{0, 0, 2, 2, 1.0}}, {0, 0, 0}), "phenomenological", "phen_bad", bad),
         Error);
-    oit::phenomenologicalDefaults() = {};
 }
 
 } // namespace veil::test

@@ -22,10 +22,17 @@ namespace {
 
 constexpr double kTol = 2e-3;
 
-const oit::ReferenceStats& referenceStats(const frame::Renderer& renderer) {
-    const auto* ref = dynamic_cast<const oit::ReferenceTechnique*>(&renderer.technique());
-    if (!ref) throw Error("renderer does not use the reference technique");
-    return ref->stats();
+// The technique's counters through the generic stats() JSON (what reports and the viewer read).
+oit::ReferenceStats referenceStats(const frame::Renderer& renderer) {
+    const nlohmann::json s = renderer.technique().stats();
+    if (!s.contains("pool_nodes")) throw Error("renderer does not use the reference technique");
+    oit::ReferenceStats r;
+    r.fragments = s.at("fragments").get<std::uint64_t>();
+    r.poolNodes = s.at("pool_nodes").get<std::uint64_t>();
+    r.poolGrowths = s.at("pool_growths").get<int>();
+    r.accumulationRepeats = s.at("accumulation_repeats").get<int>();
+    r.pixelOverflowFragments = s.at("pixel_overflow_fragments").get<std::uint64_t>();
+    return r;
 }
 
 // Example 1 planes: red (alpha 0.45) at depth 9 in front of green (alpha 0.45) at depth 10.
@@ -34,12 +41,6 @@ std::vector<TestPlane> example1Planes() {
     TestPlane green{{0, 1, 0}, 0.45, {0, 0, 0}, 0.0};
     return {red, green};
 }
-
-// Restores the default limits when a test that lowers them ends.
-struct LimitsGuard {
-    oit::ReferenceLimits saved = oit::referenceLimits();
-    ~LimitsGuard() { oit::setReferenceLimits(saved); }
-};
 
 } // namespace
 
@@ -122,8 +123,6 @@ TEST_F(OitReferenceGLTest, RandomStacksMatchCpuComposite) {
 }
 
 TEST_F(OitReferenceGLTest, NodePoolGrowsAndRerenders) {
-    LimitsGuard guard;
-    oit::setReferenceLimits({1, std::uint64_t(1) << 30}); // pool starts at 4096 nodes
     const int size = 64, layers = 10;
     std::vector<TestPlane> planes;
     std::vector<oit::cpu::Fragment> frags;
@@ -135,11 +134,13 @@ TEST_F(OitReferenceGLTest, NodePoolGrowsAndRerenders) {
     }
     const scene::Scene sc =
         scene::parseScene(planeScene(planes, {0, 0, 0}, size, size), sourceDir());
-    frame::Renderer renderer(sc, info(), {size, size, "", "reference"});
+    // One node per pixel to start: the pool starts at 4096 nodes.
+    frame::Renderer renderer(sc, info(),
+                             {size, size, "", "reference", {{"initial_nodes_per_pixel", 1}}});
     EXPECT_EQ(referenceStats(renderer).poolNodes, 4096u);
     renderer.render();
     const ImageF img = renderer.readHdr();
-    const oit::ReferenceStats& stats = referenceStats(renderer);
+    const oit::ReferenceStats stats = referenceStats(renderer);
     EXPECT_EQ(stats.fragments, std::uint64_t(size) * size * layers);
     EXPECT_EQ(stats.poolGrowths, 1);
     EXPECT_EQ(stats.accumulationRepeats, 1);
@@ -154,13 +155,14 @@ TEST_F(OitReferenceGLTest, NodePoolGrowsAndRerenders) {
 }
 
 TEST_F(OitReferenceGLTest, NodePoolCapIsAClearError) {
-    LimitsGuard guard;
-    oit::setReferenceLimits({1, 4096 * oit::ReferenceTechnique::kNodeBytes});
     std::vector<TestPlane> planes(3, TestPlane{{1, 1, 1}, 0.5, {0, 0, 0}, 0.0});
     for (int i = 0; i < 3; ++i)
         planes[i].z = i;
     const scene::Scene sc = scene::parseScene(planeScene(planes, {0, 0, 0}, 64, 64), sourceDir());
-    frame::Renderer renderer(sc, info(), {64, 64, "", "reference"});
+    // A pool of 4096 nodes at most (0.125 MiB of 32-byte nodes), starting at 4096.
+    frame::Renderer renderer(
+        sc, info(),
+        {64, 64, "", "reference", {{"initial_nodes_per_pixel", 1}, {"max_pool_mib", 0.125}}});
     try {
         renderer.render();
         FAIL() << "expected veil::Error for a pool past the cap";
@@ -187,7 +189,7 @@ TEST_F(OitReferenceGLTest, PerPixelArrayOverflowIsCountedAndKeepsNearest) {
         scene::parseScene(planeScene(planes, {1, 1, 1}, size, size), sourceDir());
     frame::Renderer renderer(sc, info(), {size, size, "", "reference"});
     renderer.render();
-    const oit::ReferenceStats& stats = referenceStats(renderer);
+    const oit::ReferenceStats stats = referenceStats(renderer);
     EXPECT_EQ(stats.pixelOverflowFragments, std::uint64_t(2) * size * size);
     EXPECT_EQ(stats.fragments, std::uint64_t(layers) * size * size);
     const ImageF img = renderer.readHdr();

@@ -88,7 +88,6 @@ class OitRefractionTest : public GlTest {
 protected:
     static ImageF render(const nlohmann::json& doc, const std::string& technique,
                          const std::string& png) {
-        oit::phenomenologicalDefaults() = {};
         const scene::Scene sc = scene::parseScene(doc, sourceDir());
         frame::Renderer renderer(sc, info(), {kSize, kSize, "", technique});
         renderer.render();
@@ -254,9 +253,8 @@ TEST_F(OitRefractionTest, WithLowResolutionParticles) {
         oit::PhenomenologicalParams p;
         p.particleDownsample = 2;
         p.volumeRefraction = volume;
-        oit::phenomenologicalDefaults() = p;
-        frame::Renderer renderer(sc, info(), {160, 90, "", "phenomenological"});
-        oit::phenomenologicalDefaults() = {};
+        frame::Renderer renderer(sc, info(),
+                                 {160, 90, "", "phenomenological", oit::toProperties(p)});
         renderer.render();
         io::writeImage(outputDir() /
                            (volume ? "refr_smoke_glass_volume.png" : "refr_smoke_glass_thin.png"),

@@ -28,9 +28,6 @@ namespace veil::test {
 class OitStochasticGLTest : public GlTest {
 public:
     static const gpu::ContextInfo& ctx() { return info(); }
-
-protected:
-    void TearDown() override { oit::setStochasticParams({}); }
 };
 
 namespace {
@@ -74,9 +71,10 @@ nlohmann::json sceneJson(const std::vector<Plane>& planes, std::array<double, 3>
 
 ImageF render(const std::vector<Plane>& planes, std::array<double, 3> background,
               const std::string& technique, std::uint32_t seed, int samples, int passes) {
-    oit::setStochasticParams({samples, passes});
     const scene::Scene sc = scene::parseScene(sceneJson(planes, background, seed), sourceDir());
-    frame::Renderer renderer(sc, OitStochasticGLTest::ctx(), {kSize, kSize, "", technique});
+    frame::Renderer renderer(
+        sc, OitStochasticGLTest::ctx(),
+        {kSize, kSize, "", technique, {{"samples", samples}, {"passes", passes}}});
     renderer.render();
     ImageF img = renderer.readHdr();
     EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
@@ -95,12 +93,12 @@ ImageF sortedComposite(const std::vector<Plane>& planes, std::array<double, 3> b
             for (const Plane& p : planes)
                 if (wx >= p.x0 && wx <= p.x1 && wz >= p.z0 && wz <= p.z1)
                     frags.push_back(oit::cpu::makeFragment(
-                        -p.height, glm::dvec3(p.emission[0], p.emission[1], p.emission[2]),
-                        p.alpha,
+                        -p.height, glm::dvec3(p.emission[0], p.emission[1], p.emission[2]), p.alpha,
                         glm::dvec3(p.transmission[0], p.transmission[1], p.transmission[2])));
             const glm::dvec3 c = oit::cpu::compositeSorted(
                 frags, glm::dvec3(background[0], background[1], background[2]));
-            for (int k = 0; k < 3; ++k) out.at(x, y, k) = static_cast<float>(c[k]);
+            for (int k = 0; k < 3; ++k)
+                out.at(x, y, k) = static_cast<float>(c[k]);
             out.at(x, y, 3) = 1.0f;
         }
     return out;
@@ -296,8 +294,10 @@ TEST_F(OitStochasticGLTest, EightSamplesWhereTheDriverHasThem) {
 }
 
 TEST_F(OitStochasticGLTest, BadParametersAreErrors) {
-    EXPECT_THROW(oit::setStochasticParams({0, 1}), veil::Error);
-    EXPECT_THROW(oit::setStochasticParams({4, 0}), veil::Error);
+    const auto& registry = oit::Registry::instance();
+    EXPECT_THROW(registry.resolve("stochastic", {{"samples", 0}}, "t"), veil::Error);
+    EXPECT_THROW(registry.resolve("stochastic", {{"passes", 0}}, "t"), veil::Error);
+    EXPECT_THROW(registry.resolve("stochastic-depth", {{"sample", 4}}, "t"), veil::Error);
     EXPECT_EQ(oit::stochasticEffectiveSamples(64), std::min(info().maxSamples, 32));
 }
 

@@ -46,9 +46,12 @@ private:
 } // namespace
 
 void registerBlend(Registry& registry) {
-    registry.add({"blend", "unsorted alpha blending (single-pass baseline, order-dependent)",
-                  nullptr,
-                  [](gpu::ProgramManager&) { return std::make_unique<BlendTechnique>(); }});
+    registry.add(
+        {"blend",
+         "unsorted alpha blending (single-pass baseline, order-dependent)",
+         nullptr,
+         [](gpu::ProgramManager&, const Properties&) { return std::make_unique<BlendTechnique>(); },
+         {}});
 }
 
 } // namespace veil::oit

@@ -1,6 +1,7 @@
 // Moment-based order-independent transparency (002, Muenstermann, Krumpen, Klein, Peters 2018).
 //
-// Parameters (MomentTechniqueParams; defaults from defaultMomentTechniqueParams):
+// Parameters (MomentTechniqueParams; defaults from defaultMomentTechniqueParams; properties
+// overestimation, bias, wrapping_zone, z_min, z_max declared in registerMoment):
 //   overestimation  beta = 0.25           002 section 3.2, v_0 of Algorithms 1 and 2
 //   bias            float32 per set:      p4 5e-7, p6 5e-6, p8 5e-5, t3 8e-7, t4 1.5e-6
 //                   16-bit per set:       p4 6e-5, t3 6.5e-4, t4 8.5e-4
@@ -244,6 +245,24 @@ std::unique_ptr<Technique> createMomentTechnique(gpu::ProgramManager& programs,
 void registerMoment(Registry& registry) {
     for (const Variant& v : kVariants) {
         const std::string variant = v.name;
+        const bool trig = v.basis == cpu::MomentBasis::Trigonometric;
+        const MomentTechniqueParams defaults = defaultMomentTechniqueParams(variant);
+        PropertySchema schema;
+        schema
+            .real("overestimation", defaults.reconstruction.overestimation, 0.0, 1.0,
+                  "beta: weight of the upper bound in the reconstructed absorbance",
+                  "002 sec. 3.2, v_0 of Alg. 1/2")
+            .real("bias", defaults.reconstruction.bias, 0.0, 0.999,
+                  "moment biasing alpha against rounding (per set and storage)",
+                  "002 sec. 4.1, 5.3; MOMENTS-NOTES.md");
+        if (trig)
+            schema.real("wrapping_zone", defaults.reconstruction.wrappingZone, 1e-3, 3.14159,
+                        "theta of the wrapping zone of the trigonometric bound", "002 Eq. 5, 6");
+        schema
+            .real("z_min", 0.0, 0.0, 1e30,
+                  "near end of the log-depth warp (0 = the camera's near plane)", "002 sec. 3.3")
+            .real("z_max", 0.0, 0.0, 1e30,
+                  "far end of the log-depth warp (0 = the camera's far plane)", "002 sec. 3.3");
         std::function<bool(const gpu::ContextInfo&)> available;
         if (v.storage16)
             available = [](const gpu::ContextInfo& c) { return c.fragmentShaderInterlock; };
@@ -252,10 +271,17 @@ void registerMoment(Registry& registry) {
              fmt::format("moment-based OIT (002), {} {} moments, {} storage", v.count,
                          v.basis == cpu::MomentBasis::Power ? "power" : "trigonometric",
                          v.storage16 ? "16-bit (needs fragment shader interlock)" : "float32"),
-             available, [variant](gpu::ProgramManager& programs) {
-                 return createMomentTechnique(programs, variant,
-                                              defaultMomentTechniqueParams(variant));
-             }});
+             available,
+             [variant, trig](gpu::ProgramManager& programs, const Properties& p) {
+                 MomentTechniqueParams params = defaultMomentTechniqueParams(variant);
+                 params.reconstruction.overestimation = p.getDouble("overestimation");
+                 params.reconstruction.bias = p.getDouble("bias");
+                 if (trig) params.reconstruction.wrappingZone = p.getDouble("wrapping_zone");
+                 params.zMin = p.getDouble("z_min");
+                 params.zMax = p.getDouble("z_max");
+                 return createMomentTechnique(programs, variant, params);
+             },
+             std::move(schema)});
     }
 }
 

@@ -32,9 +32,40 @@ void PhenomenologicalParams::validate() const {
                "phenomenological: volumeBlur must be >= 0, got {}", volumeBlur);
 }
 
-PhenomenologicalParams& phenomenologicalDefaults() {
-    static PhenomenologicalParams params;
-    return params;
+nlohmann::json toProperties(const PhenomenologicalParams& p) {
+    return {{"pixels_per_unit", p.pixelsPerUnit},
+            {"max_diffusion_pixels", p.maxDiffusionPixels},
+            {"k0", p.k0},
+            {"k1", p.k1},
+            {"weight_min", p.weightMin},
+            {"weight_max", p.weightMax},
+            {"refraction_depth", p.refractionDepth},
+            {"self_modulation", p.selfModulation},
+            {"refraction", p.refraction},
+            {"diffusion", p.diffusion},
+            {"particle_downsample", p.particleDownsample},
+            {"volume_refraction", p.volumeRefraction},
+            {"thickness_reference", p.thicknessReference},
+            {"volume_blur", p.volumeBlur}};
+}
+
+PhenomenologicalParams phenomenologicalParams(const Properties& p) {
+    PhenomenologicalParams r;
+    r.pixelsPerUnit = p.getFloat("pixels_per_unit");
+    r.maxDiffusionPixels = p.getInt("max_diffusion_pixels");
+    r.k0 = p.getFloat("k0");
+    r.k1 = p.getFloat("k1");
+    r.weightMin = p.getFloat("weight_min");
+    r.weightMax = p.getFloat("weight_max");
+    r.refractionDepth = p.getFloat("refraction_depth");
+    r.selfModulation = p.getBool("self_modulation");
+    r.refraction = p.getBool("refraction");
+    r.diffusion = p.getBool("diffusion");
+    r.particleDownsample = p.getInt("particle_downsample");
+    r.volumeRefraction = p.getBool("volume_refraction");
+    r.thicknessReference = p.getFloat("thickness_reference");
+    r.volumeBlur = p.getFloat("volume_blur");
+    return r;
 }
 
 namespace {
@@ -313,32 +344,62 @@ private:
 
 } // namespace
 
+static PropertySchema phenomenologicalSchema() {
+    const PhenomenologicalParams d;
+    PropertySchema s;
+    s.real("pixels_per_unit", d.pixelsPerUnit, 0.0, 1e9,
+           "W / (2 tan(theta/2)) of the diffusion std-dev; 0 = from the camera", "000 Eq. 7")
+        .integer("max_diffusion_pixels", d.maxDiffusionPixels, 1, 64,
+                 "diffusion kernel radius clamp (D saturates there)", "000 Listing 2")
+        .real("k0", d.k0, 0.0, 1e6, "std-dev of one c = 0 surface at unit depth", "000 Eq. 6-7")
+        .real("k1", d.k1, 1e-9, 1e6, "implied thickness of the scattering surface", "000 Eq. 7")
+        .real("weight_min", d.weightMin, 1e-9, 1000.0, "lower clamp of the depth weight w",
+              "000 Eq. 5")
+        .real("weight_max", d.weightMax, 1e-9, 1000.0, "upper clamp of the depth weight w",
+              "000 Eq. 5")
+        .real("refraction_depth", d.refractionDepth, 1e-9, 1e6,
+              "Delta z: background plane distance behind the surface", "000 Eq. 9")
+        .boolean("self_modulation", d.selfModulation, "modulate the surface by its own colour",
+                 "000 Eq. 13, 001 Eq. 14")
+        .boolean("refraction", d.refraction, "refraction offset in the resolve", "000 sec. 5")
+        .boolean("diffusion", d.diffusion, "occlusion-aware diffusion gather in the resolve",
+                 "000 sec. 5, Listing 2")
+        .integer("particle_downsample", d.particleDownsample, 1, 4,
+                 "1, 2 or 4: billboards accumulate at 1/n resolution, bilateral upsampled",
+                 "000 sec. 5")
+        .boolean("volume_refraction", d.volumeRefraction,
+                 "thickness from front/back slice maps scales refraction and absorption",
+                 "003 sec. 3")
+        .real("thickness_reference", d.thicknessReference, 0.0, 1e6,
+              "medium thickness a transmission t stands for (0 = t not rescaled)", "003 sec. 3")
+        .real("volume_blur", d.volumeBlur, 0.0, 1e6, "k_r of the thickness x roughness blur",
+              "003 sec. 3");
+    return s;
+}
+
+static std::unique_ptr<Technique> createPhenomenological(gpu::ProgramManager& programs,
+                                                         const Properties& properties) {
+    return std::make_unique<PhenomenologicalTechnique>(programs,
+                                                       phenomenologicalParams(properties));
+}
+
 void registerPhenomenological(Registry& registry) {
     registry.add({"phenomenological",
                   "McGuire & Mara 2016/2017: weighted blended OIT with colored transmission, "
                   "diffusion, refraction and self-modulation",
-                  nullptr, [](gpu::ProgramManager& programs) {
-                      return std::make_unique<PhenomenologicalTechnique>(
-                          programs, phenomenologicalDefaults());
-                  }});
+                  nullptr, createPhenomenological, phenomenologicalSchema()});
     // The paper's cost figures are given with and without diffusion; the variant without it
     // (resolve without the gather) is the one the benchmark targets name.
     registry.add({"phenomenological-nodiff",
                   "phenomenological without diffusion (refraction and self-modulation kept)",
-                  nullptr, [](gpu::ProgramManager& programs) {
-                      PhenomenologicalParams p = phenomenologicalDefaults();
-                      p.diffusion = false;
-                      return std::make_unique<PhenomenologicalTechnique>(programs, p);
-                  }});
+                  nullptr, createPhenomenological,
+                  phenomenologicalSchema().withDefault("diffusion", false)});
     // Thickness-dependent refraction and absorption from slice maps (003).
     registry.add({"phenomenological-volume",
                   "phenomenological with volume refraction: per-pixel thickness from front/back "
                   "slice maps scales refraction, Beer-Lambert absorption and roughness blur",
-                  nullptr, [](gpu::ProgramManager& programs) {
-                      PhenomenologicalParams p = phenomenologicalDefaults();
-                      p.volumeRefraction = true;
-                      return std::make_unique<PhenomenologicalTechnique>(programs, p);
-                  }});
+                  nullptr, createPhenomenological,
+                  phenomenologicalSchema().withDefault("volume_refraction", true)});
 }
 
 } // namespace veil::oit

@@ -5,7 +5,8 @@
 // unordered pass, then a compute resolve with refraction, occlusion-aware diffusion and
 // self-modulation (000 section 5, Listing 2; 001 Eq. 14).
 //
-// Parameters (PhenomenologicalParams; defaults in brackets):
+// Parameters (PhenomenologicalParams; defaults in brackets; the properties of the three ids
+// are the same names in snake_case, declared in registerPhenomenological):
 //   pixelsPerUnit       [0]     Eq. 7's W / (2 tan(theta/2)) ("PPD" of Listing 2, which
 //                               uses 200). 0 = from the camera's projection (perspective:
 //                               divided by |z| per Eq. 7; orthographic: pixels per world unit).
@@ -77,9 +78,10 @@ struct PhenomenologicalParams {
     void validate() const;
 };
 
-// The parameters a newly created `phenomenological` technique starts with (the registry
-// creates techniques by name only). Tests and tools change them before creating a renderer.
-PhenomenologicalParams& phenomenologicalDefaults();
+// The same parameters as the technique's property values (snake_case keys: pixels_per_unit,
+// max_diffusion_pixels, ...), for render.oit in a scene or RendererOptions::oitProperties.
+nlohmann::json toProperties(const PhenomenologicalParams& params);
+PhenomenologicalParams phenomenologicalParams(const Properties& properties);
 
 void registerPhenomenological(Registry& registry);
 

@@ -11,11 +11,6 @@
 namespace veil::oit {
 
 namespace {
-ReferenceLimits& globalLimits() {
-    static ReferenceLimits limits;
-    return limits;
-}
-
 constexpr GLuint kEndOfList = 0xFFFFFFFFu;
 
 std::uint64_t nextPowerOfTwo(std::uint64_t v) {
@@ -28,15 +23,8 @@ std::uint64_t nextPowerOfTwo(std::uint64_t v) {
 double mib(std::uint64_t bytes) { return static_cast<double>(bytes) / (1024.0 * 1024.0); }
 } // namespace
 
-void setReferenceLimits(const ReferenceLimits& limits) {
-    VEIL_CHECK(limits.initialNodesPerPixel > 0 && limits.maxPoolBytes >= 1024,
-               "reference OIT limits: initialNodesPerPixel must be > 0 and maxPoolBytes >= 1024");
-    globalLimits() = limits;
-}
-ReferenceLimits referenceLimits() { return globalLimits(); }
-
-ReferenceTechnique::ReferenceTechnique(gpu::ProgramManager& programs)
-    : programs_(programs), limits_(globalLimits()) {
+ReferenceTechnique::ReferenceTechnique(gpu::ProgramManager& programs, const ReferenceLimits& limits)
+    : programs_(programs), limits_(limits) {
     resolveProgram_ = programs_.add(gpu::ProgramDesc::compute(
         "oit/reference/resolve.comp",
         {fmt::format("OIT_REF_MAX_FRAGMENTS {}", kMaxFragmentsPerPixel)}));
@@ -119,7 +107,7 @@ bool ReferenceTechnique::repeatAccumulation() {
     VEIL_CHECK(requested <= maxPoolNodes_,
                "reference OIT: the frame has {} transparent fragments ({:.1f} MiB of nodes) but "
                "the node pool is capped at {} nodes ({:.1f} MiB); lower the resolution or the "
-               "transparent depth complexity, or raise ReferenceLimits::maxPoolBytes",
+               "transparent depth complexity, or raise render.oit.max_pool_mib",
                requested, mib(std::uint64_t(requested) * kNodeBytes), maxPoolNodes_,
                mib(maxPoolNodes_ * kNodeBytes));
     const std::uint64_t grown = std::min(nextPowerOfTwo(requested), maxPoolNodes_);
@@ -160,12 +148,34 @@ std::size_t ReferenceTechnique::bytesPerPixel() const {
     return 4 + static_cast<std::size_t>((stats_.poolNodes * kNodeBytes + pixels - 1) / pixels);
 }
 
+nlohmann::json ReferenceTechnique::stats() const {
+    return {{"fragments", stats_.fragments},
+            {"pool_nodes", stats_.poolNodes},
+            {"pool_mib", mib(stats_.poolNodes * kNodeBytes)},
+            {"pool_growths", stats_.poolGrowths},
+            {"accumulation_repeats", stats_.accumulationRepeats},
+            {"pixel_overflow_fragments", stats_.pixelOverflowFragments}};
+}
+
 void registerReference(Registry& registry) {
+    PropertySchema schema;
+    schema
+        .integer("initial_nodes_per_pixel", 4, 1, 1024,
+                 "starting node-pool size per pixel (the pool grows by powers of two)")
+        .real("max_pool_mib", 1024.0, 1.0 / 1024.0, 65536.0,
+              "cap on the node pool in MiB (also capped by GL_MAX_SHADER_STORAGE_BLOCK_SIZE)");
     registry.add({"reference",
                   "exact per-pixel sorted compositing (per-pixel linked lists, compute resolve)",
-                  nullptr, [](gpu::ProgramManager& programs) {
-                      return std::make_unique<ReferenceTechnique>(programs);
-                  }});
+                  nullptr,
+                  [](gpu::ProgramManager& programs, const Properties& p) {
+                      ReferenceLimits limits;
+                      limits.initialNodesPerPixel =
+                          static_cast<std::uint64_t>(p.getInt("initial_nodes_per_pixel"));
+                      limits.maxPoolBytes =
+                          static_cast<std::uint64_t>(p.getDouble("max_pool_mib") * 1024.0 * 1024.0);
+                      return std::make_unique<ReferenceTechnique>(programs, limits);
+                  },
+                  std::move(schema)});
 }
 
 } // namespace veil::oit

@@ -1,10 +1,11 @@
 // `reference`: exact per-pixel sorted compositing with per-pixel linked lists (the ground
 // truth the approximate techniques are measured against).
 //
-// Parameters (ReferenceLimits, process-wide, defaults in brackets):
-//   initialNodesPerPixel [4]      starting node-pool size = this * width * height (min 4096)
-//   maxPoolBytes         [1 GiB]  cap on the node pool; also capped by the driver's
-//                                 GL_MAX_SHADER_STORAGE_BLOCK_SIZE. Past it: veil::Error.
+// Properties (declared in registerReference; defaults in brackets):
+//   initial_nodes_per_pixel [4]    starting node-pool size = this * width * height (min 4096)
+//   max_pool_mib            [1024] cap on the node pool; also capped by the driver's
+//                                  GL_MAX_SHADER_STORAGE_BLOCK_SIZE. Past it: veil::Error.
+// Fixed:
 //   maxFragmentsPerPixel [128]    local array of the resolve (OIT_REF_MAX_FRAGMENTS); deeper
 //                                 pixels keep their nearest 128 fragments, the rest are
 //                                 counted (ReferenceStats::pixelOverflowFragments) and warned
@@ -27,9 +28,6 @@ struct ReferenceLimits {
     std::uint64_t initialNodesPerPixel = 4;
     std::uint64_t maxPoolBytes = std::uint64_t(1) << 30;
 };
-// Limits for techniques created afterwards (tests lower them to exercise growth and the cap).
-void setReferenceLimits(const ReferenceLimits& limits);
-ReferenceLimits referenceLimits();
 
 struct ReferenceStats {
     std::uint64_t fragments = 0;              // fragments stored in the last frame
@@ -44,7 +42,7 @@ public:
     static constexpr int kMaxFragmentsPerPixel = 128;
     static constexpr std::size_t kNodeBytes = 32;
 
-    explicit ReferenceTechnique(gpu::ProgramManager& programs);
+    ReferenceTechnique(gpu::ProgramManager& programs, const ReferenceLimits& limits);
     std::string name() const override { return "reference"; }
     std::filesystem::path emitInclude() const override { return "oit/reference/emit.glsl"; }
     void resize(const OitFrameTargets& targets) override;
@@ -56,7 +54,8 @@ public:
     void resolve(const OitFrameTargets& targets) override;
     std::size_t bytesPerPixel() const override;
 
-    const ReferenceStats& stats() const { return stats_; }
+    const ReferenceStats& referenceStats() const { return stats_; }
+    nlohmann::json stats() const override;
 
 private:
     void allocatePool(std::uint64_t nodes);

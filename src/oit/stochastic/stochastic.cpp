@@ -41,11 +41,6 @@ namespace veil::oit {
 
 namespace {
 
-StochasticParams& globalParams() {
-    static StochasticParams params;
-    return params;
-}
-
 enum class PassKind { TotalAlpha = 0, StochColor = 1, StochDepth = 2, Accumulate = 3 };
 
 struct PassInfo {
@@ -249,6 +244,14 @@ public:
                         GL_FRAMEBUFFER_BARRIER_BIT);
     }
 
+    nlohmann::json stats() const override {
+        // S after the driver's clamp: what the image was made with.
+        return {{"effective_samples", samples_},
+                {"passes", passes_},
+                {"mask_bits", maskBits_},
+                {"geometry_passes", geometryPasses()}};
+    }
+
     std::size_t bytesPerPixel() const override {
         std::size_t perSample = 4 + 8; // depth + colour
         if (mode_ != StochasticMode::Basic) perSample += 8;
@@ -317,23 +320,23 @@ private:
 };
 
 void add(Registry& registry, const char* id, StochasticMode mode, const char* description) {
+    PropertySchema schema;
+    schema
+        .integer("samples", 8, 1, 64,
+                 "MSAA samples per pixel per pass, S (clamped to the driver's limits and 32)",
+                 "004 3.1, 3.5")
+        .integer("passes", 1, 1, 64,
+                 "passes with different seeds; total samples per pixel = S x passes",
+                 "004 3.5, sec. 5");
     registry.add({id, description, [](const gpu::ContextInfo& c) { return c.maxSamples >= 2; },
-                  [mode](gpu::ProgramManager& programs) {
-                      return std::make_unique<StochasticTechnique>(mode, globalParams(), programs);
-                  }});
+                  [mode](gpu::ProgramManager& programs, const Properties& p) {
+                      const StochasticParams params{p.getInt("samples"), p.getInt("passes")};
+                      return std::make_unique<StochasticTechnique>(mode, params, programs);
+                  },
+                  std::move(schema)});
 }
 
 } // namespace
-
-void setStochasticParams(const StochasticParams& params) {
-    VEIL_CHECK(params.samples >= 1 && params.samples <= 64,
-               "stochastic transparency: samples {} out of range 1..64", params.samples);
-    VEIL_CHECK(params.passes >= 1 && params.passes <= 64,
-               "stochastic transparency: passes {} out of range 1..64", params.passes);
-    globalParams() = params;
-}
-
-StochasticParams stochasticParams() { return globalParams(); }
 
 int stochasticEffectiveSamples(int requested) {
     GLint maxSamples = 0, maxColor = 0, maxDepth = 0;

@@ -23,12 +23,8 @@ struct StochasticParams {
     int passes = 1;
 };
 
-// Parameters used by the registry's factories for techniques created afterwards. The
-// Technique interface has no parameter map yet (integrator: replace this with it); tests and
-// benchmarks set the sample count and passes here. Throws veil::Error on invalid values.
-void setStochasticParams(const StochasticParams& params);
-StochasticParams stochasticParams();
-
+// The properties `samples` and `passes` of the three ids map onto StochasticParams (see the
+// parameter block of stochastic.cpp).
 // The effective S for the current GL context: min(requested, driver limits, 32).
 int stochasticEffectiveSamples(int requested);
 

@@ -77,9 +77,11 @@ void registerWboit(Registry& registry) {
     registry.add({"wboit",
                   "weighted blended OIT (McGuire & Bavoil 2013; 000 Eq. 5 weight, Listing 2 "
                   "guards; grey revealage)",
-                  nullptr, [](gpu::ProgramManager& programs) {
+                  nullptr,
+                  [](gpu::ProgramManager& programs, const Properties&) {
                       return std::make_unique<WboitTechnique>(programs);
-                  }});
+                  },
+                  {}});
 }
 
 } // namespace veil::oit

@@ -1,0 +1,105 @@
+// `veil techniques [NAME]`: every registered technique with its declared properties
+// (key, type, default, range, doc, paper citation) and whether this GL driver has it.
+#include "app/commands.h"
+
+#include "base/error.h"
+#include "gpu/context.h"
+#include "oit/technique.h"
+
+#include <nlohmann/json.hpp>
+
+#include <fmt/format.h>
+
+#include <iostream>
+#include <memory>
+#include <optional>
+
+namespace veil::app {
+
+namespace {
+
+struct TechniquesArgs {
+    std::string name;
+    bool json = false;
+    int device = -1;
+};
+
+std::string valueText(const nlohmann::json& v) {
+    if (v.is_number_float()) return fmt::format("{:g}", v.get<double>());
+    if (v.is_array()) {
+        std::string out = "[";
+        for (std::size_t i = 0; i < v.size(); ++i)
+            out += (i ? ", " : "") + valueText(v[i]);
+        return out + "]";
+    }
+    return v.is_string() ? v.get<std::string>() : v.dump();
+}
+
+void run(const TechniquesArgs& args) {
+    const auto& registry = oit::Registry::instance();
+    std::vector<const oit::TechniqueInfo*> chosen;
+    if (args.name.empty())
+        for (const auto& t : registry.all())
+            chosen.push_back(&t);
+    else
+        chosen.push_back(&registry.get(args.name));
+
+    // Availability needs a context; without one the list is still printed.
+    std::optional<gpu::ContextInfo> info;
+    std::string noContext;
+    try {
+        gpu::HeadlessContext context({args.device, false});
+        info = context.info();
+    } catch (const Error& e) {
+        noContext = e.what();
+    }
+    auto availability = [&](const oit::TechniqueInfo& t) -> std::string {
+        if (!info) return "unknown (no GL context)";
+        if (!t.isAvailable || t.isAvailable(*info)) return "yes";
+        return "no";
+    };
+
+    if (args.json) {
+        nlohmann::json out = nlohmann::json::array();
+        for (const auto* t : chosen)
+            out.push_back({{"kind", "oit"},
+                           {"name", t->name},
+                           {"description", t->description},
+                           {"available", availability(*t)},
+                           {"properties", t->properties.describe()}});
+        std::cout << out.dump(2) << "\n";
+        return;
+    }
+    std::cout << "GL driver: " << (info ? info->renderer : "none (" + noContext + ")") << "\n";
+    for (const auto* t : chosen) {
+        std::cout << "\noit " << t->name << "  (available: " << availability(*t) << ")\n  "
+                  << t->description << "\n";
+        if (t->properties.empty()) std::cout << "  no properties\n";
+        for (const PropertyDecl& d : t->properties.all()) {
+            std::cout << fmt::format("  {:<24} {:<6} default {}", d.key, propertyTypeName(d.type),
+                                     valueText(d.defaultValue));
+            if (const std::string range = d.rangeText(); !range.empty())
+                std::cout << "  range " << range;
+            std::cout << "\n      " << d.doc;
+            if (!d.citation.empty()) std::cout << "  [" << d.citation << "]";
+            std::cout << "\n";
+        }
+    }
+    std::cout << "\nSet them in a scene as \"render\": {\"oit\": {\"type\": NAME, KEY: VALUE}} or "
+                 "with --set render.oit.KEY=VALUE.\n";
+}
+
+} // namespace
+
+void addTechniquesCommand(CLI::App& app) {
+    auto args = std::make_shared<TechniquesArgs>();
+    CLI::App* cmd =
+        app.add_subcommand("techniques", "List the registered techniques and their properties");
+    cmd->add_option("name", args->name, "Only this technique");
+    cmd->add_flag("--json", args->json, "Print JSON instead of text");
+    cmd->add_option("--device", args->device, "EGL device index (availability check)")
+        ->check(CLI::Range(-1, 64));
+    cmd->callback([args] { run(*args); });
+}
+
+} // namespace veil::app
