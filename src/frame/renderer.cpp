@@ -105,7 +105,7 @@ void Renderer::createTargets() {
         .attach(GL_DEPTH_ATTACHMENT, depth_)
         .drawBuffers({GL_COLOR_ATTACHMENT0});
     opaqueFbo_.checkComplete("opaque");
-    targets_ = {width_, height_, &hdr_, &depth_, scene_.render.seed};
+    targets_ = {width_, height_, &hdr_, &depth_, scene_.render.seed, &state_};
     oit_->resize(targets_);
 }
 
@@ -184,6 +184,9 @@ void Renderer::render() {
     // Fit the shadow map first: updateUniforms() reads its matrix.
     if (shadowMap_) shadowMap_->fit(scene_.lights[shadowLight_], boundsLo_, boundsHi_);
     updateUniforms();
+    // Whatever ran since the last frame (another renderer, a voxelization, the viewer's UI)
+    // may have changed GL state: the first pass sets all of its declared state.
+    state_.invalidate();
     cameraUbo_.bindBase(GL_UNIFORM_BUFFER, VEIL_UBO_CAMERA);
     lightsUbo_.bindBase(GL_UNIFORM_BUFFER, VEIL_UBO_LIGHTS);
 
@@ -191,23 +194,20 @@ void Renderer::render() {
         gpu::TimerScope t(timer_, "shadow");
         const gpu::Program& program = programs_.get(shadowProgram_);
         program.set("useOverride", 1).set("viewProjection", shadowMap_->viewProjection());
-        shadowMap_->render([&] { drawObjects(program, Subset::ShadowCasters); });
+        shadowMap_->render(state_, [&] { drawObjects(program, Subset::ShadowCasters); });
     }
     if (shadowMap_) shadowMap_->texture().bind(VEIL_TEX_SHADOW_MAP);
 
     {
         gpu::TimerScope t(timer_, "opaque");
         opaqueFbo_.bind();
-        glViewport(0, 0, width_, height_);
+        gpu::PipelineState state;
+        state.view(width_, height_).depth(GL_LESS, true);
+        state_.apply(state); // before the clears: they obey the colour and depth masks
         const glm::vec4 bg(scene_.render.background, 1.0f);
         const float one = 1.0f;
         glClearNamedFramebufferfv(opaqueFbo_.id(), GL_COLOR, 0, &bg.x);
         glClearNamedFramebufferfv(opaqueFbo_.id(), GL_DEPTH, 0, &one);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LESS);
-        glDepthMask(GL_TRUE);
-        glDisable(GL_BLEND);
-        glDisable(GL_CULL_FACE);
         const gpu::Program& program = programs_.get(opaqueProgram_);
         program.set("useOverride", 0);
         drawObjects(program, Subset::Opaque);

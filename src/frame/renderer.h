@@ -9,6 +9,7 @@
 
 #include "frame/gpu_mesh.h"
 #include "gpu/context.h"
+#include "gpu/pipeline_state.h"
 #include "gpu/readback.h"
 #include "gpu/shader.h"
 #include "gpu/timer.h"
@@ -95,6 +96,7 @@ private:
     gpu::Texture hdr_{gpu::NoCreate}, depth_{gpu::NoCreate}, ldr_{gpu::NoCreate};
     gpu::Framebuffer opaqueFbo_{gpu::NoCreate};
     oit::OitFrameTargets targets_;
+    gpu::StateTracker state_; // every pass's fixed-function state goes through it
     gpu::GpuTimer timer_;
     std::vector<gpu::PassTime> passTimes_;
 };

@@ -9,6 +9,7 @@
 #include "base/properties.h"
 #include "gpu/context.h"
 #include "gpu/objects.h"
+#include "gpu/pipeline_state.h"
 #include "gpu/shader.h"
 
 #include <cstddef>
@@ -29,7 +30,19 @@ struct OitFrameTargets {
     const gpu::Texture* hdrColor = nullptr; // RGBA16F/32F
     const gpu::Texture* depth = nullptr;    // DEPTH_COMPONENT32F
     std::uint32_t seed = 1;
+    // The frame's state tracker: a technique applies a declared PipelineState before each of
+    // its draws (and before clears, which obey the colour and depth masks) and issues no raw
+    // GL state calls of its own.
+    gpu::StateTracker* state = nullptr;
 };
+
+// What every accumulation pass starts from: the full viewport, depth tested against the
+// opaque depth and not written, no culling, no blending.
+inline gpu::PipelineState accumulationState(const OitFrameTargets& targets) {
+    gpu::PipelineState s;
+    s.view(targets.width, targets.height).depth(GL_LESS, false);
+    return s;
+}
 
 class Technique {
 public:
@@ -59,7 +72,8 @@ public:
         (void)pass;
         (void)program;
     }
-    // Restores default state (blending off, depth writes on, framebuffer 0).
+    // Ends geometry pass `pass` (barriers, unbinding its images and framebuffer). Fixed-function
+    // state needs no restoring: the next pass declares its own.
     virtual void endAccumulate(int pass) = 0;
     // Asked once after the last geometry pass: true makes the frame run all geometry passes
     // again (e.g. the `reference` node pool overflowed and was grown). A technique must not

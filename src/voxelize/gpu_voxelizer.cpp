@@ -1,6 +1,7 @@
 #include "voxelize/gpu_voxelizer.h"
 
 #include "base/error.h"
+#include "gpu/pipeline_state.h"
 #include "gpu/timer.h"
 #include "shaders/common/bindings.h"
 
@@ -38,6 +39,9 @@ std::string methodName(Method method) {
 
 struct GpuVoxelizer::Impl {
     gpu::ContextInfo info;
+    // Declared state of each pass. Invalidated at every pass start: other code (a frame, the
+    // viewer) may have run in this context since.
+    mutable gpu::StateTracker state;
     gpu::Buffer vertices{gpu::NoCreate};
     gpu::VertexArray vao{gpu::NoCreate};
     std::size_t triangles = 0;
@@ -113,18 +117,19 @@ struct GpuVoxelizer::Impl {
         if (axis >= 0) d.push_back("THREE_AXIS");
         return d;
     }
-    void setRasterState(bool conservative) const {
-        glDisable(GL_DEPTH_TEST);
-        glDisable(GL_CULL_FACE);
-        glDisable(GL_BLEND);
-        glDepthMask(GL_FALSE);
-        if (conservative && info.conservativeRaster) glEnable(GL_CONSERVATIVE_RASTERIZATION_NV);
+    // No depth test or writes, no culling, no blending; hardware conservative raster where
+    // the driver has it and the method wants it.
+    gpu::PipelineState rasterState(bool conservative, int width, int height) const {
+        gpu::PipelineState s;
+        s.view(width, height);
+        s.depthWrite = false;
+        s.conservativeRasterNV = conservative && info.conservativeRaster;
+        return s;
     }
+    // Back to GL's defaults (conservative raster and logic op off) for code that does not
+    // declare its state.
     void restoreState() const {
-        if (info.conservativeRaster) glDisable(GL_CONSERVATIVE_RASTERIZATION_NV);
-        glDisable(GL_COLOR_LOGIC_OP);
-        glDisable(GL_BLEND);
-        glDepthMask(GL_TRUE);
+        state.apply(gpu::PipelineState{});
         glUseProgram(0);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
@@ -152,20 +157,19 @@ void GpuVoxelizer::Impl::rangePass(const GpuVoxelizer& self, SliceMap& grid, boo
     fbo.attach(GL_COLOR_ATTACHMENT0, tex).drawBuffers({GL_COLOR_ATTACHMENT0});
     fbo.checkComplete("voxelize range pass");
     fbo.bind();
-    glViewport(0, 0, grid.width, grid.height);
+    gpu::PipelineState s = rasterState(conservative, grid.width, grid.height);
+    state.invalidate();
+    state.apply(s);
     const GLfloat big[4] = {1e30f, 1e30f, 0.0f, 0.0f};
     glClearBufferfv(GL_COLOR, 0, big);
-    setRasterState(conservative);
-    glEnable(GL_BLEND);
-    glBlendEquation(GL_MIN);
-    glBlendFunc(GL_ONE, GL_ONE);
+    s.blendAll(gpu::BlendState::func(GL_ONE, GL_ONE, GL_MIN));
+    state.apply(s);
     std::vector<std::string> defines = rasterDefines(conservative);
     defines.push_back("DEPTH_PASS");
     const gpu::Program& p = program(rasterStages(conservative, -1), defines);
     setGridUniforms(p, grid);
     p.use();
     draw(self, 0.0, share);
-    glBlendEquation(GL_FUNC_ADD);
     restoreState();
     // (min, -max) -> near, far for the CPU copy and the range SSBO (vec2 per column).
     std::vector<float> rg(static_cast<std::size_t>(grid.width) * grid.height * 2);
@@ -200,14 +204,16 @@ void GpuVoxelizer::Impl::slicePass(const GpuVoxelizer& self, const SliceMap& vie
                      GL_COLOR_ATTACHMENT6, GL_COLOR_ATTACHMENT7});
     fbo.checkComplete("voxelize slice pass");
     fbo.bind();
-    glViewport(0, 0, view.width, view.height);
+    gpu::PipelineState s = rasterState(conservative || axis >= 0, view.width, view.height);
+    state.invalidate();
+    state.apply(s);
     const GLuint zero[4] = {0, 0, 0, 0};
     for (int t = 0; t < 8; ++t)
         glClearBufferuiv(GL_COLOR, t, zero);
-    setRasterState(conservative || axis >= 0);
     // 003 Sec. 2: OR of fragments' bit masks; solid: XOR toggles parity of crossings.
-    glEnable(GL_COLOR_LOGIC_OP);
-    glLogicOp(solid ? GL_XOR : GL_OR);
+    s.logicOp = true;
+    s.logicOpMode = solid ? GL_XOR : GL_OR;
+    state.apply(s);
     std::vector<std::string> defines = rasterDefines(conservative, axis);
     if (solid) defines.push_back("SOLID");
     if (local) defines.push_back("LOCAL");

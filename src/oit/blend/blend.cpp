@@ -19,22 +19,13 @@ public:
 
     void beginAccumulate(int, const OitFrameTargets& targets, const gpu::Program&) override {
         framebuffer_.bind();
-        glViewport(0, 0, targets.width, targets.height);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LESS);
-        glDepthMask(GL_FALSE);
-        glDisable(GL_CULL_FACE);
-        glEnable(GL_BLEND);
+        gpu::PipelineState state = accumulationState(targets);
         // dst = src0 * 1 + dst * src1 (dual-source: per-channel modulation of the background)
-        glBlendFuncSeparate(GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
-        glBlendEquation(GL_FUNC_ADD);
+        state.blend[0] = gpu::BlendState::separate(GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
+        targets.state->apply(state);
     }
 
-    void endAccumulate(int) override {
-        glDisable(GL_BLEND);
-        glDepthMask(GL_TRUE);
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    }
+    void endAccumulate(int) override { glBindFramebuffer(GL_FRAMEBUFFER, 0); }
 
     void resolve(const OitFrameTargets&) override {} // composited during accumulation
     std::size_t bytesPerPixel() const override { return 0; }

@@ -130,6 +130,10 @@ public:
 
     void beginAccumulate(int pass, const OitFrameTargets& targets,
                          const gpu::Program& program) override {
+        gpu::PipelineState state = accumulationState(targets);
+        if (pass != 0 || !variant_.storage16)
+            state.blendAll(gpu::BlendState::func(GL_ONE, GL_ONE)); // 002: additive passes
+        targets.state->apply(state);
         const float zero[4] = {0, 0, 0, 0};
         if (pass == 0) {
             momentFbo_.bind();
@@ -148,18 +152,6 @@ public:
             for (int i = 0; i < momentTargets(); ++i)
                 moments_[i].bind(VEIL_TEX_OIT0 + i);
         }
-        glViewport(0, 0, targets.width, targets.height);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LESS);
-        glDepthMask(GL_FALSE);
-        glDisable(GL_CULL_FACE);
-        if (pass == 0 && variant_.storage16) {
-            glDisable(GL_BLEND);
-        } else {
-            glEnable(GL_BLEND);
-            glBlendFunc(GL_ONE, GL_ONE); // 002: additive passes
-            glBlendEquation(GL_FUNC_ADD);
-        }
         prepareProgram(pass, program);
     }
 
@@ -172,8 +164,6 @@ public:
     }
 
     void endAccumulate(int pass) override {
-        glDisable(GL_BLEND);
-        glDepthMask(GL_TRUE);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         if (pass == 0 && variant_.storage16) {
             glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);

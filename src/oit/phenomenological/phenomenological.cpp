@@ -171,13 +171,16 @@ public:
         }
         pass = innerPass(pass);
         const gpu::Framebuffer* fbo = &framebuffer_;
+        gpu::PipelineState state = accumulationState(targets);
+        // 000 appendix: all targets add; RT1 rgb: dst * (1 - src) (beta, Eq. 2), a: dst + src.
+        state.blend[0] = gpu::BlendState::func(GL_ONE, GL_ONE);
+        state.blend[1] = gpu::BlendState::separate(GL_ZERO, GL_ONE_MINUS_SRC_COLOR, GL_ONE, GL_ONE);
+        state.blend[2] = gpu::BlendState::func(GL_ONE, GL_ONE);
         if (pass == 0) {
             // The surfaces read the opaque depth (z_B of 000 Eq. 7) while it is attached for
             // the depth test: sample a copy, not a texture in the feedback loop.
             glCopyImageSubData(targets.depth->id(), GL_TEXTURE_2D, 0, 0, 0, 0, depthCopy_.id(),
                                GL_TEXTURE_2D, 0, 0, 0, 0, targets.width, targets.height, 1);
-            glViewport(0, 0, targets.width, targets.height);
-            glEnable(GL_DEPTH_TEST);
             depthCopy_.bind(VEIL_PHEN_TEX_DEPTH);
         } else {
             // Low-resolution particles: depth key, then a depth test by hand (emit.glsl).
@@ -191,25 +194,17 @@ public:
             glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
             program.use();
             fbo = &lowFramebuffer_;
-            glViewport(0, 0, lowWidth_, lowHeight_);
-            glDisable(GL_DEPTH_TEST);
+            state.view(lowWidth_, lowHeight_);
+            state.depthTest = false; // emit.glsl tests against the low-resolution depth key
             lowDepth_.bind(VEIL_PHEN_TEX_DEPTH);
         }
+        targets.state->apply(state);
         fbo->bind();
         // 000 Table 2 clear values.
         const float zero[4] = {0, 0, 0, 0}, betaClear[4] = {1, 1, 1, 0};
         glClearNamedFramebufferfv(fbo->id(), GL_COLOR, 0, zero);
         glClearNamedFramebufferfv(fbo->id(), GL_COLOR, 1, betaClear);
         glClearNamedFramebufferfv(fbo->id(), GL_COLOR, 2, zero);
-        glDepthFunc(GL_LESS);
-        glDepthMask(GL_FALSE);
-        glDisable(GL_CULL_FACE);
-        glEnable(GL_BLEND);
-        // 000 appendix: all targets add; RT1 rgb: dst * (1 - src) (beta, Eq. 2), a: dst + src.
-        glBlendEquation(GL_FUNC_ADD);
-        glBlendFunci(0, GL_ONE, GL_ONE);
-        glBlendFuncSeparatei(1, GL_ZERO, GL_ONE_MINUS_SRC_COLOR, GL_ONE, GL_ONE);
-        glBlendFunci(2, GL_ONE, GL_ONE);
         program.set("phenThicknessRef", params_.thicknessReference)
             .set("phenVolumeBlur", params_.volumeBlur);
         prepareProgram(pass, program);
@@ -227,13 +222,7 @@ public:
             .set("phenRefraction", params_.refraction ? 1 : 0);
     }
 
-    void endAccumulate(int) override {
-        glDisable(GL_COLOR_LOGIC_OP);
-        glDisable(GL_BLEND);
-        glBlendFunc(GL_ONE, GL_ZERO);
-        glDepthMask(GL_TRUE);
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    }
+    void endAccumulate(int) override { glBindFramebuffer(GL_FRAMEBUFFER, 0); }
 
     void resolve(const OitFrameTargets& targets) override {
         if (lowRes()) upsample(targets);
@@ -275,17 +264,14 @@ private:
     // depth-tested against the opaque depth (hidden media do not count).
     void beginSlicePass(const OitFrameTargets& targets) {
         sliceFramebuffer_.bind();
-        glViewport(0, 0, targets.width, targets.height);
+        gpu::PipelineState state = accumulationState(targets);
+        targets.state->apply(state);
         const GLuint zero[4] = {0, 0, 0, 0};
         for (int k = 0; k < 8; ++k)
             glClearNamedFramebufferuiv(sliceFramebuffer_.id(), GL_COLOR, k, zero);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LESS);
-        glDepthMask(GL_FALSE);
-        glDisable(GL_CULL_FACE);
-        glDisable(GL_BLEND);
-        glEnable(GL_COLOR_LOGIC_OP);
-        glLogicOp(GL_OR);
+        state.logicOp = true;
+        state.logicOpMode = GL_OR;
+        targets.state->apply(state);
     }
 
     // 003 section 3: the slice maps walked into a thickness per pixel (thickness.comp).

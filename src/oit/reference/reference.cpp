@@ -70,12 +70,7 @@ void ReferenceTechnique::beginAccumulate(int pass, const OitFrameTargets& target
         glClearNamedBufferData(counters_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     }
     framebuffer_.bind();
-    glViewport(0, 0, targets.width, targets.height);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_FALSE);
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_BLEND);
+    targets.state->apply(accumulationState(targets));
     glBindImageTexture(VEIL_IMG_OIT_REF_HEADS, heads_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
                        GL_R32UI);
     nodes_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_OIT_REF_NODES);
@@ -90,7 +85,6 @@ void ReferenceTechnique::prepareProgram(int, const gpu::Program& program) const 
 void ReferenceTechnique::endAccumulate(int) {
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                     GL_BUFFER_UPDATE_BARRIER_BIT);
-    glDepthMask(GL_TRUE);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 

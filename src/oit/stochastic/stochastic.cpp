@@ -157,26 +157,22 @@ public:
     void beginAccumulate(int pass, const OitFrameTargets& targets,
                          const gpu::Program& program) override {
         const PassInfo info = passInfo(pass);
+        gpu::PipelineState state = accumulationState(targets); // multisampling on (default)
+        targets.state->apply(state); // clears obey the colour masks: state first
         if (pass == 0) clearAccumulation();
-        glViewport(0, 0, targets.width, targets.height);
-        glDisable(GL_CULL_FACE);
-        glEnable(GL_MULTISAMPLE);
-        glEnable(GL_DEPTH_TEST);
         // Every pass that writes depth starts from the opaque depth; the total-alpha pass
         // (pass 0) also needs it.
         if (info.kind != PassKind::Accumulate) copyOpaqueDepth(targets);
-        glEnable(GL_DEPTH_TEST);
         switch (info.kind) {
         case PassKind::TotalAlpha: // 004 3.5 step 2, multiplicative blend
             totalFbo_.bind();
-            glDepthFunc(GL_LESS);
-            glDepthMask(GL_FALSE);
-            glEnable(GL_BLEND);
-            glBlendEquation(GL_FUNC_ADD);
-            glBlendFunc(GL_ZERO, GL_SRC_COLOR);
+            state.blendAll(gpu::BlendState::func(GL_ZERO, GL_SRC_COLOR));
+            targets.state->apply(state);
             break;
         case PassKind::StochColor:   // 004 3.1: winner take all per sample
         case PassKind::StochDepth: { // 004 3.5 depth-based step 3: z only
+            state.depth(GL_LESS, true);
+            targets.state->apply(state);
             if (info.kind == PassKind::StochColor) {
                 const float zero[4] = {0, 0, 0, 0};
                 glClearNamedFramebufferfv(colorFbo_.id(), GL_COLOR, 0, zero);
@@ -184,9 +180,6 @@ public:
             } else {
                 depthFbo_.bind();
             }
-            glDepthFunc(GL_LESS);
-            glDepthMask(GL_TRUE);
-            glDisable(GL_BLEND);
             masks_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_STOCH_MASKS);
             seed_ = targets.seed;
             prepareProgram(pass, program);
@@ -194,27 +187,21 @@ public:
         }
         case PassKind::Accumulate: // 004 3.5 step 4: add to samples where z_frag <= z_buffer
             colorFbo_.bind();
-            glDepthFunc(GL_LEQUAL);
-            glDepthMask(GL_FALSE);
+            state.depth(GL_LEQUAL, false);
             // The fragment must pass against the depth it stored in the stochastic pass, drawn
             // by another program: a minimal offset toward the eye absorbs rasterization
             // differences between the two programs (GL guarantees invariance only with
             // `invariant gl_Position`, which mesh.vert does not declare).
-            glEnable(GL_POLYGON_OFFSET_FILL);
-            glPolygonOffset(0.0f, -1.0f);
-            glEnable(GL_BLEND);
-            glBlendEquation(GL_FUNC_ADD);
-            glBlendFunc(GL_ONE, GL_ONE);
+            state.polygonOffsetFill = true;
+            state.polygonOffsetFactor = 0.0f;
+            state.polygonOffsetUnits = -1.0f;
+            state.blendAll(gpu::BlendState::func(GL_ONE, GL_ONE));
+            targets.state->apply(state);
             break;
         }
     }
 
     void endAccumulate(int pass) override {
-        glDisable(GL_POLYGON_OFFSET_FILL);
-        glPolygonOffset(0.0f, 0.0f);
-        glDisable(GL_BLEND);
-        glDepthMask(GL_TRUE);
-        glDepthFunc(GL_LESS);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         if (passInfo(pass).kind == PassKind::StochColor) {
             const gpu::Program& fold = programs_->get(foldProgram_);
@@ -290,10 +277,9 @@ private:
 
     void copyOpaqueDepth(const OitFrameTargets& targets) {
         depthFbo_.bind();
-        glDisable(GL_BLEND);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_ALWAYS);
-        glDepthMask(GL_TRUE);
+        gpu::PipelineState state;
+        state.view(targets.width, targets.height).depth(GL_ALWAYS, true);
+        targets.state->apply(state);
         const gpu::Program& copy = programs_->get(copyProgram_);
         copy.use();
         targets.depth->bind(VEIL_TEX_OIT0 + 3);

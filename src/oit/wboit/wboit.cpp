@@ -29,26 +29,16 @@ public:
 
     void beginAccumulate(int, const OitFrameTargets& targets, const gpu::Program&) override {
         framebuffer_.bind();
-        glViewport(0, 0, targets.width, targets.height);
+        gpu::PipelineState state = accumulationState(targets);
+        state.blend[0] = gpu::BlendState::func(GL_ONE, GL_ONE);                  // A: sums
+        state.blend[1] = gpu::BlendState::func(GL_ZERO, GL_ONE_MINUS_SRC_COLOR); // prod(1 - c)
+        targets.state->apply(state);
         const float zero[4] = {0, 0, 0, 0}, one[4] = {1, 1, 1, 1};
         glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 0, zero);
         glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 1, one);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LESS);
-        glDepthMask(GL_FALSE);
-        glDisable(GL_CULL_FACE);
-        glEnable(GL_BLEND);
-        glBlendEquation(GL_FUNC_ADD);
-        glBlendFunci(0, GL_ONE, GL_ONE);                  // A: sums
-        glBlendFunci(1, GL_ZERO, GL_ONE_MINUS_SRC_COLOR); // revealage: prod (1 - netCoverage)
     }
 
-    void endAccumulate(int) override {
-        glDisable(GL_BLEND);
-        glBlendFunc(GL_ONE, GL_ZERO);
-        glDepthMask(GL_TRUE);
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    }
+    void endAccumulate(int) override { glBindFramebuffer(GL_FRAMEBUFFER, 0); }
 
     void resolve(const OitFrameTargets& targets) override {
         const gpu::Program& program = programs_.get(resolveProgram_);

@@ -53,14 +53,11 @@ glm::mat4 ShadowMap::textureMatrix() const {
     return bias * viewProjection_;
 }
 
-void ShadowMap::render(const std::function<void()>& drawCasters) {
+void ShadowMap::render(gpu::StateTracker& state, const std::function<void()>& drawCasters) {
     framebuffer_.bind();
-    glViewport(0, 0, size_, size_);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_BLEND);
-    glDisable(GL_CULL_FACE);
+    gpu::PipelineState s;
+    s.view(size_, size_).depth(GL_LESS, true);
+    state.apply(s); // before the clear: it obeys the depth mask
     const float one = 1.0f;
     glClearNamedFramebufferfv(framebuffer_.id(), GL_DEPTH, 0, &one);
     drawCasters();

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "gpu/objects.h"
+#include "gpu/pipeline_state.h"
 #include "scene/scene.h"
 
 #include <functional>
@@ -24,7 +25,8 @@ public:
 
     // Clears the map and calls drawCasters() with depth state bound; drawCasters draws with
     // a program that transforms by viewProjection().
-    void render(const std::function<void()>& drawCasters);
+    // Draws the casters into the map under the pass's declared state (applied through `state`).
+    void render(gpu::StateTracker& state, const std::function<void()>& drawCasters);
 
     const glm::mat4& viewProjection() const { return viewProjection_; }
     const glm::mat4& view() const { return view_; }
