@@ -1,4 +1,6 @@
-// Scene lights and the opaque shadow map (Williams 1978, PCF over (2r+1)^2 taps).
+// Scene lights: the uniform block the frame fills (src/frame/frame_uniforms.h) and the
+// unshadowed radiance arriving from each. Visibility toward a light comes from the active
+// shadow technique through "veil:light_visibility" (shaders/frame/shading.glsl).
 #include "bindings.h"
 #include "brdf.glsl"
 
@@ -19,57 +21,6 @@ layout(std140, binding = VEIL_UBO_LIGHTS) uniform LightsBlock {
     vec4 shadowDepthRange; // x = near, y = far of the stored linear depth
 } lighting;
 
-layout(binding = VEIL_TEX_SHADOW_MAP) uniform sampler2DShadow shadowMap;
-
-// Normalized linear depth of P along the shadow-casting light's axis.
-float shadowLinearDepth(vec3 P) {
-    float d = -(lighting.shadowView * vec4(P, 1.0)).z;
-    return (d - lighting.shadowDepthRange.x) /
-           (lighting.shadowDepthRange.y - lighting.shadowDepthRange.x);
-}
-
-// Shadow-map coordinates of P: texture uv and normalized linear depth. False where P is
-// outside the map (lit).
-bool shadowCoordinates(vec3 P, out vec2 uv, out float z) {
-    if (lighting.shadowParams.w < 0.5) return false;
-    vec4 s = lighting.shadowMatrix * vec4(P, 1.0);
-    if (s.w <= 0.0) return false;
-    uv = s.xy / s.w;
-    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return false;
-    // The map stores linear depth along the light axis (uniform precision; the bias is in
-    // world units), see shaders/frame/shadow.frag.
-    z = shadowLinearDepth(P);
-    return z <= 1.0;
-}
-
-float shadowVisibility(vec3 P, vec3 N, vec3 L) {
-    vec2 uv;
-    float z;
-    if (!shadowCoordinates(P, uv, z)) return 1.0;
-    float NdotL = saturate(dot(N, L));
-    // Slope-scaled receiver bias: grows where the light grazes the surface.
-    float range = lighting.shadowDepthRange.y - lighting.shadowDepthRange.x;
-    float bias = lighting.shadowParams.x * (1.0 + 4.0 * (1.0 - NdotL)) / range;
-    int r = int(lighting.shadowParams.y);
-    float texel = lighting.shadowParams.z;
-    float sum = 0.0;
-    for (int y = -r; y <= r; ++y)
-        for (int x = -r; x <= r; ++x)
-            sum += texture(shadowMap, vec3(uv + vec2(x, y) * texel, z - bias));
-    float n = float(2 * r + 1);
-    return sum / (n * n);
-}
-
-// One hardware-filtered tap (bilinear 2x2 comparison), for volume samples: the fog marcher
-// takes many samples per pixel, so per-sample PCF kernels are not worth their cost.
-float shadowVisibilityFast(vec3 P) {
-    vec2 uv;
-    float z;
-    if (!shadowCoordinates(P, uv, z)) return 1.0;
-    float range = lighting.shadowDepthRange.y - lighting.shadowDepthRange.x;
-    return texture(shadowMap, vec3(uv, z - lighting.shadowParams.x / range));
-}
-
 // Radiance arriving at P from light i (unshadowed) and the direction toward the light.
 vec3 incidentRadiance(int i, vec3 P, out vec3 L) {
     Light light = lighting.lights[i];
@@ -87,18 +38,4 @@ vec3 incidentRadiance(int i, vec3 P, out vec3 L) {
         e *= smoothstep(light.cone.y, light.cone.x, cosAngle);
     }
     return e;
-}
-
-// Reflected radiance toward V: all lights with shadows plus the ambient term.
-vec3 shadeSurface(SurfaceMaterial m, vec3 P, vec3 N, vec3 V, float diffuseWeight) {
-    vec3 result = m.emission + lighting.ambient.rgb * m.baseColor * (1.0 - m.metalness) *
-                                   diffuseWeight;
-    for (int i = 0; i < lighting.lightCount.x; ++i) {
-        vec3 L;
-        vec3 e = incidentRadiance(i, P, L);
-        if (dot(N, L) <= 0.0) continue;
-        if (lighting.lights[i].directionShadow.w > 0.5) e *= shadowVisibility(P, N, L);
-        result += e * evaluateBrdfCos(m, N, V, L, diffuseWeight);
-    }
-    return result;
 }

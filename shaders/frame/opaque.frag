@@ -2,6 +2,7 @@
 // Opaque forward pass: Lambert + GGX with Schlick Fresnel, emission, shadowed lights.
 #include "../common/camera.glsl"
 #include "material.glsl"
+#include "shading.glsl"
 
 layout(location = 0) out vec4 outColor;
 

@@ -3,6 +3,7 @@
 // technique's oitEmit() (DESIGN.md "How fog and surfaces share one transparency technique").
 #include "../common/camera.glsl"
 #include "material.glsl"
+#include "shading.glsl"
 #include "veil:oit_emit"
 
 void main() {

@@ -8,6 +8,7 @@
 // section 7.2); the frame then hands the result to the OIT technique's oitEmit().
 #include "../common/camera.glsl"
 #include "../common/lights.glsl"
+#include "veil:light_visibility"
 #include "volume_common.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -143,8 +144,7 @@ void main() {
                 vec3 L;
                 vec3 e = incidentRadiance(l, P, L);
                 if (all(equal(e, vec3(0.0)))) continue;
-                float vis = 1.0;
-                if (lighting.lights[l].directionShadow.w > 0.5) vis *= shadowVisibilityFast(P);
+                vec3 vis = lightVisibilityInMedium(l, P);
                 if (l == primaryLight) vis *= volumeTransmittanceToLight(P);
                 if (globalDensity > 0.0 && int(lighting.lights[l].positionType.w) != VEIL_LIGHT_DIRECTIONAL)
                     vis *= exp(-globalDensity * length(lighting.lights[l].positionType.xyz - P));

@@ -39,18 +39,23 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
     scene.bounds(boundsLo_, boundsHi_);
 
     using gpu::ProgramDesc;
-    opaqueProgram_ = programs_.add(ProgramDesc::graphics("frame/mesh.vert", "frame/opaque.frag"));
+    // Receivers (opaque and transparent surfaces, the fog) see lights through the shadow
+    // technique's visibility include.
+    const gpu::IncludeAliases visibility{
+        {"veil:light_visibility", shadows::ShadowMap::visibilityInclude()}};
+    opaqueProgram_ = programs_.add(
+        ProgramDesc::graphics("frame/mesh.vert", "frame/opaque.frag", {}, visibility));
     shadowProgram_ = programs_.add(ProgramDesc::graphics("frame/mesh.vert", "frame/shadow.frag"));
     for (int pass = 0; pass < oit_->geometryPasses(); ++pass) {
         std::vector<std::string> defines = oit_->defines(pass);
         defines.push_back(fmt::format("OIT_PASS {}", pass));
         transparentPrograms_.push_back(programs_.add(
             ProgramDesc::graphics("frame/mesh.vert", "frame/transparent.frag", std::move(defines),
-                                  {{"veil:oit_emit", oit_->emitInclude()}})));
+                                  {{"veil:oit_emit", oit_->emitInclude()}, visibility[0]})));
     }
     tonemapProgram_ = programs_.add(ProgramDesc::compute("frame/tonemap.comp"));
 
-    fog_ = std::make_unique<volume::FogPass>(scene, programs_);
+    fog_ = std::make_unique<volume::FogPass>(scene, programs_, visibility);
     if (!fog_->active())
         fog_.reset();
     else

@@ -155,10 +155,12 @@ ProgramDesc ProgramDesc::graphics(fs::path vertex, fs::path fragment,
     return d;
 }
 
-ProgramDesc ProgramDesc::compute(fs::path file, std::vector<std::string> defines) {
+ProgramDesc ProgramDesc::compute(fs::path file, std::vector<std::string> defines,
+                                 IncludeAliases aliases) {
     ProgramDesc d;
     d.stages = {{GL_COMPUTE_SHADER, std::move(file)}};
     d.defines = std::move(defines);
+    d.aliases = std::move(aliases);
     return d;
 }
 

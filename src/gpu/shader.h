@@ -56,7 +56,8 @@ struct ProgramDesc {
 
     static ProgramDesc graphics(std::filesystem::path vertex, std::filesystem::path fragment,
                                 std::vector<std::string> defines = {}, IncludeAliases aliases = {});
-    static ProgramDesc compute(std::filesystem::path file, std::vector<std::string> defines = {});
+    static ProgramDesc compute(std::filesystem::path file, std::vector<std::string> defines = {},
+                               IncludeAliases aliases = {});
 };
 
 class Program : public GlObject<ProgramTraits> {

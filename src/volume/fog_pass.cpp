@@ -12,7 +12,8 @@
 
 namespace veil::volume {
 
-FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs)
+FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
+                 const gpu::IncludeAliases& lightVisibility)
     : scene_(scene), programs_(programs) {
     divisor_ = scene.render.fogResolution;
     GpuVolumeOptions options;
@@ -50,7 +51,8 @@ FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs)
             break;
         }
     if (primaryLight_ < 0 && !scene.lights.empty()) primaryLight_ = 0;
-    marchProgram_ = programs_.add(gpu::ProgramDesc::compute("volume/fog_march.comp"));
+    marchProgram_ =
+        programs_.add(gpu::ProgramDesc::compute("volume/fog_march.comp", {}, lightVisibility));
     lightProgram_ = programs_.add(gpu::ProgramDesc::compute("volume/light_transmittance.comp"));
     // Light transmittance volumes: about 2 voxels per texel, at most 128 per axis.
     for (auto& e : volumes_) {
@@ -145,9 +147,7 @@ void FogPass::march(const FogTargets& targets) {
             lo = glm::min(lo, a);
             hi = glm::max(hi, b);
         }
-        lp.set("lightPositionType", key)
-            .set("steps", 64)
-            .set("maxDistance", glm::length(hi - lo));
+        lp.set("lightPositionType", key).set("steps", 64).set("maxDistance", glm::length(hi - lo));
         lp.use();
         for (const auto& e : volumes_) {
             lp.set("lightToWorld", e.lightToWorld);

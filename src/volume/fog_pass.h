@@ -29,7 +29,10 @@ struct FogTargets {
 class FogPass {
 public:
     // Loads and uploads the scene's volumes (throws veil::Error for bad files or budgets).
-    FogPass(const scene::Scene& scene, gpu::ProgramManager& programs);
+    // `lightVisibility` is the "veil:light_visibility" include of the frame's shadow
+    // technique (lightVisibilityInMedium() per sample toward each light).
+    FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
+            const gpu::IncludeAliases& lightVisibility);
     ~FogPass();
 
     bool active() const { return !volumes_.empty() || globalDensity_ > 0.0f; }

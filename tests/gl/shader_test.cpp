@@ -114,8 +114,12 @@ TEST_F(ShaderTest, ReloadSwapsProgramBehindStableHandle) {
 
 TEST_F(ShaderTest, ProjectShadersCompile) {
     // Every program of the frame compiles on this driver (the renderer builds them all).
+    const gpu::IncludeAliases visibility{
+        {"veil:light_visibility", "shadows/shadow_map/visibility.glsl"}};
     for (const char* frag : {"frame/opaque.frag", "frame/shadow.frag"})
-        EXPECT_NO_THROW(gpu::Program(gpu::ProgramDesc::graphics("frame/mesh.vert", frag))) << frag;
+        EXPECT_NO_THROW(
+            gpu::Program(gpu::ProgramDesc::graphics("frame/mesh.vert", frag, {}, visibility)))
+            << frag;
     EXPECT_NO_THROW(gpu::Program(gpu::ProgramDesc::compute("frame/tonemap.comp")));
 }
 

@@ -25,6 +25,11 @@ public:
 
     // Clears the map and calls drawCasters() with depth state bound; drawCasters draws with
     // a program that transforms by viewProjection().
+    // GLSL file (relative to shaders/) defining lightVisibility() and
+    // lightVisibilityInMedium(); included by receivers as "veil:light_visibility".
+    static std::filesystem::path visibilityInclude() {
+        return "shadows/shadow_map/visibility.glsl";
+    }
     // Draws the casters into the map under the pass's declared state (applied through `state`).
     void render(gpu::StateTracker& state, const std::function<void()>& drawCasters);
 

@@ -1,0 +1,18 @@
+// Surface shading shared by the opaque and transparent passes: every light through the
+// active shadow technique's visibility ("veil:light_visibility"), plus the ambient term.
+#include "../common/lights.glsl"
+#include "veil:light_visibility"
+
+// Reflected radiance toward V: all lights times their visibility, plus the ambient term.
+vec3 shadeSurface(SurfaceMaterial m, vec3 P, vec3 N, vec3 V, float diffuseWeight) {
+    vec3 result = m.emission + lighting.ambient.rgb * m.baseColor * (1.0 - m.metalness) *
+                                   diffuseWeight;
+    for (int i = 0; i < lighting.lightCount.x; ++i) {
+        vec3 L;
+        vec3 e = incidentRadiance(i, P, L);
+        if (dot(N, L) <= 0.0) continue;
+        e *= lightVisibility(i, P, N, L);
+        result += e * evaluateBrdfCos(m, N, V, L, diffuseWeight);
+    }
+    return result;
+}
