@@ -54,6 +54,8 @@ int main(int argc, char** argv) {
         return fail(e.what());
     } catch (const std::exception& e) {
         return fail(e.what());
+    } catch (...) {
+        return fail("unexpected exception (not a std::exception)");
     }
     return 0;
 }

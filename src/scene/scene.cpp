@@ -133,6 +133,16 @@ Scene parseScene(const nlohmann::json& doc, const std::filesystem::path& baseDir
 }
 
 Scene loadScene(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
+    // /dev/zero or a FIFO would be read forever: only regular files of a sane size.
+    constexpr std::uintmax_t kMaxSceneBytes = std::uintmax_t(256) << 20;
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    VEIL_CHECK(!std::filesystem::exists(status) || std::filesystem::is_regular_file(status),
+               "cannot open scene file '{}': not a regular file", path.string());
+    const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+    VEIL_CHECK(ec || bytes <= kMaxSceneBytes,
+               "cannot open scene file '{}': {} bytes is more than a scene's limit of 256 MiB",
+               path.string(), bytes);
     std::ifstream in(path, std::ios::binary);
     VEIL_CHECK(in.good() && !std::filesystem::is_directory(path), "cannot open scene file '{}'",
                path.string());

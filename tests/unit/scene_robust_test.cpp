@@ -10,6 +10,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <sys/stat.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -189,4 +191,16 @@ TEST(SceneRobustTest, DescribeJsonIsBounded) {
     EXPECT_EQ(describeJson(json::parse(R"({"a":[1,2]})")), R"({"a":[1,2]})");
     EXPECT_EQ(describeJson(json(std::string("\xff"))), "\"\xef\xbf\xbd\""); // U+FFFD
     EXPECT_EQ(describeJson(json(std::string(100, 'y')), 10), "\"yyyyyy...");
+}
+
+// A FIFO (or /dev/zero) as the scene file blocked or read forever.
+TEST(SceneRobustTest, NonRegularSceneFileIsRefused) {
+    const fs::path fifo = fs::path(VEIL_TEST_OUTPUT_DIR) / "scene_robust_test" / "fifo.json";
+    fs::create_directories(fifo.parent_path());
+    fs::remove(fifo);
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    const std::string msg = loadError(fifo);
+    EXPECT_NE(msg.find("fifo.json': not a regular file"), std::string::npos) << msg;
+    fs::remove(fifo);
+    EXPECT_NE(loadError(fifo.parent_path()).find("not a regular file"), std::string::npos);
 }
