@@ -6,6 +6,7 @@
 
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <string>
 
 namespace {
@@ -52,6 +53,8 @@ int main(int argc, char** argv) {
         return fail(std::string(e.what()) + " (see veil --help)");
     } catch (const veil::Error& e) {
         return fail(e.what());
+    } catch (const std::bad_alloc&) {
+        return fail("out of memory (try a smaller grid, image or scene)");
     } catch (const std::exception& e) {
         return fail(e.what());
     } catch (...) {

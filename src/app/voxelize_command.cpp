@@ -4,6 +4,8 @@
 // "mask") and optionally as a VTK image for ParaView.
 #include "app/commands.h"
 
+#include "app/cli_checks.h"
+
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/text.h"
@@ -168,12 +170,12 @@ void addVoxelizeCommand(CLI::App& app) {
     cmd->add_option("--camera", args->camera, "Camera of --perspective (default: the first)");
     cmd->add_option("--smooth", args->smooth,
                     "Gaussian smoothing width in voxels for a soft fog density (default 0)")
-        ->check(CLI::Range(0.0, 64.0));
+        ->check(finiteRange(0.0, 64.0));
     // OpenVDB refuses scale maps whose determinant is below 3e-15 ("Non-zero scale values
     // required"), i.e. voxels under 1.4e-5; the bound leaves a margin.
     cmd->add_option("--voxel-size", args->voxelSize,
                     "World voxel size of resampled (perspective/local) grids (default: auto)")
-        ->check(CLI::Range(1e-4, 1e6));
+        ->check(finiteRange(1e-4, 1e6));
     cmd->add_option("--set", args->overrides, "Override a scene value: key=value (repeatable)");
     cmd->add_option("--device", args->device, "EGL device index")->check(CLI::Range(0, 1023));
     cmd->add_flag("--quiet", args->quiet, "No progress bar");

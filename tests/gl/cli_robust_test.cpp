@@ -228,7 +228,8 @@ TEST(CliRobustTest, SigtermDuringWriteLeavesNoTemporary) {
 }
 
 // Before: a typo said "A subcommand is required" and usage errors exited 105, 106 or 109;
-// --device -7 and --voxel-size -1 / 1e-9 were accepted (the last failed in OpenVDB).
+// --device -7, --voxel-size -1 / 1e-9 (the last failed in OpenVDB) and --smooth nan were
+// accepted.
 TEST(CliRobustTest, UsageErrorsAreOneLineAndExitOne) {
     const fs::path dir = freshDir("usage");
     const fs::path scene = writeFile(dir / "scene.json", kScene);
@@ -243,6 +244,9 @@ TEST(CliRobustTest, UsageErrorsAreOneLineAndExitOne) {
     expectOneLineError("voxelize " + s + " -o " + vdb + " --device -7", {"--device"});
     expectOneLineError("voxelize " + s + " -o " + vdb + " --voxel-size -1", {"--voxel-size"});
     expectOneLineError("voxelize " + s + " -o " + vdb + " --voxel-size 1e-9", {"--voxel-size"});
+    // NaN passed CLI::Range (every comparison with it is false).
+    expectOneLineError("voxelize " + s + " -o " + vdb + " --voxel-size nan", {"--voxel-size"});
+    expectOneLineError("voxelize " + s + " -o " + vdb + " --smooth nan", {"--smooth"});
     EXPECT_EQ(leftovers(dir, {"scene.json"}), std::vector<std::string>{});
     const CommandResult v = runCommand(veilExe() + " --version");
     EXPECT_EQ(v.exitCode, 0) << v.output;
