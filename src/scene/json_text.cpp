@@ -3,6 +3,7 @@
 #include "base/error.h"
 
 #include <cmath>
+#include <set>
 #include <vector>
 
 namespace veil::scene {
@@ -59,8 +60,9 @@ namespace {
 // Where the parser is: one entry per open array or object.
 struct Frame {
     bool array = false;
-    std::size_t index = 0; // arrays: elements completed so far
-    std::string key;       // objects: the last key read
+    std::size_t index = 0;      // arrays: elements completed so far
+    std::string key;            // objects: the last key read
+    std::set<std::string> keys; // objects: all keys read, to refuse duplicates
 };
 
 std::string pointer(const std::vector<Frame>& stack) {
@@ -144,13 +146,17 @@ json parseJsonText(std::string_view text, const std::string& source) {
     const json::parser_callback_t track = [&](int, json::parse_event_t event, json& parsed) {
         switch (event) {
         case json::parse_event_t::object_start:
-            stack.push_back({false, 0, {}});
+            stack.push_back({false, 0, {}, {}});
             break;
         case json::parse_event_t::array_start:
-            stack.push_back({true, 0, {}});
+            stack.push_back({true, 0, {}, {}});
             break;
         case json::parse_event_t::key:
             stack.back().key = parsed.get<std::string>();
+            // nlohmann keeps the last of duplicate keys: the first would be silently lost.
+            if (!stack.back().keys.insert(stack.back().key).second)
+                throw Error(fmt::format("{}: {}: duplicate key '{}'", source, pointer(stack),
+                                        stack.back().key));
             break;
         case json::parse_event_t::object_end:
         case json::parse_event_t::array_end:

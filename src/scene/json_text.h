@@ -23,7 +23,8 @@ std::optional<std::size_t> excessiveNestingAt(std::string_view text);
 // "line L, column C" of a byte offset (both from 1), for messages.
 std::string lineColumn(std::string_view text, std::size_t offset);
 
-// Parses `text` (comments allowed). Errors throw veil::Error
+// Parses `text` (comments allowed; a key given twice in one object is an error). Errors
+// throw veil::Error
 // "<source>: <json pointer>: invalid JSON: <problem>", the pointer being where the parser
 // stopped, e.g. "/render/width" for "width": 1e400.
 nlohmann::json parseJsonText(std::string_view text, const std::string& source);

@@ -204,3 +204,13 @@ TEST(SceneRobustTest, NonRegularSceneFileIsRefused) {
     fs::remove(fifo);
     EXPECT_NE(loadError(fifo.parent_path()).find("not a regular file"), std::string::npos);
 }
+
+// nlohmann keeps the last of two equal keys, so the scene rendered 128 wide without a word.
+TEST(SceneRobustTest, DuplicateKeyIsRefused) {
+    const std::string msg = loadError(writeScene(
+        "duplicate.json", replaced(kScene, "\"width\": 64", "\"width\": 64, \"width\": 128")));
+    EXPECT_NE(msg.find("duplicate.json: /render/width: duplicate key 'width'"), std::string::npos)
+        << msg;
+    // The same key in different objects is fine.
+    EXPECT_NO_THROW(loadScene(writeScene("same-key.json", kScene)));
+}
