@@ -72,6 +72,11 @@ void runVoxelize(const VoxelizeArgs& args) {
     if (!args.vti.empty()) checkOutputPath(args.vti, "--vti", {args.scene, args.output});
     const int slices = args.slices > 0 ? args.slices : args.res;
     const scene::Scene scene = scene::loadScene(args.scene, args.overrides);
+    // The scene's own .vdb volumes are inputs too: -o smoke.vdb would replace one.
+    std::vector<fs::path> volumeFiles;
+    for (const scene::VolumeRef& v : scene.volumes)
+        if (!v.path.empty()) volumeFiles.push_back(v.path);
+    checkOutputPath(args.output, "output", volumeFiles);
     const Triangles tris = flattenScene(scene);
     glm::vec3 lo, hi;
     tris.bounds(lo, hi);

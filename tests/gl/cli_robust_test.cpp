@@ -161,12 +161,22 @@ TEST(CliRobustTest, OutputPathsAreCheckedBeforeRendering) {
     const fs::path vdbScene = writeFile(dir / "scene.vdb", kScene);
     expectOneLineError("voxelize " + quoted(vdbScene) + " -o " + quoted(vdbScene),
                        {"would overwrite the input"});
+    // A volume the scene reads.
+    fs::copy_file(dataDir() / "vdb-smoke/smoke.vdb", dir / "smoke.vdb");
+    std::string withVolume = kScene;
+    withVolume.insert(withVolume.rfind('}'), R"(, "volumes": [{"path": "smoke.vdb"}])");
+    const fs::path volumeScene = writeFile(dir / "volume.json", withVolume);
+    expectOneLineError("voxelize " + quoted(volumeScene) + " --res 8 -o " +
+                           quoted(dir / "smoke.vdb"),
+                       {"would overwrite the input", "smoke.vdb"});
+    EXPECT_EQ(fs::file_size(dir / "smoke.vdb"), fs::file_size(dataDir() / "vdb-smoke/smoke.vdb"));
     std::ifstream in(pngScene);
     EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), kScene);
     fs::create_directories(dir / "folder.png");
     expectOneLineError("render " + quoted(scene) + " -o " + quoted(dir / "folder.png"),
                        {"folder.png", "is a folder"});
-    EXPECT_EQ(leftovers(dir, {"scene.json", "scene.png", "scene.vdb", "folder.png"}),
+    EXPECT_EQ(leftovers(dir, {"scene.json", "scene.png", "scene.vdb", "folder.png", "smoke.vdb",
+                              "volume.json"}),
               std::vector<std::string>{});
 }
 
