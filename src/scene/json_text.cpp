@@ -70,7 +70,7 @@ std::string pointer(const std::vector<Frame>& stack) {
     for (const Frame& f : stack) {
         if (f.array) {
             out += fmt::format("/{}", f.index);
-        } else if (!f.key.empty()) {
+        } else if (!f.keys.empty()) { // "" is a key too: {"": 1} has "/" as its pointer
             out += '/';
             for (char c : f.key) { // RFC 6901
                 if (c == '~')

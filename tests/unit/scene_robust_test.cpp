@@ -118,6 +118,11 @@ TEST(SceneRobustTest, DoubleOverflowNamesFileAndPointer) {
     const std::string msg2 =
         loadError(writeScene("pos-1e999.json", replaced(kScene, "[0, 1, 4]", "[0, 1, -1e999]")));
     EXPECT_NE(msg2.find("/cameras/0/position/2: "), std::string::npos) << msg2;
+    // An empty key is a pointer component too (RFC 6901).
+    const std::string msg3 = loadError(writeScene(
+        "empty-key.json",
+        replaced(kScene, "\"render\"", "\"materials\": {\"\": {\"alpha\": 1e400}}, \"render\"")));
+    EXPECT_NE(msg3.find("empty-key.json: /materials//alpha: "), std::string::npos) << msg3;
 }
 
 // Finite in double, infinite (or zero) in the floats the scene is stored in: was accepted
