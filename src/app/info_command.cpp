@@ -2,6 +2,7 @@
 #include "app/commands.h"
 
 #include "base/error.h"
+#include "base/text.h"
 #include "scene/scene.h"
 #include "volume/density_grid.h"
 #include "volume/gpu_volume.h"
@@ -95,7 +96,12 @@ void addInfoCommand(CLI::App& app) {
     cmd->add_option("file", *file, "A scene file (.json) or an OpenVDB file (.vdb)")->required();
     cmd->callback([file] {
         const fs::path path(*file);
-        if (path.extension() == ".vdb")
+        // OpenVDB would block on a FIFO and read /dev/zero forever.
+        std::error_code ec;
+        const fs::file_status st = fs::status(path, ec);
+        VEIL_CHECK(!fs::exists(st) || fs::is_regular_file(st),
+                   "cannot read '{}': not a regular file", *file);
+        if (lowerExtension(*file) == ".vdb")
             printVdb(path);
         else
             printScene(path);

@@ -5,6 +5,7 @@
 
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "base/text.h"
 #include "frame/renderer.h"
 #include "gpu/context.h"
 #include "io/image_io.h"
@@ -106,6 +107,10 @@ nlohmann::json errorJson(const std::string& against, const ImageError& e) {
     return j;
 }
 
+fs::path errorImagePath(const fs::path& output) {
+    return output.parent_path() / (output.stem().string() + "-error.png");
+}
+
 std::string formatError(const ImageError& e) {
     return fmt::format("RMSE {:.6g}, PSNR {} (peak {:.4g})", e.rmse,
                        std::isfinite(e.psnr) ? fmt::format("{:.2f} dB", e.psnr)
@@ -113,18 +118,23 @@ std::string formatError(const ImageError& e) {
                        e.peak);
 }
 
+// Every file the command will write, checked before the scene is loaded or rendered.
+void checkOutputPaths(const RenderArgs& args) {
+    const std::vector<fs::path> inputs{args.scene};
+    checkOutputPath(args.output, "output", inputs);
+    if (!args.report.empty()) checkOutputPath(args.report, "report", inputs);
+    if (!args.compareTo.empty())
+        checkOutputPath(errorImagePath(args.output), "error image", inputs);
+}
+
 void runRender(const RenderArgs& args) {
     const fs::path output = args.output;
-    std::string ext = output.extension().string();
+    std::string ext = lowerExtension(args.output);
     VEIL_CHECK(ext == ".png" || ext == ".exr", "output '{}' must end in .png or .exr", args.output);
-    if (!args.report.empty()) {
-        // The report is optional: a default name beside the output could overwrite the scene.
-        VEIL_CHECK(fs::path(args.report).extension() == ".json", "report '{}' must end in .json",
-                   args.report);
-        std::error_code ec;
-        VEIL_CHECK(!fs::equivalent(args.report, args.scene, ec),
-                   "report '{}' would overwrite the scene file", args.report);
-    }
+    // The report is optional: a default name beside the output could overwrite the scene.
+    VEIL_CHECK(args.report.empty() || lowerExtension(args.report) == ".json",
+               "report '{}' must end in .json", args.report);
+    checkOutputPaths(args);
     scene::Scene scene = scene::loadScene(args.scene, args.overrides);
     const std::string oitName = args.oit.empty() ? scene.render.oit : args.oit;
     const bool all = oitName == "all";
@@ -179,7 +189,7 @@ void runRender(const RenderArgs& args) {
     } else {
         io::writeImage(output, png ? main.ldr : main.hdr);
         if (!args.compareTo.empty()) {
-            errorPath = output.parent_path() / (output.stem().string() + "-error.png");
+            errorPath = errorImagePath(output);
             io::writeImage(errorPath, errorImage(main.hdr, frames.back().hdr));
         }
     }
@@ -226,11 +236,9 @@ void runRender(const RenderArgs& args) {
     }
     const fs::path reportPath = args.report;
     if (!args.report.empty())
-        writeFileAtomically(reportPath, [&](const fs::path& tmp) {
-            std::ofstream out(tmp);
-            out << report.dump(2) << "\n";
-            VEIL_CHECK(out.good(), "cannot write report '{}'", reportPath.string());
-        });
+        writeTextFileAtomically(
+            reportPath,
+            report.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
     if (all) {
         std::cout << "wrote " << args.output << " (contact sheet, " << frames.size() << " tiles of "
                   << main.width << "x" << main.height << ", " << context.info().renderer << ")\n";
@@ -275,7 +283,8 @@ void addRenderCommand(CLI::App& app) {
                     "Override a scene value: key=value, e.g. render.exposure=2 or "
                     "lights.0.intensity=5 (repeatable)");
     cmd->add_option("--device", args->device,
-                    "EGL device index (default: $VEIL_EGL_DEVICE, else the first that works)");
+                    "EGL device index (default: $VEIL_EGL_DEVICE, else the first that works)")
+        ->check(CLI::Range(0, 1023));
     cmd->add_flag("--gl-debug", args->glDebug, "Debug context; GL messages go to the log");
     cmd->callback([args] { runRender(*args); });
 }

@@ -4,7 +4,9 @@
 // viewer can be tested (under Xvfb) against `veil render`.
 #include "app/commands.h"
 
+#include "base/atomic_file.h"
 #include "base/error.h"
+#include "base/text.h"
 #include "frame/renderer.h"
 #include "gpu/window_context.h"
 #include "io/image_io.h"
@@ -79,6 +81,12 @@ public:
 };
 
 void runView(const ViewArgs& args) {
+    if (!args.screenshot.empty()) {
+        const std::string ext = lowerExtension(args.screenshot);
+        VEIL_CHECK(ext == ".png" || ext == ".exr", "--screenshot '{}' must end in .png or .exr",
+                   args.screenshot);
+        checkOutputPath(args.screenshot, "--screenshot", {args.scene});
+    }
     scene::Scene scene = scene::loadScene(args.scene, args.overrides);
     const int width = args.width > 0 ? args.width : scene.render.width;
     const int height = args.height > 0 ? args.height : scene.render.height;
@@ -200,8 +208,10 @@ void addViewCommand(CLI::App& app) {
     auto args = std::make_shared<ViewArgs>();
     CLI::App* cmd = app.add_subcommand("view", "Explore a scene in a window (needs a display)");
     cmd->add_option("scene", args->scene, "Scene file (JSON)")->required();
-    cmd->add_option("--width", args->width, "Window width (default: the scene's)");
-    cmd->add_option("--height", args->height, "Window height (default: the scene's)");
+    cmd->add_option("--width", args->width, "Window width (default: the scene's)")
+        ->check(CLI::Range(1, 16384));
+    cmd->add_option("--height", args->height, "Window height (default: the scene's)")
+        ->check(CLI::Range(1, 16384));
     cmd->add_option("--camera", args->camera, "Camera name");
     cmd->add_option("--oit", args->oit, "Transparency technique");
     cmd->add_option("--set", args->overrides, "Override a scene value: key=value");

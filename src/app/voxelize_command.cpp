@@ -4,7 +4,11 @@
 // "mask") and optionally as a VTK image for ParaView.
 #include "app/commands.h"
 
+#include "app/cli_checks.h"
+
+#include "base/atomic_file.h"
 #include "base/error.h"
+#include "base/text.h"
 #include "gpu/context.h"
 #include "io/vtk_export.h"
 #include "scene/scene.h"
@@ -61,18 +65,18 @@ void runVoxelize(const VoxelizeArgs& args) {
     // Everything that can be checked before work is checked first.
     const Method method =
         parseMethod(args.method.empty() ? (args.solid ? "raster" : "conservative") : args.method);
-    VEIL_CHECK(fs::path(args.output).extension() == ".vdb", "output '{}' must end in .vdb",
-               args.output);
-    VEIL_CHECK(args.vti.empty() || fs::path(args.vti).extension() == ".vti",
+    VEIL_CHECK(lowerExtension(args.output) == ".vdb", "output '{}' must end in .vdb", args.output);
+    VEIL_CHECK(args.vti.empty() || lowerExtension(args.vti) == ".vti",
                "--vti '{}' must end in .vti", args.vti);
-    for (const std::string& out : {args.output, args.vti}) {
-        if (out.empty()) continue;
-        const fs::path dir = fs::path(out).has_parent_path() ? fs::path(out).parent_path() : ".";
-        VEIL_CHECK(fs::is_directory(dir), "cannot write '{}': folder '{}' does not exist", out,
-                   dir.string());
-    }
+    checkOutputPath(args.output, "output", {args.scene});
+    if (!args.vti.empty()) checkOutputPath(args.vti, "--vti", {args.scene, args.output});
     const int slices = args.slices > 0 ? args.slices : args.res;
     const scene::Scene scene = scene::loadScene(args.scene, args.overrides);
+    // The scene's own .vdb volumes are inputs too: -o smoke.vdb would replace one.
+    std::vector<fs::path> volumeFiles;
+    for (const scene::VolumeRef& v : scene.volumes)
+        if (!v.path.empty()) volumeFiles.push_back(v.path);
+    checkOutputPath(args.output, "output", volumeFiles);
     const Triangles tris = flattenScene(scene);
     glm::vec3 lo, hi;
     tris.bounds(lo, hi);
@@ -171,11 +175,14 @@ void addVoxelizeCommand(CLI::App& app) {
     cmd->add_option("--camera", args->camera, "Camera of --perspective (default: the first)");
     cmd->add_option("--smooth", args->smooth,
                     "Gaussian smoothing width in voxels for a soft fog density (default 0)")
-        ->check(CLI::Range(0.0, 64.0));
+        ->check(finiteRange(0.0, 64.0));
+    // OpenVDB refuses scale maps whose determinant is below 3e-15 ("Non-zero scale values
+    // required"), i.e. voxels under 1.4e-5; the bound leaves a margin.
     cmd->add_option("--voxel-size", args->voxelSize,
-                    "World voxel size of resampled (perspective/local) grids (default: auto)");
+                    "World voxel size of resampled (perspective/local) grids (default: auto)")
+        ->check(finiteRange(1e-4, 1e6));
     cmd->add_option("--set", args->overrides, "Override a scene value: key=value (repeatable)");
-    cmd->add_option("--device", args->device, "EGL device index");
+    cmd->add_option("--device", args->device, "EGL device index")->check(CLI::Range(0, 1023));
     cmd->add_flag("--quiet", args->quiet, "No progress bar");
     cmd->callback([args] { runVoxelize(*args); });
 }

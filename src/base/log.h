@@ -12,6 +12,9 @@ enum class Level { Debug = 0, Info = 1, Warn = 2, Error = 3, Off = 4 };
 void setLevel(Level level);
 Level level();
 void write(Level level, std::string_view message);
+// Whether a message of `level` would be written: guard arguments that are costly to make,
+// e.g. `if (log::enabled(Level::Debug)) log::debug("{}", describe(x));`.
+inline bool enabled(Level l) { return level() <= l; }
 
 template <typename... Args>
 void debug(fmt::format_string<Args...> f, Args&&... args) {

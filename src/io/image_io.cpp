@@ -35,9 +35,12 @@ void writeImage(const fs::path& path, const ImageF& image, bool dropAlpha) {
         VEIL_CHECK(out->open(tmp.string(), spec), "cannot write '{}': {}", path.string(),
                    out->geterror());
         const bool ok = out->write_image(OIIO::TypeDesc::FLOAT, data.data());
-        const std::string err = out->geterror();
-        out->close();
-        VEIL_CHECK(ok, "cannot write '{}': {}", path.string(), err);
+        std::string err = out->geterror();
+        // close() flushes the last compressed rows: its failure is a truncated file too.
+        const bool closed = out->close();
+        if (err.empty()) err = out->geterror();
+        VEIL_CHECK(ok && closed, "cannot write '{}': {}", path.string(),
+                   err.empty() ? "the image writer failed" : err);
     });
 }
 

@@ -4,12 +4,15 @@
 #include "base/error.h"
 
 #include <vtkDataArray.h>
+#include <vtkErrorCode.h>
 #include <vtkFloatArray.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkXMLImageDataReader.h>
 #include <vtkXMLImageDataWriter.h>
+
+#include <cstring>
 
 namespace veil::io {
 
@@ -33,7 +36,19 @@ void writeVti(const std::filesystem::path& path, const DenseGrid& grid) {
         writer->SetInputData(image);
         writer->SetDataModeToAppended();
         writer->SetCompressorTypeToZLib();
-        VEIL_CHECK(writer->Write() == 1, "cannot write '{}' (VTK writer failed)", path.string());
+        // VTK reports a full disk through the error code, prints it and still returns 1;
+        // its own printing is switched off so the error ends as one line.
+        const bool warnings = vtkObject::GetGlobalWarningDisplay();
+        vtkObject::GlobalWarningDisplayOff();
+        const bool ok = writer->Write() == 1;
+        vtkObject::SetGlobalWarningDisplay(warnings);
+        const unsigned long code = writer->GetErrorCode();
+        // Below FirstVTKErrorCode the code is an errno value (28: ENOSPC).
+        VEIL_CHECK(ok && code == vtkErrorCode::NoError, "cannot write '{}': {}", path.string(),
+                   code == vtkErrorCode::NoError ? std::string("VTK writer failed")
+                   : code < vtkErrorCode::FirstVTKErrorCode
+                       ? std::string(std::strerror(static_cast<int>(code)))
+                       : fmt::format("VTK error code {}", code));
     });
 }
 

@@ -4,6 +4,8 @@
 
 #include "base/error.h"
 #include "base/log.h"
+#include "base/text.h"
+#include "scene/json_text.h"
 #include "scene/scene_json.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -75,11 +77,15 @@ bool parseIndex(const std::string& s, std::size_t& out) {
 } // namespace
 
 void applyOverrides(nlohmann::json& doc, const std::vector<std::string>& overrides) {
-    for (const std::string& ov : overrides) {
-        auto eq = ov.find('=');
+    for (const std::string& arg : overrides) {
+        const std::string ov = printable(arg, 200); // for messages: bounded, bad bytes as \xHH
+        if (const auto bad = firstInvalidUtf8(arg))
+            throw Error(fmt::format("override '{}': not valid UTF-8 (byte 0x{:02X} at offset {})",
+                                    ov, static_cast<unsigned char>(arg[*bad]), *bad));
+        auto eq = arg.find('=');
         VEIL_CHECK(eq != std::string::npos,
                    "override '{}': expected key=value, for example render.width=320", ov);
-        std::string key = ov.substr(0, eq), text = ov.substr(eq + 1);
+        std::string key = arg.substr(0, eq), text = arg.substr(eq + 1);
         VEIL_CHECK(!key.empty(), "override '{}': empty key before '='", ov);
 
         std::vector<std::string> parts;
@@ -91,7 +97,8 @@ void applyOverrides(nlohmann::json& doc, const std::vector<std::string>& overrid
         nlohmann::json* node = &doc;
         std::string walked;
         for (const std::string& part : parts) {
-            VEIL_CHECK(!part.empty(), "override '{}': empty component in key '{}'", ov, key);
+            VEIL_CHECK(!part.empty(), "override '{}': empty component in key '{}'", ov,
+                       printable(key));
             if (node->is_array()) {
                 std::size_t index = 0;
                 VEIL_CHECK(parseIndex(part, index),
@@ -113,10 +120,14 @@ void applyOverrides(nlohmann::json& doc, const std::vector<std::string>& overrid
             walked += (walked.empty() ? "" : ".") + part;
         }
         // The value is JSON when it parses as JSON (numbers, true, [1,2,3]); else a string.
+        if (const auto at = excessiveNestingAt(text))
+            throw Error(fmt::format("override '{}': value nested deeper than {} levels at {}", ov,
+                                    kMaxJsonDepth, lineColumn(text, *at)));
         nlohmann::json value = nlohmann::json::parse(text, nullptr, false);
         if (value.is_discarded()) value = text;
         *node = std::move(value);
-        log::debug("override {} = {}", key, node->dump());
+        if (log::enabled(log::Level::Debug))
+            log::debug("override {} = {}", printable(key), describeJson(*node, 200));
     }
 }
 
@@ -125,26 +136,39 @@ Scene parseScene(const nlohmann::json& doc, const std::filesystem::path& baseDir
 }
 
 Scene loadScene(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
+    // /dev/zero or a FIFO would be read forever: only regular files of a sane size.
+    constexpr std::uintmax_t kMaxSceneBytes = std::uintmax_t(256) << 20;
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    VEIL_CHECK(!std::filesystem::exists(status) || std::filesystem::is_regular_file(status),
+               "cannot open scene file '{}': not a regular file", path.string());
+    const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+    VEIL_CHECK(ec || bytes <= kMaxSceneBytes,
+               "cannot open scene file '{}': {} bytes is more than a scene's limit of 256 MiB",
+               path.string(), bytes);
     std::ifstream in(path, std::ios::binary);
     VEIL_CHECK(in.good() && !std::filesystem::is_directory(path), "cannot open scene file '{}'",
                path.string());
     std::stringstream text;
     text << in.rdbuf();
 
-    nlohmann::json doc;
-    try {
-        // Comments (// and /* */) are allowed so example scenes can explain themselves.
-        doc = nlohmann::json::parse(text.str(), nullptr, true, true);
-    } catch (const nlohmann::json::parse_error& e) {
-        throw Error(fmt::format("{}: invalid JSON: {}", path.string(), e.what()));
-    }
+    // Comments (// and /* */) are allowed so example scenes can explain themselves.
+    nlohmann::json doc = parseJsonText(text.str(), path.string());
     try {
         applyOverrides(doc, overrides);
     } catch (const Error& e) {
         throw Error(fmt::format("{}: {}", path.string(), e.what()));
+    } catch (const nlohmann::json::exception& e) {
+        throw Error(fmt::format("{}: --set: {}", path.string(), jsonProblem(e)));
     }
     std::filesystem::path absolute = std::filesystem::absolute(path);
-    Scene scene = detail::parseSceneDocument(doc, absolute.parent_path(), path.string());
+    Scene scene;
+    try {
+        scene = detail::parseSceneDocument(doc, absolute.parent_path(), path.string());
+    } catch (const nlohmann::json::exception& e) {
+        // The parser checks types before reading values; this is a last line, not the plan.
+        throw Error(fmt::format("{}: {}", path.string(), jsonProblem(e)));
+    }
     scene.sourcePath = absolute;
     return scene;
 }

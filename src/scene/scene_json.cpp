@@ -5,6 +5,7 @@
 
 #include "base/error.h"
 #include "base/log.h"
+#include "scene/json_text.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -54,12 +55,8 @@ std::string child(const std::string& ptr, std::size_t index) {
     return ptr + "/" + std::to_string(index);
 }
 
-std::string show(const json& v) {
-    if (v.is_number_float() && !std::isfinite(v.get<double>()))
-        return fmt::format("{}", v.get<double>());
-    std::string s = v.dump();
-    return s.size() > 60 ? s.substr(0, 57) + "..." : s;
-}
+// Bounded: a value may be megabytes or thousands of levels deep (json_text.h).
+std::string show(const json& v) { return describeJson(v, 60); }
 
 std::string joined(const std::vector<std::string>& names) {
     std::string out;
@@ -88,6 +85,9 @@ double number(const Context& ctx, const json& v, const std::string& ptr, Range r
     if (!v.is_number()) fail(ctx, ptr, fmt::format("expected a number, got {}", show(v)));
     double d = v.get<double>();
     if (!std::isfinite(d)) fail(ctx, ptr, fmt::format("value {} is not a finite number", d));
+    // Every number read here is stored as a float: 1e39 would become inf, 1e-50 zero.
+    if (std::abs(d) > std::numeric_limits<float>::max() || (d != 0.0 && float(d) == 0.0f))
+        fail(ctx, ptr, fmt::format("value {} does not fit a 32-bit float", show(v)));
     if (!r.contains(d)) fail(ctx, ptr, fmt::format("value {} out of range {}", show(v), r.str()));
     return d;
 }
@@ -300,10 +300,24 @@ Camera parseCamera(const Context& ctx, const json& j, const std::string& ptr, st
              fmt::format("far ({}) must be greater than near ({})", c.farPlane, c.nearPlane));
     glm::vec3 dir = c.target - c.position;
     if (glm::length(dir) == 0.0f) fail(ctx, o.ptr("target"), "target equals position");
+    // The view matrix is built in float: a length that overflows makes it NaN or zero.
+    if (!std::isfinite(glm::length(dir)))
+        fail(ctx, o.ptr("target"), "target - position must have a length that fits a 32-bit float");
+    if (!std::isfinite(glm::length(c.up)))
+        fail(ctx, o.ptr("up"), "up must have a length that fits a 32-bit float");
     if (glm::length(c.up) == 0.0f ||
         glm::length(glm::cross(glm::normalize(dir), glm::normalize(c.up))) < 1e-6f)
         fail(ctx, o.ptr("up"), "up must be non-zero and not parallel to the view direction");
     return c;
+}
+
+// Normalized in double: in float, |(1e30, 1e30, 0)|^2 overflows and the result is zero.
+glm::vec3 unitDirection(const Context& ctx, glm::vec3 d, const std::string& ptr, const char* what) {
+    const glm::dvec3 dd(d);
+    const double len = glm::length(dd);
+    if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z) || len == 0.0)
+        fail(ctx, ptr, fmt::format("{} must be a non-zero finite vector", what));
+    return glm::vec3(dd / len);
 }
 
 Light parseLight(const Context& ctx, const json& j, const std::string& ptr, std::size_t i) {
@@ -329,12 +343,12 @@ Light parseLight(const Context& ctx, const json& j, const std::string& ptr, std:
         fail(ctx, o.ptr("target"), "give either direction or target, not both");
     if (o.has("target")) {
         glm::vec3 d = o.vec<3>("target", glm::vec3(0.0f)) - l.position;
-        if (glm::length(d) == 0.0f) fail(ctx, o.ptr("target"), "target equals position");
-        l.direction = glm::normalize(d);
+        if (d == glm::vec3(0.0f)) fail(ctx, o.ptr("target"), "target equals position");
+        l.direction = unitDirection(ctx, d, o.ptr("target"), "target - position");
     } else if (o.has("direction")) {
         glm::vec3 d = o.vec<3>("direction", l.direction);
-        if (glm::length(d) == 0.0f) fail(ctx, o.ptr("direction"), "direction must not be zero");
-        l.direction = glm::normalize(d);
+        if (d == glm::vec3(0.0f)) fail(ctx, o.ptr("direction"), "direction must not be zero");
+        l.direction = unitDirection(ctx, d, o.ptr("direction"), "direction");
     }
     l.innerConeDegrees = o.num("inner_cone", l.innerConeDegrees, Range{0.0, 90.0});
     l.outerConeDegrees = o.num("outer_cone", l.outerConeDegrees, Range{0.0, 90.0});
