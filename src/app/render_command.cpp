@@ -53,6 +53,7 @@ struct Rendered {
     gpu::GpuTimer::Mode timer = gpu::GpuTimer::Mode::CpuFinish;
     nlohmann::json oitStats;      // technique-specific counters (reference: fragments, pool)
     nlohmann::json oitProperties; // effective values of the technique's properties
+    nlohmann::json framePasses = nlohmann::json::array(); // the frame's passes and resources
     nlohmann::json volumes = nlohmann::json::array();
 };
 
@@ -85,6 +86,8 @@ Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, con
     if (nlohmann::json stats = renderer.technique().stats(); !stats.empty())
         r.oitStats = std::move(stats);
     r.oitProperties = renderer.technique().properties().values();
+    for (const frame::Pass& p : renderer.passes().passes())
+        r.framePasses.push_back({{"name", p.name}, {"reads", p.reads}, {"writes", p.writes}});
     return r;
 }
 
@@ -227,6 +230,7 @@ void runRender(const RenderArgs& args) {
         report["total_ms"] = main.totalMs;
         if (!main.oitStats.is_null()) report["oit_stats"] = main.oitStats;
         report["oit_properties"] = main.oitProperties;
+        report["frame_passes"] = main.framePasses;
         if (!main.volumes.empty()) report["volumes"] = main.volumes;
         if (!args.compareTo.empty()) {
             report["compare"] = errorJson(args.compareTo, errors.front().second);

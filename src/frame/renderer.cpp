@@ -88,6 +88,7 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
     lightsUbo_ = gpu::Buffer();
     lightsUbo_.setStorage(sizeof(LightsBlock), nullptr);
     createTargets();
+    buildPasses();
 }
 
 Renderer::~Renderer() = default;
@@ -195,75 +196,106 @@ void Renderer::render() {
     cameraUbo_.bindBase(GL_UNIFORM_BUFFER, VEIL_UBO_CAMERA);
     lightsUbo_.bindBase(GL_UNIFORM_BUFFER, VEIL_UBO_LIGHTS);
 
-    if (shadowMap_) {
-        gpu::TimerScope t(timer_, "shadow");
-        const gpu::Program& program = programs_.get(shadowProgram_);
-        program.set("useOverride", 1).set("viewProjection", shadowMap_->viewProjection());
-        shadowMap_->render(state_, [&] { drawObjects(program, Subset::ShadowCasters); });
-    }
-    if (shadowMap_) shadowMap_->texture().bind(VEIL_TEX_SHADOW_MAP);
-
-    {
-        gpu::TimerScope t(timer_, "opaque");
-        opaqueFbo_.bind();
-        gpu::PipelineState state;
-        state.view(width_, height_).depth(GL_LESS, true);
-        state_.apply(state); // before the clears: they obey the colour and depth masks
-        const glm::vec4 bg(scene_.render.background, 1.0f);
-        const float one = 1.0f;
-        glClearNamedFramebufferfv(opaqueFbo_.id(), GL_COLOR, 0, &bg.x);
-        glClearNamedFramebufferfv(opaqueFbo_.id(), GL_DEPTH, 0, &one);
-        const gpu::Program& program = programs_.get(opaqueProgram_);
-        program.set("useOverride", 0);
-        drawObjects(program, Subset::Opaque);
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    }
     const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
-    const volume::FogTargets fogTargets{width_,
-                                        height_,
-                                        &depth_,
-                                        camera_.projection(aspect) * camera_.view(),
-                                        camera_.projection(aspect),
-                                        scene_.render.seed};
-    if (fog_) {
-        gpu::TimerScope t(timer_, "fog");
-        fog_->march(fogTargets);
-    }
-    {
-        gpu::TimerScope t(timer_, "transparent");
-        for (int pass = 0; pass < oit_->geometryPasses(); ++pass) {
-            const gpu::Program& program = programs_.get(transparentPrograms_[pass]);
-            program.set("useOverride", 0);
-            oit_->beginAccumulate(pass, targets_, program);
-            if (fog_) {
-                // Fog first: one contribution per pixel through the same oitEmit().
-                const gpu::Program& fogProgram = programs_.get(fogEmitPrograms_[pass]);
-                oit_->prepareProgram(pass, fogProgram);
-                fog_->bindForEmit(fogProgram, fogTargets);
-                fogProgram.use();
-                fog_->drawEmit();
-            }
-            drawObjects(program, Subset::Transparent);
-            oit_->endAccumulate(pass);
-            if (pass + 1 == oit_->geometryPasses() && oit_->repeatAccumulation()) pass = -1;
-        }
-    }
-    {
-        gpu::TimerScope t(timer_, "resolve");
-        oit_->resolve(targets_);
-    }
-    {
-        gpu::TimerScope t(timer_, "tonemap");
-        const gpu::Program& program = programs_.get(tonemapProgram_);
-        program.use();
-        program.set("exposure", scene_.render.exposure)
-            .set("operatorId", scene_.render.tonemap == "clamp" ? 1 : 0);
-        hdr_.bind(VEIL_TEX_HDR);
-        glBindImageTexture(VEIL_IMG_OUTPUT, ldr_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
-        glDispatchCompute((width_ + 7) / 8, (height_ + 7) / 8, 1);
-        glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    fogTargets_ = {width_,
+                   height_,
+                   &depth_,
+                   camera_.projection(aspect) * camera_.view(),
+                   camera_.projection(aspect),
+                   scene_.render.seed};
+    for (const Pass& pass : passes_.passes()) {
+        gpu::TimerScope t(timer_, pass.name);
+        pass.execute();
     }
     passTimes_ = timer_.collect();
+}
+
+void Renderer::buildPasses() {
+    // Resources of the light that owns the shadow map (one today; the shadows issue adds one
+    // per shadow-casting light).
+    std::vector<std::string> shadowResources;
+    if (shadowMap_) shadowResources.push_back(fmt::format("shadow.{}", shadowLight_));
+    auto plus = [](std::vector<std::string> a, const std::vector<std::string>& b) {
+        a.insert(a.end(), b.begin(), b.end());
+        return a;
+    };
+
+    if (shadowMap_)
+        passes_.add({"shadow", {}, shadowResources, [this] {
+                         const gpu::Program& program = programs_.get(shadowProgram_);
+                         program.set("useOverride", 1)
+                             .set("viewProjection", shadowMap_->viewProjection());
+                         shadowMap_->render(state_,
+                                            [&] { drawObjects(program, Subset::ShadowCasters); });
+                         shadowMap_->texture().bind(VEIL_TEX_SHADOW_MAP);
+                     }});
+
+    passes_.add({"opaque", shadowResources, {"depth", "hdr"}, [this] {
+                     opaqueFbo_.bind();
+                     gpu::PipelineState state;
+                     state.view(width_, height_).depth(GL_LESS, true);
+                     state_.apply(state); // before the clears: they obey the colour/depth masks
+                     const glm::vec4 bg(scene_.render.background, 1.0f);
+                     const float one = 1.0f;
+                     glClearNamedFramebufferfv(opaqueFbo_.id(), GL_COLOR, 0, &bg.x);
+                     glClearNamedFramebufferfv(opaqueFbo_.id(), GL_DEPTH, 0, &one);
+                     const gpu::Program& program = programs_.get(opaqueProgram_);
+                     program.set("useOverride", 0);
+                     drawObjects(program, Subset::Opaque);
+                     glBindFramebuffer(GL_FRAMEBUFFER, 0);
+                 }});
+
+    std::vector<std::string> transparentReads = plus({"depth"}, shadowResources);
+    if (fog_) {
+        passes_.add({"fog", plus({"depth"}, shadowResources),
+                     {"fog.light_transmittance", "fog.radiance"},
+                     [this] { fog_->march(fogTargets_); }});
+        transparentReads.push_back("fog.radiance");
+    }
+
+    passes_.add({"transparent", transparentReads, {"oit.accumulation"}, [this] {
+                     for (int pass = 0; pass < oit_->geometryPasses(); ++pass) {
+                         const gpu::Program& program = programs_.get(transparentPrograms_[pass]);
+                         program.set("useOverride", 0);
+                         oit_->beginAccumulate(pass, targets_, program);
+                         if (fog_) {
+                             // Fog first: one contribution per pixel through the same oitEmit().
+                             const gpu::Program& fogProgram = programs_.get(fogEmitPrograms_[pass]);
+                             oit_->prepareProgram(pass, fogProgram);
+                             fog_->bindForEmit(fogProgram, fogTargets_);
+                             fogProgram.use();
+                             fog_->drawEmit();
+                         }
+                         drawObjects(program, Subset::Transparent);
+                         oit_->endAccumulate(pass);
+                         if (pass + 1 == oit_->geometryPasses() && oit_->repeatAccumulation())
+                             pass = -1;
+                     }
+                 }});
+
+    passes_.add({"resolve", {"oit.accumulation", "hdr"}, {"hdr"},
+                 [this] { oit_->resolve(targets_); }});
+
+    passes_.add({"tonemap", {"hdr"}, {"ldr"}, [this] {
+                     const gpu::Program& program = programs_.get(tonemapProgram_);
+                     program.use();
+                     program.set("exposure", scene_.render.exposure)
+                         .set("operatorId", scene_.render.tonemap == "clamp" ? 1 : 0);
+                     hdr_.bind(VEIL_TEX_HDR);
+                     glBindImageTexture(VEIL_IMG_OUTPUT, ldr_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                                        GL_RGBA8);
+                     glDispatchCompute((width_ + 7) / 8, (height_ + 7) / 8, 1);
+                     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+                 }});
+    passes_.validate();
+}
+
+const gpu::Texture* Renderer::resourceTexture(const std::string& name) const {
+    if (name == "depth") return &depth_;
+    if (name == "hdr") return &hdr_;
+    if (name == "ldr") return &ldr_;
+    if (shadowMap_ && name == fmt::format("shadow.{}", shadowLight_)) return &shadowMap_->texture();
+    return nullptr;
 }
 
 gpu::ImageF Renderer::readHdr() const { return gpu::readTexture(hdr_); }

@@ -1,4 +1,5 @@
-// The frame: an ordered list of passes with per-pass GPU times (DESIGN.md "One frame").
+// The frame: an ordered list of passes (frame/pass_list.h) built from the scene, with the
+// resources each reads and writes and per-pass GPU times (DESIGN.md "One frame"):
 //   shadow      Williams shadow map of opaque casters (first shadowed spot/directional light)
 //   opaque      forward shading into the HDR target with depth
 //   fog         density volumes ray-marched per pixel (compute; only with volumes)
@@ -8,6 +9,7 @@
 #pragma once
 
 #include "frame/gpu_mesh.h"
+#include "frame/pass_list.h"
 #include "gpu/context.h"
 #include "gpu/pipeline_state.h"
 #include "gpu/readback.h"
@@ -66,11 +68,17 @@ public:
     std::size_t gpuBytes() const;
     // The fog pass (density volumes); null when the scene has no volumes.
     const volume::FogPass* fog() const { return fog_.get(); }
+    // The frame's passes in order, with the resources each reads and writes.
+    const PassList& passes() const { return passes_; }
+    // The texture behind a frame resource (depth, hdr, ldr, shadow.<light>), or null when the
+    // resource lives inside a technique or has no texture.
+    const gpu::Texture* resourceTexture(const std::string& name) const;
     // Recompiles every shader from disk; failing programs keep their previous version.
     int reloadShaders() { return programs_.reloadAll(); }
 
 private:
     void createTargets();
+    void buildPasses();
     void updateUniforms();
     enum class Subset { Opaque, Transparent, ShadowCasters };
     void drawObjects(const gpu::Program& program, Subset subset) const;
@@ -96,6 +104,8 @@ private:
     gpu::Texture hdr_{gpu::NoCreate}, depth_{gpu::NoCreate}, ldr_{gpu::NoCreate};
     gpu::Framebuffer opaqueFbo_{gpu::NoCreate};
     oit::OitFrameTargets targets_;
+    volume::FogTargets fogTargets_;
+    PassList passes_;
     gpu::StateTracker state_; // every pass's fixed-function state goes through it
     gpu::GpuTimer timer_;
     std::vector<gpu::PassTime> passTimes_;
