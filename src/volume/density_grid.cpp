@@ -3,6 +3,7 @@
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/log.h"
+#include "volume/vdb_file.h"
 
 #include <openvdb/tools/LevelSetUtil.h>
 #include <openvdb/tools/MeshToVolume.h>
@@ -23,19 +24,7 @@ void initOpenVdb() {
 
 openvdb::GridPtrVecPtr readAllGrids(const fs::path& path) {
     initOpenVdb();
-    VEIL_CHECK(fs::exists(path), "cannot open volume '{}': no such file", path.string());
-    try {
-        openvdb::io::File file(path.string());
-        file.open();
-        openvdb::GridPtrVecPtr grids = file.getGrids();
-        file.close();
-        return grids;
-    } catch (const openvdb::Exception& e) {
-        throw Error(fmt::format("cannot read OpenVDB file '{}' (truncated or corrupt?): {}",
-                                path.string(), e.what()));
-    } catch (const std::exception& e) {
-        throw Error(fmt::format("cannot read OpenVDB file '{}': {}", path.string(), e.what()));
-    }
+    return readVdbFile(path);
 }
 
 GridSummary summarize(const openvdb::GridBase& grid) {
@@ -123,8 +112,8 @@ openvdb::FloatGrid::Ptr loadDensityGrid(const fs::path& path, const std::string&
     openvdb::GridBase::Ptr found;
     std::string names;
     for (const auto& g : *grids) {
-        names +=
-            fmt::format("{}'{}' ({})", names.empty() ? "" : ", ", g->getName(), g->valueType());
+        names += fmt::format("{}'{}' ({})", names.empty() ? "" : ", ",
+                             boundedText(g->getName(), 60), boundedText(g->valueType(), 20));
         if (!found && g->getName() == gridName) found = g;
     }
     VEIL_CHECK(found, "volume '{}' has no grid named '{}' (grids: {})", path.string(), gridName,
