@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -183,6 +184,20 @@ TEST(VolumeTest, SceneRejectsBadVolumeEntries) {
     nlohmann::json g = base;
     g["volumes"][0]["anisotropy"] = 1.0;
     EXPECT_FALSE(errorOf([&] { scene::parseScene(g, dir()); }).empty());
+}
+
+TEST(VolumeTest, HugeProceduralGridIsCoarsenedQuickly) {
+    // 996^3 = 9.9e8 voxels passed the old limit of 1e9 and took minutes and 4 GB to evaluate.
+    const auto t0 = std::chrono::steady_clock::now();
+    auto g = volume::makeProceduralGrid("box", glm::vec3(9.96f), 0.01f, 1);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_LT(seconds, 5.0);
+    EXPECT_LE(g->activeVoxelCount(), openvdb::Index64(1) << 25);
+    EXPECT_NEAR(g->voxelSize().x(), 0.04, 1e-6); // 0.01 doubled twice: 250^3 voxels
+    // The box still fills its size.
+    const openvdb::BBoxd world = g->transform().indexToWorld(g->evalActiveVoxelBoundingBox());
+    EXPECT_NEAR(world.max().x() - world.min().x(), 9.96, 0.1 + 1e-6);
 }
 
 TEST(VolumeTest, CpuReferenceSlabIsExponential) {
