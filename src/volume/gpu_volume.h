@@ -45,8 +45,8 @@ public:
     // index-to-world transform (which must be affine). Before allocating anything the upload is
     // planned: a grid over the budget, over GL_MAX_3D_TEXTURE_SIZE or with an indirection table
     // over 2^25 entries is coarsened (or refused with refuseOverBudget), with the estimate and
-    // the limit in the message; index coordinates beyond +-2^24 or more than 2^31 active voxels
-    // are refused. Throws veil::Error.
+    // the limit in the message; index coordinates beyond +-2^24 are refused. Throws
+    // veil::Error.
     GpuVolume(openvdb::FloatGrid::ConstPtr grid, const glm::mat4& objectToWorld,
               const GpuVolumeOptions& options = {});
 

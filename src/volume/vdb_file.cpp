@@ -32,7 +32,7 @@ std::string gridNames(const openvdb::io::File& file) {
     std::string names;
     for (auto it = file.beginName(); it != file.endName(); ++it)
         names += fmt::format("{}'{}'", names.empty() ? "" : ", ", boundedText(*it, 60));
-    return names;
+    return boundedText(names, 200);
 }
 
 // Reads and decodes everything through io::Stream over a stream we hold: unlike io::File's

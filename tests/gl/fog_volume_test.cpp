@@ -158,6 +158,25 @@ TEST_F(FogVolumeTest, GridWiderThanTextureLimitIsVisible) {
     EXPECT_NEAR(img.at(1, 1, 0), 1.0, 1e-3); // beside the rod
 }
 
+TEST_F(FogVolumeTest, HugeTileGridIsCoarsenedQuickly) {
+    // 1016^3 = 1.05e9 voxels of tiles against a 64 MiB budget: coarsened three times. Through
+    // tools::resampleToMatch the first coarsening alone took 15.7 s (tiles sampled voxel by
+    // voxel). Coarsening box-filters, so the interior keeps density 1.
+    auto g = emptyGrid(0.001);
+    g->fill(openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(1015)), 1.0f, true);
+    volume::GpuVolumeOptions options;
+    options.budgetBytes = std::size_t(64) << 20;
+    const auto t0 = std::chrono::steady_clock::now();
+    volume::GpuVolume v(g, glm::mat4(1.0f), options);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_LT(seconds, 5.0);
+    EXPECT_GE(v.stats().coarsened, 3);
+    EXPECT_LE(v.stats().gpuBytes, options.budgetBytes);
+    EXPECT_EQ(v.stats().activeVoxels, 127u * 127u * 127u);
+    VEIL_EXPECT_NO_GL_ERROR();
+}
+
 TEST_F(FogVolumeTest, IndexCoordinatesNearInt32LimitsAreRefused) {
     // The span of these two voxels overflowed the int32 size estimate.
     auto g = emptyGrid(1.0);
