@@ -16,8 +16,11 @@
 #include <nlohmann/json.hpp>
 #include <openvdb/tools/LevelSetSphere.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <fstream>
+#include <random>
 #include <string>
 
 namespace veil::test {
@@ -207,6 +210,39 @@ TEST_F(FogVolumeTest, FarApartVoxelsFinishQuicklyCoarsenedOrRefused) {
     const std::string msg = errorOf([&] { volume::GpuVolume r(g, glm::mat4(1.0f), refuse); });
     EXPECT_NE(msg.find("indirection table"), std::string::npos) << msg;
     EXPECT_NE(msg.find("over the limit"), std::string::npos) << msg;
+}
+
+TEST_F(FogVolumeTest, VdbThatCrashesOpenVdbIsOneClearCliError) {
+    // torus01.vdb with 64 random bytes (the 19th overwrite of mt19937 seed 7, as in
+    // VolumeTest.DamagedVdbFilesLoadOrFailNamingTheFile): OpenVDB's reader corrupts the heap and
+    // `veil render` died with "free(): invalid pointer" (exit 134). The trial read in a child
+    // turns that into one line and exit code 1.
+    std::ifstream in(dataDir() / "vdb-torus-fog/torus01.vdb", std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    ASSERT_GT(bytes.size(), 10000u);
+    std::mt19937 rng(7);
+    const std::size_t size = bytes.size();
+    for (int k = 0; k <= 18; ++k) {
+        const std::size_t at = 200 + rng() % (size - 264);
+        for (std::size_t j = 0; j < 64; ++j) {
+            const char c = char(rng() & 0xFF);
+            if (k == 18) bytes[at + j] = c;
+        }
+    }
+    const fs::path d = dir() / "cli-crash";
+    fs::create_directories(d);
+    std::ofstream(d / "heap-crash.vdb", std::ios::binary) << bytes;
+    nlohmann::json doc = scene(d / "heap-crash.vdb", 1.0, {0, 0, 30}, 20.0, 60.0);
+    doc["volumes"][0]["grid"] = "voxel_fog_density";
+    std::ofstream(d / "scene.json") << doc.dump();
+    const fs::path out = d / "out.png";
+    fs::remove(out);
+    const CommandResult r = runCommand(veilExe() + " render '" + (d / "scene.json").string() +
+                                       "' -o '" + out.string() + "'");
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("heap-crash.vdb"), std::string::npos) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_FALSE(fs::exists(out));
 }
 
 } // namespace veil::test
