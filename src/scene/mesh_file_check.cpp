@@ -297,9 +297,8 @@ void checkPlyFile(const std::filesystem::path& path) {
             }
             VEIL_CHECK(ok, "mesh file '{}': malformed PLY property line '{}'", file, line);
             elements.back().properties.push_back(p);
-        } else {
-            throw Error(fmt::format("mesh file '{}': unknown PLY header line '{}'", file, line));
         }
+        // Other header lines (vendor keywords) do not change the body's layout: ignored.
     }
     VEIL_CHECK(haveFormat && ended, "mesh file '{}': PLY header without {}", file,
                haveFormat ? "'end_header'" : "a 'format' line");
