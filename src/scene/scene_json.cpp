@@ -208,8 +208,12 @@ fs::path resolvePath(const Obj& o, const std::string& key, const char* what) {
     if (p.is_relative()) p = o.ctx().baseDir / p;
     p = p.lexically_normal();
     std::error_code ec;
-    if (!fs::is_regular_file(p, ec))
+    if (!fs::exists(p, ec))
         fail(o.ctx(), o.ptr(key), fmt::format("{} '{}' does not exist", what, p.string()));
+    if (!fs::is_regular_file(p, ec))
+        fail(o.ctx(), o.ptr(key),
+             fmt::format("{} '{}' is not a regular file (a directory or device)", what,
+                         p.string()));
     return p;
 }
 

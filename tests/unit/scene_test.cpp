@@ -215,6 +215,11 @@ TEST(SceneTest, MissingMeshFileNamesPathAndPointer) {
     json doc = minimal();
     doc["objects"] = json::parse(R"([{"mesh": "no/such/model.glb"}])");
     expectContains(parseError(doc), {"/objects/0/mesh", "no/such/model.glb", "does not exist"});
+    // A directory or a device is not "missing": say what it is.
+    doc["objects"] = json::parse(R"([{"mesh": "/dev/null"}])");
+    expectContains(parseError(doc), {"/objects/0/mesh", "/dev/null", "is not a regular file"});
+    doc["objects"] = json::parse(R"([{"mesh": "/tmp"}])");
+    expectContains(parseError(doc), {"/objects/0/mesh", "is not a regular file"});
 }
 
 TEST(SceneTest, MalformedJsonNamesTheFile) {
