@@ -3,6 +3,7 @@
 // `--frames N --screenshot out.png` renders N frames, saves the last one and exits, so the
 // viewer can be tested (under Xvfb) against `veil render`.
 #include "app/commands.h"
+#include "app/property_widgets.h"
 
 #include "base/atomic_file.h"
 #include "base/error.h"
@@ -96,22 +97,35 @@ void runView(const ViewArgs& args) {
     Orbit orbit;
     orbit.from(camera);
 
+    // The technique's property values shown in the panel: the scene's for the scene's
+    // technique, else the defaults; reset to the defaults when the technique changes.
+    const auto& registry = oit::Registry::instance();
+    auto valuesFor = [&](const std::string& name) {
+        return registry
+            .resolve(name, name == scene.render.oit ? scene.render.oitProperties : nullptr,
+                     name == scene.render.oit ? scene.render.oitWhere : "--oit")
+            .values();
+    };
+    nlohmann::json oitValues = valuesFor(oitName);
+
     std::unique_ptr<frame::Renderer> renderer;
     int rw = 0, rh = 0;
     auto rebuild = [&] {
         window.framebufferSize(rw, rh);
         if (args.frames > 0) rw = width, rh = height; // scripted: exactly the asked size
         renderer = std::make_unique<frame::Renderer>(
-            scene, window.info(), frame::RendererOptions{rw, rh, camera.name, oitName});
+            scene, window.info(), frame::RendererOptions{rw, rh, camera.name, oitName, oitValues});
     };
     rebuild();
+    std::string goodName = oitName;
+    nlohmann::json goodValues = oitValues;
     gpu::Framebuffer blitSource;
     auto attachBlit = [&] { blitSource.attach(GL_COLOR_ATTACHMENT0, renderer->ldrTexture()); };
     attachBlit();
 
     std::unique_ptr<ImGuiSession> gui;
     if (args.frames == 0) gui = std::make_unique<ImGuiSession>(window.window());
-    const std::vector<std::string> techniques = oit::Registry::instance().names();
+    const std::vector<std::string> techniques = registry.names();
     int frame = 0;
     std::string status;
     while (!window.shouldClose()) {
@@ -143,10 +157,30 @@ void runView(const ViewArgs& args) {
                 for (const auto& t : techniques)
                     if (ImGui::Selectable(t.c_str(), t == oitName) && t != oitName) {
                         oitName = t;
+                        oitValues = valuesFor(t);
                         changed = true;
                     }
                 ImGui::EndCombo();
             }
+            // Every declared property of the technique, generated from its schema.
+            if (const oit::TechniqueInfo* info = registry.find(oitName);
+                info && !info->properties.empty() &&
+                ImGui::TreeNodeEx("technique properties", ImGuiTreeNodeFlags_DefaultOpen)) {
+                changed = propertyWidgets(info->properties, oitValues) || changed;
+                ImGui::TreePop();
+            }
+            if (ImGui::CollapsingHeader("frame passes")) {
+                for (const frame::Pass& p : renderer->passes().passes()) {
+                    std::string reads, writes;
+                    for (const auto& r : p.reads)
+                        reads += (reads.empty() ? "" : ", ") + r;
+                    for (const auto& w : p.writes)
+                        writes += (writes.empty() ? "" : ", ") + w;
+                    ImGui::Text("%-11s %s -> %s", p.name.c_str(), reads.c_str(), writes.c_str());
+                }
+            }
+            if (const nlohmann::json stats = renderer->technique().stats(); !stats.empty())
+                ImGui::TextWrapped("stats: %s", stats.dump().c_str());
             ImGui::SliderFloat("exposure", &scene.render.exposure, 0.05f, 8.0f, "%.2f",
                                ImGuiSliderFlags_Logarithmic);
             ImGui::ColorEdit3("ambient", &scene.render.ambient.x, ImGuiColorEditFlags_Float);
@@ -175,8 +209,13 @@ void runView(const ViewArgs& args) {
             try {
                 rebuild();
                 attachBlit();
+                goodName = oitName;
+                goodValues = oitValues;
             } catch (const Error& e) {
+                // Keep rendering (and showing) what last worked.
                 status = e.what();
+                oitName = goodName;
+                oitValues = goodValues;
             }
         }
         orbit.apply(camera);

@@ -221,14 +221,13 @@ void Renderer::buildPasses() {
     };
 
     if (shadowMap_)
-        passes_.add({"shadow", {}, shadowResources, [this] {
-                         const gpu::Program& program = programs_.get(shadowProgram_);
-                         program.set("useOverride", 1)
-                             .set("viewProjection", shadowMap_->viewProjection());
-                         shadowMap_->render(state_,
-                                            [&] { drawObjects(program, Subset::ShadowCasters); });
-                         shadowMap_->texture().bind(VEIL_TEX_SHADOW_MAP);
-                     }});
+        passes_.add(
+            {"shadow", {}, shadowResources, [this] {
+                 const gpu::Program& program = programs_.get(shadowProgram_);
+                 program.set("useOverride", 1).set("viewProjection", shadowMap_->viewProjection());
+                 shadowMap_->render(state_, [&] { drawObjects(program, Subset::ShadowCasters); });
+                 shadowMap_->texture().bind(VEIL_TEX_SHADOW_MAP);
+             }});
 
     passes_.add({"opaque", shadowResources, {"depth", "hdr"}, [this] {
                      opaqueFbo_.bind();
@@ -247,7 +246,8 @@ void Renderer::buildPasses() {
 
     std::vector<std::string> transparentReads = plus({"depth"}, shadowResources);
     if (fog_) {
-        passes_.add({"fog", plus({"depth"}, shadowResources),
+        passes_.add({"fog",
+                     plus({"depth"}, shadowResources),
                      {"fog.light_transmittance", "fog.radiance"},
                      [this] { fog_->march(fogTargets_); }});
         transparentReads.push_back("fog.radiance");
@@ -273,8 +273,8 @@ void Renderer::buildPasses() {
                      }
                  }});
 
-    passes_.add({"resolve", {"oit.accumulation", "hdr"}, {"hdr"},
-                 [this] { oit_->resolve(targets_); }});
+    passes_.add(
+        {"resolve", {"oit.accumulation", "hdr"}, {"hdr"}, [this] { oit_->resolve(targets_); }});
 
     passes_.add({"tonemap", {"hdr"}, {"ldr"}, [this] {
                      const gpu::Program& program = programs_.get(tonemapProgram_);

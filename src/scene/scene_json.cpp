@@ -211,9 +211,9 @@ fs::path resolvePath(const Obj& o, const std::string& key, const char* what) {
     if (!fs::exists(p, ec))
         fail(o.ctx(), o.ptr(key), fmt::format("{} '{}' does not exist", what, p.string()));
     if (!fs::is_regular_file(p, ec))
-        fail(o.ctx(), o.ptr(key),
-             fmt::format("{} '{}' is not a regular file (a directory or device)", what,
-                         p.string()));
+        fail(
+            o.ctx(), o.ptr(key),
+            fmt::format("{} '{}' is not a regular file (a directory or device)", what, p.string()));
     return p;
 }
 
