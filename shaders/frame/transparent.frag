@@ -21,16 +21,17 @@ void main() {
     // Light that is transmitted is not diffusely reflected.
     float diffuseWeight = 1.0 - maxComponent(m.transmission);
     vec3 reflected = shadeSurface(m, vWorldPos, N, V, diffuseWeight);
-#ifdef OIT_WANTS_SURFACE
-    // Techniques that model diffusion and refraction (phenomenological) need more inputs.
-    vec3 viewPos = (camera.view * vec4(vWorldPos, 1.0)).xyz;
-    vec3 viewNormal = normalize(mat3(camera.view) * N);
+    OitFragment f = oitFragment(reflected * alpha, alpha, m.transmission, vViewDepth);
+    f.surface = true;
+    f.particle = billboard;
+    f.collimation = collimation;
     // Relative index eta = eta_before / eta_after (000 Eq. 8): entering through a face whose
     // outward normal faces the viewer, leaving through one that faces away.
-    float eta = dot(vNormal, V) >= 0.0 ? 1.0 / ior : ior;
-    oitEmitSurface(reflected * alpha, alpha, m.transmission, vViewDepth, collimation, eta,
-                   viewPos, viewNormal);
-#else
-    oitEmit(reflected * alpha, alpha, m.transmission, vViewDepth);
-#endif
+    f.eta = dot(vNormal, V) >= 0.0 ? 1.0 / ior : ior;
+    f.viewPos = (camera.view * vec4(vWorldPos, 1.0)).xyz;
+    f.viewNormal = normalize(mat3(camera.view) * N);
+    f.roughness = roughness;
+    f.attenuationColor = attenuationColor;
+    f.attenuationDistance = attenuationDistance;
+    oitEmit(f);
 }

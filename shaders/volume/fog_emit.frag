@@ -5,10 +5,6 @@
 // upsampled with a joint bilateral filter keyed on the opaque depth (000 section 5).
 #include "../common/camera.glsl"
 
-// Fog is no billboard: techniques that split passes by mesh kind (phenomenological's
-// low-resolution particle pass) see it as a full-resolution surface.
-uniform bool billboard = false;
-
 #include "veil:oit_emit"
 
 layout(binding = VEIL_TEX_FOG_RADIANCE) uniform sampler2D fogRadiance;
@@ -72,5 +68,5 @@ void main() {
     // transparent fragments (stochastic, reference) place it among the surfaces.
     vec4 clip = projection * vec4(0.0, 0.0, -max(L.a, 1e-4), 1.0);
     gl_FragDepth = clamp(clip.z / clip.w * 0.5 + 0.5, 0.0, 1.0);
-    oitEmit(L.rgb, 1.0, T.rgb, L.a);
+    oitEmit(oitFragment(L.rgb, 1.0, T.rgb, L.a)); // no surface, no particle
 }

@@ -6,12 +6,18 @@
 //   viewDepth     distance along the view axis
 // This one blends unsorted with dual-source modulation, scaling coverage by a property.
 
+#include "../fragment.glsl"
+
 uniform float templateOpacityScale;
 
 layout(location = 0, index = 0) out vec4 oitOutRadiance;
 layout(location = 0, index = 1) out vec4 oitOutModulation;
 
-void oitEmit(vec3 radiance, float alpha, vec3 transmission, float viewDepth) {
+void oitEmit(OitFragment f) {
+    vec3 radiance = f.radiance;
+    float alpha = f.alpha;
+    vec3 transmission = f.transmission;
+    float viewDepth = f.viewDepth;
     float s = templateOpacityScale;
     // radiance is premultiplied by alpha: scaling alpha scales it too.
     oitOutRadiance = vec4(radiance * s, 1.0);

@@ -20,6 +20,8 @@
 // momentEmitMoments() / momentEmitComposite() below with what it accumulated per segment and
 // add the results into the same targets as images (imageLoad + imageStore per pixel, its
 // only writer at that time).
+#include "../fragment.glsl"
+
 #include "moment_math.glsl"
 #include "storage16.glsl"
 
@@ -59,7 +61,11 @@ void momentEmitMoments(float alphaEff, float z, out float b[9]) {
 #endif
 }
 
-void oitEmit(vec3 radiance, float alpha, vec3 transmission, float viewDepth) {
+void oitEmit(OitFragment f) {
+    vec3 radiance = f.radiance;
+    float alpha = f.alpha;
+    vec3 transmission = f.transmission;
+    float viewDepth = f.viewDepth;
     vec3 absorbanceRgb;
     float alphaEff = momentNetCoverage(alpha, transmission, absorbanceRgb);
     float b[9];
@@ -115,7 +121,11 @@ vec4 momentEmitComposite(ivec2 p, vec3 radiance, float alphaEff, float viewDepth
     return vec4(radiance * T, alphaEff * T);
 }
 
-void oitEmit(vec3 radiance, float alpha, vec3 transmission, float viewDepth) {
+void oitEmit(OitFragment f) {
+    vec3 radiance = f.radiance;
+    float alpha = f.alpha;
+    vec3 transmission = f.transmission;
+    float viewDepth = f.viewDepth;
     vec3 absorbanceRgb;
     float alphaEff = momentNetCoverage(alpha, transmission, absorbanceRgb);
     oitOutAccum = momentEmitComposite(ivec2(gl_FragCoord.xy), radiance, alphaEff, viewDepth);

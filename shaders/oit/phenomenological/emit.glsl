@@ -6,11 +6,9 @@
 //   RT2  (sum c_i delta_i, sum c_i)  additive          000 Eq. 8-9 (001 Eq. 9-10), averaged
 // where c_i = alpha_i (1 - mean t_i) is the net coverage (Listing 1 `netCoverage`).
 //
-// Entry points:
-//   oitEmit(radiance, alpha, T, viewDepth)     the common OIT interface: collimated (c = 1),
-//                                             non-refracting (eta = 1) contribution.
-//   oitEmitSurface(..., collimation, eta, viewPos, viewNormal)  surfaces (OIT_WANTS_SURFACE);
-//                                             view-space position and viewer-facing normal.
+// Entry point: oitEmit(OitFragment f) (shaders/oit/fragment.glsl). Surfaces use its
+// collimation, eta, view-space position and viewer-facing normal; the fog's contribution
+// (f.surface false) is collimated (c = 1) and non-refracting (eta = 1).
 // The fog marcher (a compute shader) cannot write blended fragment outputs. Included with
 // OIT_EMIT_COMPUTE defined, this file declares no outputs and no oitEmit(): the marcher calls
 // the pure function phenComputeOutput() (no fragment built-ins: every input is explicit) with
@@ -26,7 +24,8 @@
 // depth between the camera's near and far planes, 4 RGBA32UI targets each, OR logic op);
 // thickness.comp walks them into a thickness per pixel, which the accumulation pass uses for
 // the refraction offset (Delta z := thickness), Beer-Lambert absorption at front faces and a
-// thickness x roughness diffusion term (see oitEmitSurface below).
+// thickness x roughness diffusion term (see oitEmit below).
+#include "../fragment.glsl"
 #include "../../common/camera.glsl"
 #include "../../common/math.glsl"
 
@@ -44,9 +43,8 @@ layout(binding = VEIL_PHEN_TEX_THICKNESS) uniform sampler2D phenThickness;
 uniform float phenThicknessRef;     // > 0: t := t^(thickness / phenThicknessRef) at front faces
 uniform float phenVolumeBlur;       // k_r of the thickness x roughness diffusion term
 #endif
-// The volume code reads the material uniforms of shaders/frame/material.glsl (billboard,
-// roughness, attenuation*), declared only in surface programs (VEIL_MATERIAL_UNIFORMS); the fog
-// emission program never calls oitEmitSurface and gets none of it.
+// The volume code reads the surface's roughness and attenuation from the OitFragment (the
+// fog's contribution has f.surface = false and takes none of it).
 
 // A copy of the opaque depth (the original is attached for the depth test).
 layout(binding = VEIL_PHEN_TEX_DEPTH) uniform sampler2D phenOpaqueDepth;
@@ -149,7 +147,7 @@ PhenOutput phenComputeOutput(vec3 radiance, float alpha, vec3 t, float viewDepth
 // pass 0 (full resolution) skips billboard meshes and pass 1 (1/2 or 1/4 resolution) draws only
 // them, testing depth by hand against a downsampled key (the farthest opaque depth of the
 // block, bound as phenOpaqueDepth) since the low-resolution targets have no depth buffer.
-void phenPassFilter() {
+void phenPassFilter(bool billboard) {
 #if defined(PHEN_SKIP_BILLBOARDS)
     if (billboard) discard;
 #elif defined(PHEN_LOWRES)
@@ -163,13 +161,13 @@ float phenBackgroundDepth() {
 }
 
 #if defined(PHEN_THICKNESS)
-#ifdef VEIL_MATERIAL_UNIFORMS
 // Slice-map pass (003 section 2-3): one bit at the fragment's view-depth slice, in the front or
 // back map by gl_FrontFacing (closed meshes wound counter-clockwise outward). Every output is
-// written (zeros elsewhere): the targets are OR-ed (glLogicOp).
-void oitEmitSurface(vec3 radiance, float alpha, vec3 transmission, float viewDepth,
-                    float collimation, float eta, vec3 viewPos, vec3 viewNormal) {
-    if (billboard) discard; // particles have no volume
+// written (zeros elsewhere): the targets are OR-ed (glLogicOp). Fog and particles have no
+// surfaces bounding a volume: nothing in the slice maps.
+void oitEmit(OitFragment f) {
+    if (!f.surface || f.particle) discard;
+    float viewDepth = f.viewDepth;
     float near = camera.viewport.z, far = camera.viewport.w;
     int s = clamp(int(floor((viewDepth - near) / (far - near) * 512.0)), 0, 511);
     int word = s >> 5;
@@ -181,10 +179,6 @@ void oitEmitSurface(vec3 radiance, float alpha, vec3 transmission, float viewDep
         phenSliceBack[k] = gl_FrontFacing ? uvec4(0u) : v;
     }
 }
-#endif
-
-// Fog has no surfaces: nothing in the slice maps.
-void oitEmit(vec3 radiance, float alpha, vec3 transmission, float viewDepth) { discard; }
 
 #else
 void phenWrite(PhenOutput o) {
@@ -193,13 +187,26 @@ void phenWrite(PhenOutput o) {
     phenOutDelta = o.delta;
 }
 
-void oitEmitSurface(vec3 radiance, float alpha, vec3 transmission, float viewDepth,
-                    float collimation, float eta, vec3 viewPos, vec3 viewNormal) {
-    phenPassFilter();
+void oitEmit(OitFragment f) {
+    phenPassFilter(f.particle);
+    if (!f.surface) {
+        // A medium's per-pixel contribution: collimated, no refraction, at its own depth.
+        phenWrite(phenComputeOutput(f.radiance, f.alpha, f.transmission, f.viewDepth, 1.0, 1.0,
+                                    vec3(0.0), vec3(0.0, 0.0, 1.0), f.viewDepth,
+                                    phenRefractionDepth, 0.0));
+        return;
+    }
+    vec3 radiance = f.radiance;
+    float alpha = f.alpha;
+    vec3 transmission = f.transmission;
+    float viewDepth = f.viewDepth;
+    float collimation = f.collimation, eta = f.eta;
+    vec3 viewPos = f.viewPos, viewNormal = f.viewNormal;
+    bool billboard = f.particle;
     float refractionDepth = phenRefractionDepth;
     float extraD = 0.0;
     vec3 t = transmission;
-#if defined(PHEN_VOLUME) && defined(VEIL_MATERIAL_UNIFORMS)
+#if defined(PHEN_VOLUME)
     // h: thickness of transparent media along this pixel's eye ray (thickness.comp).
     vec2 hn = billboard ? vec2(0.0) : texelFetch(phenThickness, ivec2(gl_FragCoord.xy), 0).rg;
     float h = hn.x;
@@ -211,23 +218,17 @@ void oitEmitSurface(vec3 radiance, float alpha, vec3 transmission, float viewDep
         // (b) Beer-Lambert once per pixel, at the faces entering a medium (back faces keep
         // their own t): glTF KHR_materials_volume T = attenuationColor^(h / distance), or
         // without attenuation, the front face's t taken as that of phenThicknessRef of medium.
-        if (attenuationDistance > 0.0)
-            t *= pow(attenuationColor, vec3(hFront / attenuationDistance));
+        if (f.attenuationDistance > 0.0)
+            t *= pow(f.attenuationColor, vec3(hFront / f.attenuationDistance));
         else if (phenThicknessRef > 0.0)
             t = pow(t, vec3(hFront / phenThicknessRef));
         // (c) rough interfaces blur in proportion to the path behind them: sigma = k_r r h / n
         // (world units), added to 000 Eq. 7's k_0 (1 - c) term before the pixel scale.
-        extraD = phenVolumeBlur * roughness * hFront;
+        extraD = phenVolumeBlur * f.roughness * hFront;
     }
 #endif
     phenWrite(phenComputeOutput(radiance, alpha, t, viewDepth, collimation, eta, viewPos,
                                 viewNormal, phenBackgroundDepth(), refractionDepth, extraD));
-}
-
-void oitEmit(vec3 radiance, float alpha, vec3 transmission, float viewDepth) {
-    phenPassFilter();
-    phenWrite(phenComputeOutput(radiance, alpha, transmission, viewDepth, 1.0, 1.0, vec3(0.0),
-                                vec3(0.0, 0.0, 1.0), viewDepth, phenRefractionDepth, 0.0));
 }
 #endif // PHEN_THICKNESS
 #endif // OIT_EMIT_COMPUTE

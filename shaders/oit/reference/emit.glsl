@@ -10,6 +10,8 @@
 // Fog marcher: a compute shader can call this same oitEmit() once per segment between
 // surfaces if it #defines OIT_PIXEL_COORD (its ivec2 pixel) before including this file; the
 // segment then takes part in the sort like any surface fragment.
+#include "../fragment.glsl"
+
 #include "../../common/bindings.h"
 
 #ifndef OIT_PIXEL_COORD
@@ -35,7 +37,11 @@ layout(std430, binding = VEIL_SSBO_OIT_REF_COUNTERS) restrict buffer OitRefCount
 layout(binding = VEIL_IMG_OIT_REF_HEADS, r32ui) uniform restrict uimage2D oitRefHeads;
 uniform uint oitRefCapacity;
 
-void oitEmit(vec3 radiance, float alpha, vec3 transmission, float viewDepth) {
+void oitEmit(OitFragment f) {
+    vec3 radiance = f.radiance;
+    float alpha = f.alpha;
+    vec3 transmission = f.transmission;
+    float viewDepth = f.viewDepth;
     uint node = atomicAdd(oitRefRequested, 1u);
     if (node >= oitRefCapacity) return; // counted; the host grows the pool and re-renders
     uint next = imageAtomicExchange(oitRefHeads, OIT_PIXEL_COORD, node);

@@ -25,6 +25,8 @@
 // per-pixel result as one more camera-facing fragment at a representative depth through
 // transparent.frag's programs; the technique documents that as a limitation.
 
+#include "../fragment.glsl"
+
 #ifndef STOCH_KIND
 #error "stochastic emit needs STOCH_KIND (0..3), set by the technique per geometry pass"
 #endif
@@ -78,7 +80,11 @@ uint stochSampleMask(float alphaEff) {
 }
 #endif
 
-void oitEmit(vec3 radiance, float alpha, vec3 transmission, float viewDepth) {
+void oitEmit(OitFragment f) {
+    vec3 radiance = f.radiance;
+    float alpha = f.alpha;
+    vec3 transmission = f.transmission;
+    float viewDepth = f.viewDepth;
     float alphaEff = alpha * (1.0 - (transmission.r + transmission.g + transmission.b) / 3.0);
 #if STOCH_KIND == 0
     oitOut = vec4(vec3(1.0 - alpha) + alpha * transmission, 1.0 - alphaEff);

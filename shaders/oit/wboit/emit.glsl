@@ -12,10 +12,16 @@
 // marcher cannot call it. It would have to write its per-pixel (A, netCoverage) sums into
 // the same two targets by a full-screen blended draw with the same blend state.
 
+#include "../fragment.glsl"
+
 layout(location = 0) out vec4 oitOutAccum;
 layout(location = 1) out vec4 oitOutRevealage;
 
-void oitEmit(vec3 radiance, float alpha, vec3 transmission, float viewDepth) {
+void oitEmit(OitFragment f) {
+    vec3 radiance = f.radiance;
+    float alpha = f.alpha;
+    vec3 transmission = f.transmission;
+    float viewDepth = f.viewDepth;
     float netCoverage = alpha * (1.0 - dot(transmission, vec3(1.0 / 3.0))); // 000 Listing 1
     // 000 Eq. 5: w = clamp([10 (1 - 0.99 f) alpha (1 - tbar)]^3, 0.01, 30), f = window z.
     float t = 10.0 * (1.0 - 0.99 * gl_FragCoord.z) * netCoverage;

@@ -105,9 +105,9 @@ public:
     // Volume refraction adds the slice-map pass in front of them.
     int geometryPasses() const override { return (lowRes() ? 2 : 1) + (volume() ? 1 : 0); }
     std::vector<std::string> defines(int pass) const override {
-        if (isThicknessPass(pass)) return {"OIT_WANTS_SURFACE", "PHEN_VOLUME", "PHEN_THICKNESS"};
+        if (isThicknessPass(pass)) return {"PHEN_VOLUME", "PHEN_THICKNESS"};
         const int inner = innerPass(pass);
-        std::vector<std::string> d = {"OIT_WANTS_SURFACE"};
+        std::vector<std::string> d;
         if (lowRes()) d.push_back(inner == 0 ? "PHEN_SKIP_BILLBOARDS" : "PHEN_LOWRES");
         if (volume() && inner == 0) d.push_back("PHEN_VOLUME");
         return d;
