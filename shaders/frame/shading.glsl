@@ -11,7 +11,7 @@ vec3 shadeSurface(SurfaceMaterial m, vec3 P, vec3 N, vec3 V, float diffuseWeight
         vec3 L;
         vec3 e = incidentRadiance(i, P, L);
         if (dot(N, L) <= 0.0) continue;
-        e *= lightVisibility(i, P, N, L);
+        lightAttenuate(i, P, N, L, e);
         result += e * evaluateBrdfCos(m, N, V, L, diffuseWeight);
     }
     return result;

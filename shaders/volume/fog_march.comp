@@ -144,7 +144,8 @@ void main() {
                 vec3 L;
                 vec3 e = incidentRadiance(l, P, L);
                 if (all(equal(e, vec3(0.0)))) continue;
-                vec3 vis = lightVisibilityInMedium(l, P);
+                lightAttenuateInMedium(l, P, e); // the shadow technique's visibility
+                float vis = 1.0;
                 if (l == primaryLight) vis *= volumeTransmittanceToLight(P);
                 if (globalDensity > 0.0 && int(lighting.lights[l].positionType.w) != VEIL_LIGHT_DIRECTIONAL)
                     vis *= exp(-globalDensity * length(lighting.lights[l].positionType.xyz - P));
