@@ -159,9 +159,11 @@ TEST_P(OitGoldenTest, MatchesGoldenAndGoldenIsCloseToReference) {
 // stochastic (coloured transmission enters only through the grey coverage a (1 - avg T)).
 // stochastic-alpha and
 // stochastic-depth should be exact (their total-alpha pass multiplies the exact per-channel
-// m, emit.glsl kind 0) but darken pixels where `reference` sees no transparent surface (for
-// example (66, 18): reference = opaque = 0.177 0.184 0.201, stochastic-alpha 0.173 0.159 0.154,
-// also in the full frame): skipped until that is understood (see issue 8).
+// m, emit.glsl kind 0) but are not: about 1040 channels are off, most along transparent
+// silhouettes (4 MSAA samples against the reference's one at the pixel centre), yet about 100
+// remain after leaving out every pixel whose reference modulation jumps by 2% in its 3 x 3
+// neighbourhood (worst at (81, 50), 144 times the bound; not shadows: also without lights),
+// so they are skipped until that is understood (reported in issue 8).
 TEST_P(OitGoldenTest, ModulationOnlyFrameIsExact) {
     const Case c = GetParam();
     const std::string name = c.name;
