@@ -161,8 +161,9 @@ TEST_P(OitGoldenTest, MatchesGoldenAndGoldenIsCloseToReference) {
 // the exact per-channel m, emit.glsl kind 0) but are not: about 1040 channels are off, most
 // along transparent silhouettes (4 MSAA samples against the reference's one at the pixel
 // centre), yet about 65 remain after leaving out every pixel whose reference modulation jumps
-// by 2% in its 3 x 3 neighbourhood (worst at (76, 51), 135 times the bound; not shadows: as
-// many without lights), so they are skipped until that is understood (reported in issue 8).
+// by 2% in its 3 x 3 neighbourhood (worst at (76, 51), 135 times the bound; not shadows: 918
+// channels are off with no lights at all), so they are skipped until that is understood
+// (reported in issue 8).
 TEST_P(OitGoldenTest, ModulationOnlyFrameIsExact) {
     const Case c = GetParam();
     const std::string name = c.name;
