@@ -283,27 +283,68 @@ TEST_F(OitRefractionTest, RejectsBadVolumeParameters) {
     EXPECT_THROW(p.validate(), Error);
 }
 
-// Looked at, not checked: a glass sphere with blue-green absorption over a striped floor, as a
-// thin shell (`phenomenological`) and as a volume (`phenomenological-volume`).
+// A glass sphere (r = 2.5, ior 1.4, transmission 0.9, roughness 0.3) with blue-green
+// absorption c = (0.2, 0.6, 0.9) per L = 1.5, as a thin shell (`phenomenological`) and as a
+// volume (`phenomenological-volume`), over a striped floor and over a uniform one. Checked:
+//  - thin shell, striped floor: the centre looks through the gap between two stripes (the
+//    0.05 grey background) and two interfaces of transmission 0.9 each (000 Eq. 2 with
+//    alpha 1: m = T), so it is 0.05 * 0.9^2 in every channel: the shell ignores the medium;
+//    and the volume image differs from it;
+//  - uniform floor: thin and volume look at the same uniform floor through the same two
+//    interfaces, so vol / thin is the medium's transmittance alone, Beer-Lambert
+//    c^(h / L) with h the straight chord 2 sqrt(r^2 - e^2) that the slice map measures along
+//    the view column (003), within the thickness error of SphereThicknessMatchesChord
+//    (one slice plus tessellation sag: kSlice + 0.004), i.e. relative |ln c| (kSlice + 0.004)
+//    / L, plus 1e-3 for RGBA16F; at the centre (e = 0.03) h = 2r; for e up to 0.6 r;
+//  - the limb is lighter than the centre: vol / thin rises with e out to 0.8 r.
+// Mutation tried: a 5% longer attenuation distance in phenomenological/emit.glsl
+// (h / (1.05 L)) fails 9 of the Beer-Lambert checks; the old check (centre darker than 0.8
+// times the thin shell) passed it.
 TEST_F(OitRefractionTest, ThickVersusThinSphereImages) {
-    nlohmann::json doc = baseScene({0.05, 0.05, 0.05});
-    for (int i = 0; i < 8; ++i) {
-        const std::string name = fmt::format("stripe{}", i);
-        doc["materials"][name] = {{"base_color", 0.0},
-                                  {"emission", {i % 2 ? 1.0 : 0.2, 0.9, i % 2 ? 0.3 : 1.0}}};
-        addObject(doc, {{"type", "plane"}, {"size", {0.5, 8.0}}}, name,
-                  {-3.5 + i * 1.0, -4.0, 0.0});
-    }
-    nlohmann::json m = glass({0.2, 0.6, 0.9}, 1.5, 1.4, 0.9);
-    m["roughness"] = 0.3;
-    doc["materials"]["glass"] = m;
-    addObject(doc, sphere(2.5), "glass", {0, 0, 0});
-    const ImageF thin = render(doc, "phenomenological", "refr_sphere_thin_shell");
-    const ImageF vol = render(doc, "phenomenological-volume", "refr_sphere_volume");
+    const std::vector<double> c{0.2, 0.6, 0.9};
+    const double r = 2.5, L = 1.5, T = 0.9;
+    auto scene = [&](bool uniformFloor) {
+        nlohmann::json doc = baseScene({0.05, 0.05, 0.05});
+        for (int i = 0; i < 8; ++i) {
+            const std::string name = fmt::format("stripe{}", i);
+            const bool odd = uniformFloor || i % 2;
+            doc["materials"][name] = {{"base_color", 0.0},
+                                      {"emission", {odd ? 1.0 : 0.2, 0.9, odd ? 0.3 : 1.0}}};
+            addObject(doc, {{"type", "plane"}, {"size", {uniformFloor ? 1.0 : 0.5, 8.0}}}, name,
+                      {-3.5 + i * 1.0, -4.0, 0.0});
+        }
+        nlohmann::json m = glass(c, L, 1.4, T);
+        m["roughness"] = 0.3;
+        doc["materials"]["glass"] = m;
+        addObject(doc, sphere(r), "glass", {0, 0, 0});
+        return doc;
+    };
+    const ImageF thin = render(scene(false), "phenomenological", "refr_sphere_thin_shell");
+    const ImageF vol = render(scene(false), "phenomenological-volume", "refr_sphere_volume");
     VEIL_EXPECT_NO_GL_ERROR();
-    // The centre is darker through 5 units of absorbing medium than through the shell.
-    EXPECT_LT(vol.at(64, 64, 0) + vol.at(64, 64, 1) + vol.at(64, 64, 2),
-              0.8 * (thin.at(64, 64, 0) + thin.at(64, 64, 1) + thin.at(64, 64, 2)));
+    for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(thin.at(64, 64, k), 0.05 * T * T, 1e-3 * 0.05) << "channel " << k;
+    EXPECT_GT(compareImages(thin, vol).maxAbs, 0.02);
+
+    const ImageF thinU = render(scene(true), "phenomenological", "refr_sphere_thin_uniform");
+    const ImageF volU = render(scene(true), "phenomenological-volume", "refr_sphere_vol_uniform");
+    VEIL_EXPECT_NO_GL_ERROR();
+    for (int k = 0; k < 3; ++k) {
+        const double tol = std::abs(std::log(c[k])) * (kSlice + 0.004) / L + 1e-3;
+        double prev = 0.0;
+        for (int x : {64, 72, 80, 88, 96}) { // e = 0.03 .. 2.03 (0.81 r)
+            const double ratio = volU.at(x, 64, k) / thinU.at(x, 64, k);
+            const double e2 = worldOf(x) * worldOf(x) + worldOf(64) * worldOf(64);
+            const double expected = std::pow(c[k], 2.0 * std::sqrt(r * r - e2) / L);
+            std::printf("sphere ch%d x %d: vol / thin %.5f, Beer-Lambert %.5f (rel. tol %.4f)\n", k,
+                        x, ratio, expected, tol);
+            if (e2 <= 0.6 * 0.6 * r * r) {
+                EXPECT_NEAR(ratio, expected, tol * expected) << "channel " << k << " x " << x;
+            }
+            EXPECT_GT(ratio, prev) << "channel " << k << " x " << x << ": limb not lighter";
+            prev = ratio;
+        }
+    }
 }
 
 } // namespace veil::test

@@ -20,8 +20,10 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstring>
+#include <map>
 
 namespace veil::test {
 
@@ -148,8 +150,111 @@ std::vector<Plane> example2() {
     return {{4, {1, 1, 1}, 0.25}, {3, {1, 1, 1}, 0.25}, {2, {1, 1, 1}, 0.25}, {1, {1, 1, 1}, 0.25}};
 }
 
+// The per-pixel distribution of the three estimators, written from 004 (not from the shader
+// or src/oit/cpu/stochastic): layer i (front to back, coverage a_i, colour c_i) covers
+// R_i = floor(a_i S + xi) of the S samples, xi uniform, so R_i = floor(a_i S) + 1 with
+// probability frac(a_i S) and floor(a_i S) otherwise, through a mask drawn uniformly from the
+// C(S, R_i) masks of R_i bits, independently per layer (3.1). A sample shows the nearest layer
+// covering it. With A = 1 - prod(1 - a_i) the exact total alpha:
+//   basic (3.1):            mean over samples of the colour shown (background if none);
+//   alpha-corrected (3.3):  A * (mean colour of the covered samples) + (1 - A) bg, and
+//                           (1 - A) bg when no sample is covered (4.1 "otherwise 0");
+//   depth-based (3.4, 3.5): vis_i = fraction of samples no nearer layer covers;
+//                           A * sum(a_i vis_i c_i) / sum(a_i vis_i) + (1 - A) bg.
+// Enumerating all (R_i, mask_i) gives each estimator's exact mean, variance and fourth
+// central moment per pixel (the basic one's mean is the exact composite: unbiased).
+struct PixelMoments {
+    std::array<double, 3> mean{0, 0, 0}, var{0, 0, 0}, m4{0, 0, 0};
+};
+
+PixelMoments estimatorMoments(const std::vector<Plane>& front2back,
+                              std::array<double, 3> background, int S,
+                              const std::string& technique) {
+    struct Outcome {
+        std::uint32_t mask;
+        double p;
+    };
+    std::vector<std::vector<Outcome>> perLayer;
+    for (const Plane& l : front2back) {
+        const double x = l.alpha * S;
+        const int r0 = static_cast<int>(std::floor(x));
+        const double f = x - r0;
+        std::vector<Outcome> o;
+        for (int r : {r0, r0 + 1}) {
+            const double pr = r == r0 ? 1.0 - f : f;
+            if (pr <= 0.0 || r > S) continue;
+            std::vector<std::uint32_t> masks;
+            for (std::uint32_t m = 0; m < (1u << S); ++m)
+                if (std::popcount(m) == r) masks.push_back(m);
+            for (std::uint32_t m : masks)
+                o.push_back({m, pr / masks.size()});
+        }
+        perLayer.push_back(o);
+    }
+    std::vector<std::pair<std::array<double, 3>, double>> values; // (pixel value, probability)
+    std::vector<std::size_t> idx(perLayer.size(), 0);
+    while (true) {
+        double p = 1.0, total = 1.0;
+        for (const Plane& l : front2back)
+            total *= 1.0 - l.alpha;
+        const double A = 1.0 - total;
+        std::array<double, 3> v{0, 0, 0}, covered{0, 0, 0};
+        int nCovered = 0;
+        for (int k = 0; k < S; ++k) {
+            std::array<double, 3> c = background;
+            bool hit = false;
+            for (std::size_t i = 0; i < perLayer.size() && !hit; ++i)
+                if (perLayer[i][idx[i]].mask & (1u << k)) {
+                    c = front2back[i].emission;
+                    hit = true;
+                }
+            nCovered += hit;
+            for (int ch = 0; ch < 3; ++ch) {
+                v[ch] += c[ch] / S;
+                if (hit) covered[ch] += c[ch];
+            }
+        }
+        if (technique == "stochastic-alpha") {
+            for (int ch = 0; ch < 3; ++ch)
+                v[ch] = (nCovered ? A * covered[ch] / nCovered : 0.0) + total * background[ch];
+        } else if (technique == "stochastic-depth") {
+            std::array<double, 3> num{0, 0, 0};
+            double den = 0.0;
+            std::uint32_t nearer = 0; // samples covered by the layers in front
+            for (std::size_t i = 0; i < perLayer.size(); ++i) {
+                const double vis = double(S - std::popcount(nearer)) / S;
+                den += front2back[i].alpha * vis;
+                for (int ch = 0; ch < 3; ++ch)
+                    num[ch] += front2back[i].alpha * vis * front2back[i].emission[ch];
+                nearer |= perLayer[i][idx[i]].mask;
+            }
+            for (int ch = 0; ch < 3; ++ch)
+                v[ch] = (den > 0.0 ? A * num[ch] / den : 0.0) + total * background[ch];
+        }
+        for (std::size_t i = 0; i < perLayer.size(); ++i)
+            p *= perLayer[i][idx[i]].p;
+        values.push_back({v, p});
+        std::size_t i = 0;
+        while (i < idx.size() && ++idx[i] == perLayer[i].size())
+            idx[i++] = 0;
+        if (i == idx.size()) break;
+    }
+    PixelMoments m;
+    for (const auto& [v, p] : values)
+        for (int ch = 0; ch < 3; ++ch)
+            m.mean[ch] += p * v[ch];
+    for (const auto& [v, p] : values)
+        for (int ch = 0; ch < 3; ++ch) {
+            const double d = v[ch] - m.mean[ch];
+            m.var[ch] += p * d * d;
+            m.m4[ch] += p * d * d * d * d;
+        }
+    return m;
+}
+
 // Checks one variant on one example over `seeds` frames: the mean over seeds and pixels
-// against the simulator's expected mean (the exact value for the unbiased basic method, the
+// against the expected mean of the mask model (S = 4, one pass) or of the simulator (more
+// samples: too many masks to enumerate) (the exact value for the unbiased basic method, the
 // biased E(A), E(D) of 004 section 4 otherwise) and the RMS against the simulator's RMS and
 // the value the paper states (where `paper` is given, S = 4 only).
 void checkExample(const std::string& name, const std::vector<Plane>& planes,
@@ -167,8 +272,18 @@ void checkExample(const std::string& name, const std::vector<Plane>& planes,
     for (const Plane& p : planes)
         frags.push_back({{p.emission[0], p.emission[1], p.emission[2]}, p.alpha});
     const double bg[3] = {background[0], background[1], background[2]};
-    const auto sim = oit::cpu::simulateStochasticPixel(frags, bg, cpuVariant(technique), samples,
-                                                       passes, 40000, 11);
+    auto sim = oit::cpu::simulateStochasticPixel(frags, bg, cpuVariant(technique), samples, passes,
+                                                 40000, 11);
+    if (samples == 4 && passes == 1) {
+        // Small enough to enumerate: the expected mean and RMS from the 004 mask model
+        // (estimatorMoments), not from the simulator that mirrors the shader's hash.
+        const PixelMoments model = estimatorMoments(planes, background, samples, technique);
+        for (int k = 0; k < 3; ++k) {
+            sim.mean[k] = model.mean[k];
+            sim.rms[k] = std::sqrt(model.var[k] +
+                                   (model.mean[k] - sim.exact[k]) * (model.mean[k] - sim.exact[k]));
+        }
+    }
     const PixelStats s = stats(images, sim.exact);
     const double n = s.count;
     for (int k = 0; k < 3; ++k) {
@@ -186,7 +301,7 @@ void checkExample(const std::string& name, const std::vector<Plane>& planes,
         if (technique == "stochastic") {
             EXPECT_NEAR(s.mean[k], sim.exact[k], se + 2e-3);
         }
-        // RMS: within 10 percent of the simulated estimator (same masks, same rule).
+        // RMS: within 10 percent of the expected estimator RMS (model or simulator).
         EXPECT_NEAR(s.rms[k], sim.rms[k], 0.1 * sim.rms[k] + 3e-3);
         if (paper) {
             EXPECT_LE(s.rms[k], paper[k] + 0.01); // 004 3.1-3.4, rounded to hundredths
@@ -282,6 +397,113 @@ TEST_F(OitStochasticGLTest, VariantsAgainstSortedComposite) {
     for (int v = 0; v < 3; ++v)
         EXPECT_LT(rmse[v][1], rmse[v][0]) << kVariants[v];
     EXPECT_LT(rmse[2][0], rmse[0][0]); // depth-based beats basic (004 Fig. 4)
+}
+
+TEST_F(OitStochasticGLTest, EstimatorsMatchTheMaskModelStatistically) {
+    // Mitsuba-style statistical test of the three variants (4 samples, one pass) against the
+    // exact sorted composite (src/oit/cpu/composite.h) and the 004 mask model above:
+    // overlapping planes make regions of 1..4 layers. Per region (the pixels whose 3 x 3
+    // neighbourhood has the same plane set, so no MSAA sample straddles an edge), over 32 seeds:
+    //  - mean: within 4 standard errors of the model's mean, which for the basic estimator is
+    //    the exact composite (unbiased, 004 3.1; asserted) and for the corrected ones their
+    //    expected values E(A), E(D) (biased, 004 4.1); the standard error is sqrt(var / n)
+    //    with var from the enumeration (pixels and seeds independent, as the per-pixel,
+    //    per-seed mask hash is meant to make them), plus 2e-3 for RGBA16F;
+    //  - variance: the sample variance within 4 of its standard errors sqrt((mu4 - var^2) / n)
+    //    of the model's variance, plus 2e-4 (a hash that correlates masks across layers,
+    //    pixels or seeds changes the spread even when the mean survives).
+    // Opaque-free and T = 0 (the basic variant models colored T only through its average).
+    // Mutations tried on emit.glsl: xi = hash >> 9 instead of >> 8 (xi in [0, 0.5): R biased
+    // low) fails all three variants by 54-63 SE; the pixel row left out of the seed (masks
+    // shared along columns) by 5-11 SE. Changing the PCG constants (747796405 -> 747796407,
+    // 747796404 or 1, 2891336453 -> 0, 277803737 -> 277803736, output shift 22 -> 16) gives a
+    // different but equally random hash: it passes here (basic: worst 2-3.6 SE), as it should; only
+    // the goldens (bit for bit) see it.
+    const std::vector<Plane> planes = {
+        {4.0, {0.9, 0.2, 0.1}, 0.5, {0, 0, 0}, -1, 0.5, -1, 1},
+        {3.0, {0.1, 0.8, 0.3}, 0.35, {0, 0, 0}, -0.5, 1, -1, 0.5},
+        {2.0, {0.2, 0.3, 0.9}, 0.6, {0, 0, 0}, -1, 1, -0.25, 1},
+        {1.0, {0.9, 0.9, 0.2}, 0.7, {0, 0, 0}, -0.75, 0.75, -0.75, 0.75},
+    };
+    const std::array<double, 3> bg{0.05, 0.05, 0.1};
+    const ImageF exact = sortedComposite(planes, bg);
+    auto key = [&](int x, int y) {
+        const double wx = (x + 0.5) / kSize * kView - kView / 2;
+        const double wz = (y + 0.5) / kSize * kView - kView / 2;
+        int k = 0;
+        for (std::size_t i = 0; i < planes.size(); ++i)
+            if (wx >= planes[i].x0 && wx <= planes[i].x1 && wz >= planes[i].z0 &&
+                wz <= planes[i].z1)
+                k |= 1 << i;
+        return k;
+    };
+    constexpr int kSeeds = 32;
+    for (const std::string technique : kVariants) {
+        SCOPED_TRACE(technique);
+        std::vector<ImageF> images;
+        for (std::uint32_t seed = 1; seed <= kSeeds; ++seed)
+            images.push_back(render(planes, bg, technique, seed * 7919u, 4, 1));
+        struct Region {
+            double sum[3] = {0, 0, 0}, sumSq[3] = {0, 0, 0}, exact[3] = {0, 0, 0};
+            double n = 0;
+        };
+        std::map<int, Region> regions;
+        for (int y = 1; y + 1 < kSize; ++y)
+            for (int x = 1; x + 1 < kSize; ++x) {
+                const int k = key(x, y);
+                bool interior = true;
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx)
+                        interior = interior && key(x + dx, y + dy) == k;
+                if (!interior) continue;
+                Region& r = regions[k];
+                for (int c = 0; c < 3; ++c)
+                    r.exact[c] = exact.at(x, y, c);
+                for (const ImageF& img : images) {
+                    for (int c = 0; c < 3; ++c) {
+                        r.sum[c] += img.at(x, y, c);
+                        r.sumSq[c] += double(img.at(x, y, c)) * img.at(x, y, c);
+                    }
+                    r.n += 1;
+                }
+            }
+        ASSERT_GE(regions.size(), 8u);
+        double worstMean = 0.0, worstVar = 0.0;
+        for (const auto& [k, r] : regions) {
+            std::vector<Plane> layers; // front to back: higher planes are nearer
+            for (std::size_t i = 0; i < planes.size(); ++i)
+                if (k & (1 << i)) layers.push_back(planes[i]);
+            std::sort(layers.begin(), layers.end(),
+                      [](const Plane& a, const Plane& b) { return a.height > b.height; });
+            const PixelMoments model = estimatorMoments(layers, bg, 4, technique);
+            for (int c = 0; c < 3; ++c) {
+                // The basic estimator's mean is the exact composite (unbiased), independently.
+                if (technique == "stochastic") {
+                    ASSERT_NEAR(model.mean[c], r.exact[c], 1e-5) << k;
+                }
+                const double mean = r.sum[c] / r.n;
+                const double var = r.sumSq[c] / r.n - mean * mean;
+                const double seMean = std::sqrt(model.var[c] / r.n);
+                const double seVar =
+                    std::sqrt(std::max(model.m4[c] - model.var[c] * model.var[c], 0.0) / r.n);
+                std::printf(
+                    "[stoch] %s region %2d (%4.0f samples) ch%d: mean %.4f model %.4f (%.2f SE), "
+                    "var %.5f model %.5f (%.2f SE)\n",
+                    technique.c_str(), k, r.n, c, mean, model.mean[c],
+                    (mean - model.mean[c]) / std::max(seMean, 1e-12), var, model.var[c],
+                    (var - model.var[c]) / std::max(seVar, 1e-12));
+                EXPECT_NEAR(mean, model.mean[c], 4.0 * seMean + 2e-3)
+                    << "region " << k << " ch " << c;
+                EXPECT_NEAR(var, model.var[c], 4.0 * seVar + 2e-4) << "region " << k << " ch " << c;
+                if (seMean > 1e-9)
+                    worstMean = std::max(worstMean, std::abs(mean - model.mean[c]) / seMean);
+                if (seVar > 1e-9)
+                    worstVar = std::max(worstVar, std::abs(var - model.var[c]) / seVar);
+            }
+        }
+        std::printf("[stoch] %s: worst |mean - model| %.2f SE, worst |var - model| %.2f SE\n",
+                    technique.c_str(), worstMean, worstVar);
+    }
 }
 
 TEST_F(OitStochasticGLTest, EightSamplesWhereTheDriverHasThem) {
