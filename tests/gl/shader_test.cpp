@@ -184,6 +184,12 @@ ProjectPrograms projectPrograms(const gpu::ContextInfo& info, gpu::ProgramManage
                                               defines, emit));
         }
     }
+    // The technique template (src/oit/_template), not registered by default.
+    {
+        const gpu::IncludeAliases emit{{"veil:oit_emit", "oit/_template/emit.glsl"}};
+        P.push_back(ProgramDesc::graphics("frame/mesh.vert", "frame/transparent.frag",
+                                          {"OIT_PASS 0"}, {emit[0], visibility[0]}));
+    }
     // The techniques' own programs (their constructors above compiled them too).
     for (const char* comp :
          {"oit/wboit/resolve.comp", "oit/moment/resolve.comp", "oit/stochastic/fold.comp",

@@ -16,6 +16,8 @@
 
 #include <gtest/gtest.h>
 
+#include <ostream>
+
 #include <cstdlib>
 #include <memory>
 
@@ -29,6 +31,8 @@ struct Case {
     // transparency at all (both over 4 x 4 block means): see the bounds below.
     double maxFractionOfNoTransparency;
 };
+// ctest lists cases by this, not by a hex dump of the struct (issue 9: readable names).
+void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
 
 // Mean over k x k pixel blocks: the stochastic estimators' per-pixel noise has zero mean
 // (basic, 004 3.1) or nearly so, and averages out over a block (its RMSE / k for independent
