@@ -11,6 +11,26 @@
 namespace veil::frame {
 
 namespace {
+// Refuses a fog march whose work (marched pixels x steps) is past render.fog_sample_limit
+// before any volume is loaded: on llvmpipe 2048^2 pixels x 4096 steps would take days.
+void checkFogWork(const scene::Scene& scene, const gpu::ContextInfo& context, int width,
+                  int height) {
+    if (scene.volumes.empty()) return;
+    long long limit = scene.render.fogSampleLimit;
+    if (limit < 0) limit = context.softwareRenderer ? 300'000'000LL : 0; // automatic
+    if (limit == 0) return;
+    const long long d = scene.render.fogResolution;
+    const long long samples = ((width + d - 1) / d) * ((height + d - 1) / d) *
+                              static_cast<long long>(scene.render.fogSteps);
+    VEIL_CHECK(samples <= limit,
+               "{}: fog: {}x{} pixels at 1/{} resolution x {} steps = {:.3g} samples, over the "
+               "limit of {:.3g}{} (render.fog_sample_limit; lower render.fog_steps or the image "
+               "size, raise render.fog_resolution, or set the limit)",
+               scene.sourcePath.empty() ? std::string("<scene>") : scene.sourcePath.string(), width,
+               height, d, scene.render.fogSteps, double(samples), double(limit),
+               scene.render.fogSampleLimit < 0 ? " for a software renderer" : "");
+}
+
 gpu::GpuTimer::Mode timerModeFor(const gpu::ContextInfo& context) {
     // llvmpipe's timer queries read zero: time there with glFinish and the CPU clock.
     return (context.softwareRenderer || context.timerQueryBits == 0)
@@ -55,6 +75,7 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
     }
     tonemapProgram_ = programs_.add(ProgramDesc::compute("frame/tonemap.comp"));
 
+    checkFogWork(scene, context_, width_, height_);
     fog_ = std::make_unique<volume::FogPass>(scene, programs_, visibility);
     if (!fog_->active())
         fog_.reset();

@@ -102,6 +102,13 @@ struct RenderSettings {
     bool fogJitter = true;
     // GPU memory budget for all volumes (MiB); larger grids are coarsened or refused.
     int volumeBudgetMiB = 1024;
+    // Memory for procedural geometry (particle clouds): larger clouds are refused before
+    // anything is allocated, with the estimate in the message.
+    int geometryBudgetMiB = 2048;
+    // Fog marcher work limit in samples (pixels marched x steps), checked before the first
+    // frame; -1 = automatic: 3e8 on software renderers (llvmpipe marches about 1e5-1e6
+    // samples per second), none on GPUs; 0 = no limit.
+    long long fogSampleLimit = -1;
     std::string volumeOverBudget = "coarsen"; // "coarsen" or "refuse"
 };
 

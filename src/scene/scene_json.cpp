@@ -276,6 +276,9 @@ void parseRender(const Obj& o, RenderSettings& r) {
     r.volumeBudgetMiB =
         static_cast<int>(o.integer("volume_budget_mib", r.volumeBudgetMiB, 1, 1 << 20));
     r.volumeOverBudget = o.str("volume_over_budget", r.volumeOverBudget, {"coarsen", "refuse"});
+    r.geometryBudgetMiB =
+        static_cast<int>(o.integer("geometry_budget_mib", r.geometryBudgetMiB, 1, 1 << 20));
+    r.fogSampleLimit = o.integer("fog_sample_limit", r.fogSampleLimit, -1, 1LL << 50);
     r.pcfRadius = int(o.integer("pcf_radius", r.pcfRadius, 0, 16));
 }
 
@@ -384,7 +387,8 @@ Material parseMaterial(const Context& ctx, const json& j, const std::string& ptr
     return m;
 }
 
-MeshData parseShape(const Context& ctx, const json& j, const std::string& ptr) {
+MeshData parseShape(const Context& ctx, const json& j, const std::string& ptr,
+                    int geometryBudgetMiB) {
     static const std::vector<std::string> types = {"plane", "box", "sphere", "torus", "particles"};
     if (!j.is_object()) fail(ctx, ptr, fmt::format("expected an object, got {}", show(j)));
     if (!j.contains("type"))
@@ -431,6 +435,14 @@ MeshData parseShape(const Context& ctx, const json& j, const std::string& ptr) {
     }
     Obj o(ctx, j, ptr, {"type", "count", "radius", "particle_size", "seed"});
     int count = int(o.integer("count", 1000, 1, 1 << 26));
+    // 4 vertices (position, normal, uv, size: 36 bytes) and 6 indices (24 bytes) per particle,
+    // held once on the CPU and once on the GPU: refuse before allocating.
+    const double mib = double(count) * (4 * 36 + 24) / (1024.0 * 1024.0);
+    if (mib > geometryBudgetMiB)
+        fail(ctx, o.ptr("count"),
+             fmt::format("{} particles need an estimated {:.0f} MiB of vertex data (on the CPU "
+                         "and again on the GPU), over render.geometry_budget_mib = {}",
+                         count, mib, geometryBudgetMiB));
     float radius = o.num("radius", 1.0f, kPositive);
     float size = o.num("particle_size", 0.02f, kPositive);
     auto seed = std::uint32_t(o.integer("seed", 1, 0, std::numeric_limits<std::uint32_t>::max()));
@@ -489,7 +501,8 @@ void parseObject(const Context& ctx, const json& j, const std::string& ptr, std:
         if (!material) fail(ctx, ptr, "missing required key 'material' (required for shapes)");
         base.mesh = std::uint32_t(b.scene.meshes.size());
         base.material = *material;
-        b.scene.meshes.push_back(parseShape(ctx, *shape, o.ptr("shape")));
+        b.scene.meshes.push_back(
+            parseShape(ctx, *shape, o.ptr("shape"), b.scene.render.geometryBudgetMiB));
         b.scene.objects.push_back(base);
         return;
     }
@@ -578,12 +591,12 @@ Scene parseSceneDocument(const json& doc, const fs::path& baseDir, const std::st
     Obj root(ctx, doc, "", {"render", "cameras", "lights", "materials", "objects", "volumes"});
 
     if (const json* r = root.get("render"))
-        parseRender(
-            Obj(ctx, *r, root.ptr("render"),
-                {"width", "height", "camera", "oit", "seed", "ambient", "background", "exposure",
-                 "tonemap", "shadow_map_size", "shadow_bias", "pcf_radius", "fog_steps",
-                 "fog_resolution", "fog_jitter", "volume_budget_mib", "volume_over_budget"}),
-            scene.render);
+        parseRender(Obj(ctx, *r, root.ptr("render"),
+                        {"width", "height", "camera", "oit", "seed", "ambient", "background",
+                         "exposure", "tonemap", "shadow_map_size", "shadow_bias", "pcf_radius",
+                         "fog_steps", "fog_resolution", "fog_jitter", "volume_budget_mib",
+                         "volume_over_budget", "geometry_budget_mib", "fog_sample_limit"}),
+                    scene.render);
 
     forEach(root, "cameras", [&](const json& j, const std::string& p, std::size_t i) {
         scene.cameras.push_back(parseCamera(ctx, j, p, i));

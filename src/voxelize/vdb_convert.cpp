@@ -78,6 +78,18 @@ VdbGrids toVdb(const SliceMap& map, const VdbOptions& options) {
         it.setValue(1.0f);
     if (options.smoothing > 0.0) {
         const int width = std::max(1, static_cast<int>(std::ceil(options.smoothing)));
+        // The dilation reaches 2 width voxels around every set voxel (bounded by the grown
+        // box), and the Gaussian runs box filters of 2 width + 1 taps along 3 axes, several
+        // times: estimate before doing any of it.
+        const double grown = double(g.dims.x + 4 * width) * double(g.dims.y + 4 * width) *
+                             double(g.dims.z + 4 * width);
+        const double around = double(g.mask->activeVoxelCount()) * std::pow(4.0 * width + 1.0, 3.0);
+        const double work = std::min(grown, around) * 3.0 * (2.0 * width + 1.0) * 4.0;
+        VEIL_CHECK(options.smoothingWorkLimit <= 0.0 || work <= options.smoothingWorkLimit,
+                   "smoothing width {} on a {}x{}x{} grid: an estimated {:.3g} voxel updates, "
+                   "over the limit of {:.3g} (use a smaller --smooth or a coarser grid, or "
+                   "raise --smooth-limit)",
+                   width, g.dims.x, g.dims.y, g.dims.z, work, options.smoothingWorkLimit);
         openvdb::tools::dilateActiveValues(g.density->tree(), 2 * width,
                                            openvdb::tools::NN_FACE_EDGE_VERTEX,
                                            openvdb::tools::EXPAND_TILES);

@@ -24,7 +24,10 @@
 namespace veil::voxelize {
 
 struct VdbOptions {
-    double smoothing = 0.0;     // gaussian half-width in voxels; 0 = binary density
+    double smoothing = 0.0; // gaussian half-width in voxels; 0 = binary density
+    // Refuse smoothing whose estimated work (voxel updates) is past this, before any of it
+    // runs; 0 = no limit. 5e9 is about 25 s on 2 cores.
+    double smoothingWorkLimit = 5e9;
     double resampleVoxel = 0.0; // world voxel size for resampled grids; 0 = automatic
     std::function<void(double)> progress;
 };
