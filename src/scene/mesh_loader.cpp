@@ -5,6 +5,7 @@
 
 #include "base/error.h"
 #include "base/log.h"
+#include "scene/mesh_file_check.h"
 
 #include <assimp/GltfMaterial.h>
 #include <assimp/Importer.hpp>
@@ -110,20 +111,24 @@ Material convertMaterial(const aiMaterial& am, bool gltf) {
 
 std::vector<LoadedMesh> loadMeshFile(const std::filesystem::path& path) {
     std::error_code ec;
-    VEIL_CHECK(std::filesystem::is_regular_file(path, ec), "mesh file '{}' does not exist",
+    VEIL_CHECK(std::filesystem::exists(path, ec), "mesh file '{}' does not exist", path.string());
+    VEIL_CHECK(std::filesystem::is_regular_file(path, ec), "mesh file '{}' is not a regular file",
                path.string());
     std::string ext = path.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
     const bool gltf = ext == ".gltf" || ext == ".glb";
+    // assimp hangs, aborts or crashes on some broken PLY files (mesh_file_check.h).
+    if (ext == ".ply") checkPlyFile(path);
 
     Assimp::Importer importer;
     // Points and lines are dropped; the renderer only draws triangles.
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                                 aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-    const unsigned flags = aiProcess_Triangulate | aiProcess_GenSmoothNormals |
-                           aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices |
-                           aiProcess_SortByPType;
+    // ValidateDataStructure runs first and turns indices out of range into an error.
+    const unsigned flags = aiProcess_ValidateDataStructure | aiProcess_Triangulate |
+                           aiProcess_GenSmoothNormals | aiProcess_JoinIdenticalVertices |
+                           aiProcess_PreTransformVertices | aiProcess_SortByPType;
     const aiScene* scene = importer.ReadFile(path.string(), flags);
     VEIL_CHECK(scene != nullptr && !(scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE),
                "cannot load mesh file '{}': {}", path.string(), importer.GetErrorString());
@@ -141,6 +146,10 @@ std::vector<LoadedMesh> loadMeshFile(const std::filesystem::path& path) {
         m.uvs.resize(am.mNumVertices, glm::vec2(0.0f));
         for (unsigned v = 0; v < am.mNumVertices; ++v) {
             const aiVector3D& p = am.mVertices[v];
+            VEIL_CHECK(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z),
+                       "mesh file '{}': mesh '{}' has a NaN or infinite vertex position "
+                       "(vertex {}: {} {} {})",
+                       path.string(), m.name, v, p.x, p.y, p.z);
             m.positions[v] = {p.x, p.y, p.z};
             if (am.mNormals) {
                 glm::vec3 n(am.mNormals[v].x, am.mNormals[v].y, am.mNormals[v].z);
@@ -155,6 +164,10 @@ std::vector<LoadedMesh> loadMeshFile(const std::filesystem::path& path) {
         for (unsigned f = 0; f < am.mNumFaces; ++f) {
             const aiFace& face = am.mFaces[f];
             if (face.mNumIndices != 3) continue;
+            for (unsigned k = 0; k < 3; ++k)
+                VEIL_CHECK(face.mIndices[k] < am.mNumVertices,
+                           "mesh file '{}': mesh '{}' face {} refers to vertex {} of {}",
+                           path.string(), m.name, f, face.mIndices[k], am.mNumVertices);
             m.indices.insert(m.indices.end(),
                              {face.mIndices[0], face.mIndices[1], face.mIndices[2]});
         }

@@ -3,6 +3,7 @@
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/log.h"
+#include "volume/vdb_file.h"
 
 #include <openvdb/tools/LevelSetUtil.h>
 #include <openvdb/tools/MeshToVolume.h>
@@ -16,6 +17,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
+constexpr double kMaxProceduralVoxels = 33554432.0; // 2^25
+
 void initOpenVdb() {
     static std::once_flag once;
     std::call_once(once, [] { openvdb::initialize(); });
@@ -23,19 +26,7 @@ void initOpenVdb() {
 
 openvdb::GridPtrVecPtr readAllGrids(const fs::path& path) {
     initOpenVdb();
-    VEIL_CHECK(fs::exists(path), "cannot open volume '{}': no such file", path.string());
-    try {
-        openvdb::io::File file(path.string());
-        file.open();
-        openvdb::GridPtrVecPtr grids = file.getGrids();
-        file.close();
-        return grids;
-    } catch (const openvdb::Exception& e) {
-        throw Error(fmt::format("cannot read OpenVDB file '{}' (truncated or corrupt?): {}",
-                                path.string(), e.what()));
-    } catch (const std::exception& e) {
-        throw Error(fmt::format("cannot read OpenVDB file '{}': {}", path.string(), e.what()));
-    }
+    return readVdbFile(path);
 }
 
 GridSummary summarize(const openvdb::GridBase& grid) {
@@ -123,8 +114,8 @@ openvdb::FloatGrid::Ptr loadDensityGrid(const fs::path& path, const std::string&
     openvdb::GridBase::Ptr found;
     std::string names;
     for (const auto& g : *grids) {
-        names +=
-            fmt::format("{}'{}' ({})", names.empty() ? "" : ", ", g->getName(), g->valueType());
+        names += fmt::format("{}'{}' ({})", names.empty() ? "" : ", ",
+                             boundedText(g->getName(), 60), boundedText(g->valueType(), 20));
         if (!found && g->getName() == gridName) found = g;
     }
     VEIL_CHECK(found, "volume '{}' has no grid named '{}' (grids: {})", path.string(), gridName,
@@ -152,12 +143,29 @@ openvdb::FloatGrid::Ptr loadDensityGrid(const fs::path& path, const std::string&
 openvdb::FloatGrid::Ptr makeProceduralGrid(const std::string& kind, const glm::vec3& size,
                                            float voxelSize, std::uint32_t seed) {
     initOpenVdb();
-    VEIL_CHECK(voxelSize > 0.0f, "procedural volume: voxel size must be positive");
+    VEIL_CHECK(voxelSize > 0.0f && std::isfinite(voxelSize),
+               "procedural volume: voxel size must be positive");
+    VEIL_CHECK(size.x > 0.0f && size.y > 0.0f && size.z > 0.0f &&
+                   std::isfinite(size.x + size.y + size.z),
+               "procedural volume: size must be positive");
     const glm::vec3 half = 0.5f * size;
+    // Every voxel is evaluated (5 octaves of noise for the clouds): 2^25 voxels take seconds,
+    // 1e9 took minutes and 4 GB. A finer request is coarsened (voxel size x2) with a warning.
+    const glm::dvec3 requested = glm::ceil(glm::dvec3(half) / double(voxelSize));
+    double voxels = 8.0 * requested.x * requested.y * requested.z;
+    const double requestedVoxels = voxels;
+    const float requestedSize = voxelSize;
+    while (voxels > kMaxProceduralVoxels) {
+        voxelSize *= 2.0f;
+        const glm::dvec3 m = glm::ceil(glm::dvec3(half) / double(voxelSize));
+        voxels = 8.0 * m.x * m.y * m.z;
+    }
+    if (voxelSize != requestedSize)
+        log::warn("procedural volume '{}' of size ({}, {}, {}) at voxel size {} would have {:.3g} "
+                  "voxels, over the limit of {:.3g}: voxel size raised to {}",
+                  kind, size.x, size.y, size.z, requestedSize, requestedVoxels,
+                  kMaxProceduralVoxels, voxelSize);
     const glm::ivec3 n = glm::ivec3(glm::ceil(half / voxelSize));
-    VEIL_CHECK(static_cast<double>(n.x) * n.y * n.z * 8.0 < 1.0e9,
-               "procedural volume of size ({}, {}, {}) at voxel size {} is too large", size.x,
-               size.y, size.z, voxelSize);
     auto grid = openvdb::FloatGrid::create(0.0f);
     grid->setTransform(openvdb::math::Transform::createLinearTransform(voxelSize));
     grid->setGridClass(openvdb::GRID_FOG_VOLUME);

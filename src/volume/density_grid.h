@@ -36,6 +36,8 @@ openvdb::FloatGrid::Ptr loadDensityGrid(const std::filesystem::path& path,
 
 // Procedural density (VolumeRef::procedural other than "homogeneous"): "box", "sphere",
 // "smoke-ball", "noise-cloud"; centred at the origin with `voxelSize`, deterministic per seed.
+// More than 2^25 voxels are not evaluated: the voxel size is doubled until the grid has at most
+// that many, with a warning giving the requested count and the limit.
 openvdb::FloatGrid::Ptr makeProceduralGrid(const std::string& kind, const glm::vec3& size,
                                            float voxelSize, std::uint32_t seed);
 

@@ -3,13 +3,15 @@
 #include "base/error.h"
 #include "base/log.h"
 
-#include <openvdb/tools/GridTransformer.h>
-
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <limits>
 #include <set>
+#include <string>
 
 namespace veil::volume {
 
@@ -36,17 +38,51 @@ glm::mat4 affineIndexToWorld(const openvdb::FloatGrid& grid) {
     return m;
 }
 
-// Leaf origins holding active voxels, dilated toward -x, -y, -z (see gpu_volume.h).
+// Limits checked before anything is allocated. Index coordinates are handed to the shader as
+// floats: beyond 2^24 neighbouring voxels have the same coordinate. The indirection table is
+// dense over the leaves' bounding box: 2^25 entries (128 MiB) bound what sparse, far-apart
+// data may cost in memory and upload time whatever the budget. Coarsening costs one pass over
+// the leaves plus one fill per tile, so it is never the expensive part.
+constexpr std::int64_t kMaxIndexCoord = std::int64_t(1) << 24;
+constexpr double kMaxTableEntries = 33554432.0;
+constexpr int kMaxCoarsening = 6;
+constexpr double kBrickBytes = double(kBrick) * kBrick * kBrick * 2; // R16F
+
+double product(const glm::dvec3& v) { return v.x * v.y * v.z; }
+
+// Leaf-sized blocks holding active values: non-empty leaves and every 8^3 block of an active
+// tile (a grid may be tiles only, and sdfToFogVolume fills a level set's interior with tiles;
+// the accessor reads tile values like voxels). Dilated toward -x, -y, -z (see gpu_volume.h).
 std::set<openvdb::Coord> brickOrigins(const openvdb::FloatGrid& grid) {
     std::set<openvdb::Coord> origins;
-    for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) {
-        if (leaf->isEmpty()) continue;
-        const openvdb::Coord o = leaf->origin();
+    auto add = [&origins](const openvdb::Coord& o) {
         for (int c = 0; c < 8; ++c)
             origins.insert(o - openvdb::Coord((c & 1) * kLeaf, ((c >> 1) & 1) * kLeaf,
                                               ((c >> 2) & 1) * kLeaf));
+    };
+    for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf)
+        if (!leaf->isEmpty()) add(leaf->origin());
+    auto tile = grid.tree().cbeginValueOn();
+    tile.setMaxDepth(tile.getLeafDepth() - 1); // tiles only
+    for (; tile; ++tile) {
+        openvdb::CoordBBox b;
+        tile.getBoundingBox(b);
+        for (int z = b.min().z(); z <= b.max().z(); z += kLeaf)
+            for (int y = b.min().y(); y <= b.max().y(); y += kLeaf)
+                for (int x = b.min().x(); x <= b.max().x(); x += kLeaf)
+                    add(openvdb::Coord(x, y, z));
     }
     return origins;
+}
+
+// Leaf-sized blocks before dilation, counted without enumerating tiles.
+double activeBlocks(const openvdb::FloatGrid& grid) {
+    double blocks = double(grid.tree().leafCount());
+    auto tile = grid.tree().cbeginValueOn();
+    tile.setMaxDepth(tile.getLeafDepth() - 1);
+    for (; tile; ++tile)
+        blocks += double(tile.getVoxelCount()) / double(kLeaf * kLeaf * kLeaf);
+    return blocks;
 }
 
 glm::ivec3 atlasLayout(std::size_t bricks) {
@@ -54,6 +90,82 @@ glm::ivec3 atlasLayout(std::size_t bricks) {
     const int bx = side, by = side;
     const int bz = static_cast<int>((bricks + std::size_t(bx * by) - 1) / std::size_t(bx * by));
     return {bx, by, std::max(bz, 1)};
+}
+
+// What uploading `grid` takes, in 64-bit/double arithmetic (coordinates near the int32 limits
+// overflow int spans). `whyNot` is empty when it fits the budget and the texture size limit.
+struct Plan {
+    bool dense = false;
+    double bytes = 0.0; // a lower bound when the grid was found too large before enumeration
+    std::set<openvdb::Coord> origins;
+    std::string whyNot;
+};
+
+Plan planUpload(const openvdb::FloatGrid& grid, const GpuVolumeOptions& options, int max3D) {
+    Plan plan;
+    const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
+    if (box.empty()) return plan;
+    const glm::dvec3 lo(box.min().x(), box.min().y(), box.min().z());
+    const glm::dvec3 hi(box.max().x(), box.max().y(), box.max().z());
+    const glm::dvec3 dense = hi - lo + 3.0; // one voxel of apron on each side
+    const double budget = double(options.budgetBytes);
+    const double limit = double(max3D);
+    auto tooWide = [&](const glm::dvec3& d, const char* what) {
+        return fmt::format("its {} would be {}x{}x{} texels, over GL_MAX_3D_TEXTURE_SIZE {}", what,
+                           d.x, d.y, d.z, max3D);
+    };
+    auto overBudget = [&](double bytes, bool lowerBound) {
+        return fmt::format("needs {}{:.1f} MiB of GPU memory, over the budget of {:.1f} MiB",
+                           lowerBound ? "at least " : "", bytes / 1048576.0, budget / 1048576.0);
+    };
+    if (product(dense) <= double(options.denseVoxelLimit) &&
+        std::max({dense.x, dense.y, dense.z}) <= limit) {
+        plan.dense = true;
+        plan.bytes = product(dense) * 2.0;
+        if (plan.bytes > budget) plan.whyNot = overBudget(plan.bytes, false);
+        return plan;
+    }
+    // Bricks. First bounds that need no enumeration: tiles may stand for billions of blocks.
+    const glm::dvec3 table = glm::floor((hi - lo) / double(kLeaf)) + 3.0;
+    const double blocks = activeBlocks(grid);
+    plan.bytes = blocks * kBrickBytes + product(table) * 4.0;
+    if (product(table) > kMaxTableEntries) {
+        plan.whyNot = fmt::format("its indirection table over {}x{}x{} leaves would have {:.3g} "
+                                  "entries, over the limit of {:.3g} (active voxels far apart)",
+                                  table.x, table.y, table.z, product(table), kMaxTableEntries);
+        return plan;
+    }
+    if (std::max({table.x, table.y, table.z}) > limit) {
+        plan.whyNot = tooWide(table, "indirection table");
+        return plan;
+    }
+    if (plan.bytes > budget) {
+        plan.whyNot = overBudget(plan.bytes, true);
+        return plan;
+    }
+    plan.origins = brickOrigins(grid);
+    const glm::ivec3 l = atlasLayout(plan.origins.size());
+    const glm::dvec3 atlas = glm::dvec3(l) * double(kBrick);
+    plan.bytes = product(glm::dvec3(l)) * kBrickBytes + product(table) * 4.0;
+    if (plan.bytes > budget)
+        plan.whyNot = overBudget(plan.bytes, false);
+    else if (std::max({atlas.x, atlas.y, atlas.z}) > limit)
+        plan.whyNot = tooWide(atlas, "brick atlas");
+    return plan;
+}
+
+// Coordinates first: everything after works on spans that must fit.
+void checkIndexRange(const openvdb::FloatGrid& grid) {
+    const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
+    const std::int64_t m =
+        std::max({std::abs(std::int64_t(box.min().x())), std::abs(std::int64_t(box.min().y())),
+                  std::abs(std::int64_t(box.min().z())), std::abs(std::int64_t(box.max().x())),
+                  std::abs(std::int64_t(box.max().y())), std::abs(std::int64_t(box.max().z()))});
+    VEIL_CHECK(m < kMaxIndexCoord,
+               "grid '{}' has active voxels at index coordinates [{} {} {}]..[{} {} {}], beyond "
+               "+-2^24 where single-precision sampling cannot tell voxels apart (corrupt file?)",
+               grid.getName(), box.min().x(), box.min().y(), box.min().z(), box.max().x(),
+               box.max().y(), box.max().z());
 }
 
 // R16F 3D texture with trilinear filtering and clamped edges, filled from `values`.
@@ -70,69 +182,97 @@ gpu::Texture makeDensityTexture(int x, int y, int z, const std::vector<float>& v
     return t;
 }
 
-bool useDense(const openvdb::CoordBBox& box, const GpuVolumeOptions& options) {
-    const openvdb::Coord d = box.dim();
-    return double(d.x() + 2) * (d.y() + 2) * (d.z() + 2) <= double(options.denseVoxelLimit);
-}
-
+// Voxel size x2 with a box filter: coarse voxel i covers fine voxels 2i and 2i + 1 on each axis
+// (its centre at fine index 2i + 0.5) and takes their mean, so the optical depth is kept. Done
+// here rather than with tools::resampleToMatch, which samples tiles voxel by voxel (15.7 s for a
+// tile-only 1016^3 grid): a 2^3 group never straddles a tile, whose region is filled at once.
 openvdb::FloatGrid::Ptr coarsen(const openvdb::FloatGrid& grid) {
     auto out = openvdb::FloatGrid::create(0.0f);
     openvdb::math::Transform::Ptr xf = grid.transform().copy();
     xf->preScale(2.0);
+    xf->preTranslate(openvdb::Vec3d(0.25));
     out->setTransform(xf);
     out->setName(grid.getName());
     out->setGridClass(grid.getGridClass());
-    openvdb::tools::resampleToMatch<openvdb::tools::BoxSampler>(grid, *out);
+    auto half = [](const openvdb::Coord& c) {
+        return openvdb::Coord(c.x() >> 1, c.y() >> 1, c.z() >> 1); // floor(c / 2)
+    };
+    auto tile = grid.tree().cbeginValueOn();
+    tile.setMaxDepth(tile.getLeafDepth() - 1);
+    for (; tile; ++tile) {
+        openvdb::CoordBBox b;
+        tile.getBoundingBox(b);
+        out->tree().fill(openvdb::CoordBBox(half(b.min()), half(b.max())), *tile, true);
+    }
+    auto acc = out->getAccessor();
+    for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) {
+        if (leaf->isEmpty()) continue;
+        const openvdb::Coord o = leaf->origin();
+        for (int z = 0; z < kLeaf; z += 2)
+            for (int y = 0; y < kLeaf; y += 2)
+                for (int x = 0; x < kLeaf; x += 2) {
+                    float sum = 0.0f;
+                    bool active = false;
+                    for (int c = 0; c < 8; ++c) {
+                        const openvdb::Coord v =
+                            o + openvdb::Coord(x + (c & 1), y + ((c >> 1) & 1), z + ((c >> 2) & 1));
+                        sum += leaf->getValue(v);
+                        active = active || leaf->isValueOn(v);
+                    }
+                    if (active) acc.setValue(half(o + openvdb::Coord(x, y, z)), sum * 0.125f);
+                }
+    }
     return out;
 }
 
 } // namespace
 
 std::size_t estimateGpuBytes(const openvdb::FloatGrid& grid, const GpuVolumeOptions& options) {
-    const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
-    if (box.empty()) return 0;
-    if (useDense(box, options)) {
-        const openvdb::Coord d = box.dim();
-        return std::size_t(d.x() + 2) * (d.y() + 2) * (d.z() + 2) * 2;
-    }
-    const std::size_t bricks = brickOrigins(grid).size();
-    const glm::ivec3 l = atlasLayout(bricks);
-    const openvdb::Coord d = box.dim();
-    const std::size_t leaves =
-        std::size_t(d.x() / kLeaf + 3) * (d.y() / kLeaf + 3) * (d.z() / kLeaf + 3);
-    return std::size_t(l.x) * l.y * l.z * kBrick * kBrick * kBrick * 2 + leaves * 4;
+    const Plan plan = planUpload(grid, options, std::numeric_limits<int>::max());
+    return plan.bytes >= double(std::numeric_limits<std::size_t>::max())
+               ? std::numeric_limits<std::size_t>::max()
+               : static_cast<std::size_t>(plan.bytes);
 }
 
 GpuVolume::GpuVolume(openvdb::FloatGrid::ConstPtr grid, const glm::mat4& objectToWorld,
                      const GpuVolumeOptions& options) {
     VEIL_CHECK(grid && grid->activeVoxelCount() > 0, "empty density grid");
     stats_.gridBytes = grid->memUsage();
+    checkIndexRange(*grid);
+    GLint max3D = 0;
+    glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3D);
+    max3D = max3D > 0 ? max3D : 256; // GL 4.5 guarantees at least 2048
     openvdb::FloatGrid::ConstPtr g = grid;
-    std::size_t bytes = estimateGpuBytes(*g, options);
-    while (bytes > options.budgetBytes) {
+    Plan plan = planUpload(*g, options, max3D);
+    const std::string firstReason = plan.whyNot;
+    while (!plan.whyNot.empty()) {
         VEIL_CHECK(!options.refuseOverBudget,
-                   "grid '{}' needs {:.1f} MiB of GPU memory, over the budget of {:.1f} MiB "
-                   "(raise render.volume_budget_mib or set volume_over_budget to coarsen)",
-                   grid->getName(), bytes / 1048576.0, options.budgetBytes / 1048576.0);
-        VEIL_CHECK(stats_.coarsened < 6, "grid '{}' does not fit {:.1f} MiB even coarsened",
-                   grid->getName(), options.budgetBytes / 1048576.0);
+                   "grid '{}': {} (raise render.volume_budget_mib or set volume_over_budget to "
+                   "coarsen)",
+                   grid->getName(), plan.whyNot);
+        VEIL_CHECK(stats_.coarsened < kMaxCoarsening,
+                   "grid '{}' does not fit even coarsened {} "
+                   "times: it {}",
+                   grid->getName(), kMaxCoarsening, plan.whyNot);
         g = coarsen(*g);
         ++stats_.coarsened;
-        bytes = estimateGpuBytes(*g, options);
-        log::warn("grid '{}' over the GPU budget: coarsened to voxel size x{} ({:.1f} MiB)",
-                  grid->getName(), 1 << stats_.coarsened, bytes / 1048576.0);
+        VEIL_CHECK(g->activeVoxelCount() > 0, "grid '{}' {}, and coarsened it is empty",
+                   grid->getName(), firstReason);
+        plan = planUpload(*g, options, max3D);
     }
+    if (stats_.coarsened > 0)
+        log::warn("grid '{}': {}; coarsened to voxel size x{} ({:.1f} MiB)", grid->getName(),
+                  firstReason, 1 << stats_.coarsened, plan.bytes / 1048576.0);
     stats_.activeVoxels = g->activeVoxelCount();
     indexToWorld_ = objectToWorld * affineIndexToWorld(*g);
     worldToIndex_ = glm::inverse(indexToWorld_);
     voxelSize_ = std::max({glm::length(glm::vec3(indexToWorld_[0])),
                            glm::length(glm::vec3(indexToWorld_[1])),
                            glm::length(glm::vec3(indexToWorld_[2]))});
-    const openvdb::CoordBBox box = g->evalActiveVoxelBoundingBox();
-    if (useDense(box, options))
-        buildDense(*g, box);
+    if (plan.dense)
+        buildDense(*g, g->evalActiveVoxelBoundingBox());
     else
-        buildBricks(*g);
+        buildBricks(*g, plan.origins);
 }
 
 void GpuVolume::buildDense(const openvdb::FloatGrid& grid, const openvdb::CoordBBox& box) {
@@ -152,8 +292,9 @@ void GpuVolume::buildDense(const openvdb::FloatGrid& grid, const openvdb::CoordB
     stats_.gpuBytes = values.size() * 2;
 }
 
-void GpuVolume::buildBricks(const openvdb::FloatGrid& grid) {
-    const std::set<openvdb::Coord> origins = brickOrigins(grid);
+void GpuVolume::buildBricks(const openvdb::FloatGrid& grid,
+                            const std::set<openvdb::Coord>& origins) {
+    VEIL_CHECK(!origins.empty(), "grid '{}' has no active leaves or tiles", grid.getName());
     stats_.bricks = origins.size();
     openvdb::Coord lo = *origins.begin(), hi = *origins.begin();
     for (const auto& o : origins) {
@@ -164,8 +305,6 @@ void GpuVolume::buildBricks(const openvdb::FloatGrid& grid) {
     const openvdb::Coord leaves(span.x() / kLeaf + 1, span.y() / kLeaf + 1, span.z() / kLeaf + 1);
     bricksPerAxis_ = atlasLayout(origins.size());
     const glm::ivec3 atlas = bricksPerAxis_ * kBrick;
-    VEIL_CHECK(atlas.x <= 2048 && atlas.y <= 2048 && atlas.z <= 2048,
-               "grid '{}': {} bricks exceed a 2048^3 atlas", grid.getName(), origins.size());
     std::vector<float> values(std::size_t(atlas.x) * atlas.y * atlas.z, 0.0f);
     std::vector<std::uint32_t> table(std::size_t(leaves.x()) * leaves.y() * leaves.z(), 0u);
     auto acc = grid.getConstAccessor();

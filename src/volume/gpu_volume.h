@@ -15,6 +15,7 @@
 
 #include <glm/glm.hpp>
 
+#include <set>
 #include <string>
 
 namespace veil::volume {
@@ -34,14 +35,18 @@ struct GpuVolumeStats {
     openvdb::Index64 activeVoxels = 0;
 };
 
-// Bytes the GPU representation of `grid` would take (without building it).
+// Bytes the GPU representation of `grid` would take (without building it; a lower bound for
+// grids far over the budget, whose tiles are not enumerated).
 std::size_t estimateGpuBytes(const openvdb::FloatGrid& grid, const GpuVolumeOptions& options);
 
 class GpuVolume {
 public:
     // `objectToWorld` is the scene entry's transform, applied after the grid's own
-    // index-to-world transform (which must be affine). Throws veil::Error when the grid does not
-    // fit the budget and refuseOverBudget is set.
+    // index-to-world transform (which must be affine). Before allocating anything the upload is
+    // planned: a grid over the budget, over GL_MAX_3D_TEXTURE_SIZE or with an indirection table
+    // over 2^25 entries is coarsened (or refused with refuseOverBudget), with the estimate and
+    // the limit in the message; index coordinates beyond +-2^24 are refused. Throws
+    // veil::Error.
     GpuVolume(openvdb::FloatGrid::ConstPtr grid, const glm::mat4& objectToWorld,
               const GpuVolumeOptions& options = {});
 
@@ -61,7 +66,7 @@ public:
 
 private:
     void buildDense(const openvdb::FloatGrid& grid, const openvdb::CoordBBox& box);
-    void buildBricks(const openvdb::FloatGrid& grid);
+    void buildBricks(const openvdb::FloatGrid& grid, const std::set<openvdb::Coord>& origins);
 
     GpuVolumeStats stats_;
     gpu::Texture data_{gpu::NoCreate}, indirection_{gpu::NoCreate};

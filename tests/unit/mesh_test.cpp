@@ -6,6 +6,7 @@
 #include <glm/gtc/constants.hpp>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -302,4 +303,97 @@ TEST(MeshTest, MissingOrEmptyFilesThrowNamingTheFile) {
     writeFile(garbage, "this is not a glTF file");
     std::string bad = errorOf(garbage);
     EXPECT_NE(bad.find("garbage.glb"), std::string::npos) << bad;
+}
+
+namespace {
+
+// A tetrahedron as PLY, ASCII or binary little endian, with the last face's indices given.
+std::string tetraPly(bool binary, const std::array<int, 3>& lastFace) {
+    const float v[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    const int f[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {lastFace[0], lastFace[1], lastFace[2]}};
+    std::string out = std::string("ply\nformat ") + (binary ? "binary_little_endian" : "ascii") +
+                      " 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                      "property float z\nelement face 4\nproperty list uchar int vertex_indices\n"
+                      "end_header\n";
+    auto append = [&out](const void* p, std::size_t n) {
+        out.append(static_cast<const char*>(p), n); // the test machines are little endian
+    };
+    for (const auto& p : v) {
+        if (binary)
+            append(p, sizeof(p));
+        else
+            out += fmt::format("{} {} {}\n", p[0], p[1], p[2]);
+    }
+    for (const auto& t : f) {
+        if (binary) {
+            const unsigned char three = 3;
+            append(&three, 1);
+            append(t, sizeof(t));
+        } else {
+            out += fmt::format("3 {} {} {}\n", t[0], t[1], t[2]);
+        }
+    }
+    return out;
+}
+
+void writeBytes(const fs::path& path, const std::string& bytes) {
+    std::ofstream(path, std::ios::binary) << bytes;
+}
+
+} // namespace
+
+TEST(MeshTest, PlyFaceIndicesOutOfRangeOrNegativeAreErrors) {
+    // assimp 5.2 segfaults on these (in its post-processing, before validation runs).
+    for (bool binary : {false, true}) {
+        const fs::path ok = outputDir() / (binary ? "tetra_ok_bin.ply" : "tetra_ok_ascii.ply");
+        writeBytes(ok, tetraPly(binary, {1, 2, 3}));
+        ASSERT_EQ(errorOf(ok), "");
+        EXPECT_EQ(loadMeshFile(ok).at(0).mesh.triangleCount(), 4u);
+    }
+    for (bool binary : {false, true})
+        for (int bad : {4, 1000000, -5}) {
+            const fs::path p =
+                outputDir() / fmt::format("bad_index_{}_{}.ply", binary ? "bin" : "ascii", bad);
+            writeBytes(p, tetraPly(binary, {1, bad, 3}));
+            const std::string msg = errorOf(p);
+            EXPECT_NE(msg.find(p.filename().string()), std::string::npos) << msg;
+            EXPECT_NE(msg.find("refers to vertex"), std::string::npos) << msg;
+        }
+}
+
+TEST(MeshTest, TruncatedPlyIsAnError) {
+    // Cut binary: assimp's reader loops forever; cut ASCII: an ai_assert aborts the process.
+    for (bool binary : {false, true}) {
+        const std::string full = tetraPly(binary, {1, 2, 3});
+        const std::size_t header = full.find("end_header\n") + 11;
+        for (std::size_t cut : {header + (full.size() - header) / 2, full.size() - 3}) {
+            const fs::path p =
+                outputDir() / fmt::format("cut_{}_{}.ply", binary ? "bin" : "ascii", cut);
+            writeBytes(p, full.substr(0, cut));
+            const std::string msg = errorOf(p);
+            EXPECT_NE(msg.find(p.filename().string()), std::string::npos) << msg;
+            EXPECT_NE(msg.find("truncated"), std::string::npos) << msg;
+        }
+    }
+}
+
+TEST(MeshTest, ObjWithNanOrInfiniteVerticesIsRefused) {
+    for (const char* bad : {"nan", "inf", "-inf"}) {
+        const fs::path p = outputDir() / fmt::format("nonfinite_{}.obj", bad);
+        writeFile(p, fmt::format("o spiky\nv 0 0 0\nv 1 0 0\nv 0 {} 0\nv 0 0 1\nf 1 3 2\nf 1 2 "
+                                 "4\nf 1 4 3\nf 2 3 4\n",
+                                 bad));
+        const std::string msg = errorOf(p);
+        EXPECT_NE(msg.find(p.filename().string()), std::string::npos) << msg;
+        EXPECT_NE(msg.find("spiky"), std::string::npos) << msg;
+        EXPECT_NE(msg.find("NaN or infinite"), std::string::npos) << msg;
+    }
+}
+
+TEST(MeshTest, DirectoryOrDeviceIsNotARegularFile) {
+    for (const fs::path& p : {outputDir(), fs::path("/dev/null")}) {
+        const std::string msg = errorOf(p);
+        EXPECT_NE(msg.find(p.string()), std::string::npos) << msg;
+        EXPECT_NE(msg.find("is not a regular file"), std::string::npos) << msg;
+    }
 }

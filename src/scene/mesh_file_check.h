@@ -1,0 +1,18 @@
+// Checks on a mesh file made before assimp reads it, for inputs that assimp 5.2 does not turn
+// into an error: a binary PLY cut short makes its PLY reader loop forever, an ASCII PLY cut
+// short trips an ai_assert (abort) in TriangulateProcess, and PLY face indices that are
+// negative or past the vertex count segfault in the post-processing steps that run before
+// aiProcess_ValidateDataStructure could report them.
+#pragma once
+
+#include <filesystem>
+
+namespace veil::scene {
+
+// Walks a PLY file's body as its header describes it (ASCII, binary little or big endian):
+// every element instance must be complete and every face's vertex index in
+// [0, vertex count). Throws veil::Error naming the file, the element and the problem.
+// Costs one sequential read of the file.
+void checkPlyFile(const std::filesystem::path& path);
+
+} // namespace veil::scene
