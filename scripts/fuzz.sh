@@ -7,6 +7,9 @@
 #   FUZZ_TARGETS="scene mesh"   the targets to run (default: scene volume mesh)
 #   FUZZ_JOBS=N                 N fuzzing processes per target (libFuzzer -fork=N)
 #   FUZZ_SEED=S                 libFuzzer's -seed (default 1, so CI runs repeat)
+#   FUZZ_REPLAY_ONLY="volume"   targets that only replay their seeds and regressions once
+#                               (-runs=0), no mutation: for a target whose open findings
+#                               (tests/fuzz/findings/) would otherwise fail the run
 #   FUZZ_BUILD_JOBS=N           build parallelism (default: nproc)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -43,17 +46,25 @@ for t in $targets; do
   fi
   rm -f "$artifacts/$t"-*
   log=$build/fuzz-$t.log
-  parallel=()
-  if ((jobs > 1)); then parallel=(-fork="$jobs"); fi
-  echo "fuzz: $t for ${seconds}s over $(find "$runs/$t" -type f | wc -l) inputs (log: $log)"
+  mode=(-max_total_time="$seconds")
+  what="for ${seconds}s"
+  if [[ " ${FUZZ_REPLAY_ONLY:-} " == *" $t "* ]]; then
+    mode=(-runs=0)
+    what="replaying its seeds and regressions only (FUZZ_REPLAY_ONLY)"
+  elif ((jobs > 1)); then
+    mode+=(-fork="$jobs")
+  fi
+  echo "fuzz: $t $what over $(find "$runs/$t" -type f | wc -l) inputs (log: $log)"
   rc=0
-  "$exe" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -seed="$seed" \
-    -print_final_stats=1 -artifact_prefix="$artifacts/$t-" "${parallel[@]}" "$runs/$t" \
-    >"$log" 2>&1 || rc=$?
+  "$exe" "${mode[@]}" -timeout=10 -rss_limit_mb=2048 -seed="$seed" -print_final_stats=1 \
+    -artifact_prefix="$artifacts/$t-" "$runs/$t" >"$log" 2>&1 || rc=$?
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
   echo "fuzz: $t: exit $rc, ${execs:-?} runs, ${rate:-?} exec/s, corpus $(find "$runs/$t" -type f | wc -l) inputs"
-  found=$(find "$artifacts" -maxdepth 1 -type f -name "$t-*" | sort)
+  # The inputs libFuzzer saved, as it reports them (a child process of the code under test
+  # may inherit libFuzzer's handlers; fuzzer_main.cpp resets them, and only this process's
+  # log counts).
+  found=$(sed -n 's/.*Test unit written to //p' "$log" | sort -u)
   if ((rc != 0)) || [[ -n $found ]]; then
     status=1
     grep -E '^==[0-9]+==|^SUMMARY|runtime error|uncaught exception|terminate called|ALARM|out-of-memory' \

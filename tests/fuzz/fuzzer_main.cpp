@@ -4,6 +4,11 @@
 
 #include "base/log.h"
 
+#include <sanitizer/common_interface_defs.h>
+
+#include <pthread.h>
+
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 
@@ -16,10 +21,21 @@ namespace {
 veil::fuzz::Outcome (*gRun)(std::span<const std::uint8_t>) = nullptr;
 bool gVerbose = false; // VEIL_FUZZ_VERBOSE=1: one line per input, for checking seeds
 
+// The VDB loader reads a file first in a forked child so that a crash inside OpenVDB
+// becomes a veil::Error (src/volume/vdb_file.cpp). The child inherits libFuzzer's death
+// callback and signal handlers, which would save the input as a crash of the fuzzer; in a
+// child the crash is the loader's expected, contained outcome, so it ends by the signal.
+void plainCrashesInChild() {
+    __sanitizer_set_death_callback(nullptr);
+    for (int sig : {SIGSEGV, SIGBUS, SIGABRT, SIGFPE, SIGILL})
+        std::signal(sig, SIG_DFL);
+}
+
 } // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
     // Warnings for every odd input would be most of the output and slow the run down.
+    pthread_atfork(nullptr, nullptr, plainCrashesInChild);
     gVerbose = std::getenv("VEIL_FUZZ_VERBOSE") != nullptr;
     veil::log::setLevel(gVerbose ? veil::log::Level::Warn : veil::log::Level::Off);
     for (const veil::fuzz::Entry& e : veil::fuzz::entries())
