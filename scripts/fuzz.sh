@@ -54,10 +54,12 @@ for t in $targets; do
   elif ((jobs > 1)); then
     mode+=(-fork="$jobs")
   fi
+  dict=()
+  if [[ -f tests/fuzz/$t.dict ]]; then dict=(-dict="tests/fuzz/$t.dict"); fi
   echo "fuzz: $t $what over $(find "$runs/$t" -type f | wc -l) inputs (log: $log)"
   rc=0
   "$exe" "${mode[@]}" -timeout=10 -rss_limit_mb=2048 -seed="$seed" -print_final_stats=1 \
-    -artifact_prefix="$artifacts/$t-" "$runs/$t" >"$log" 2>&1 || rc=$?
+    "${dict[@]}" -artifact_prefix="$artifacts/$t-" "$runs/$t" >"$log" 2>&1 || rc=$?
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
   echo "fuzz: $t: exit $rc, ${execs:-?} runs, ${rate:-?} exec/s, corpus $(find "$runs/$t" -type f | wc -l) inputs"
