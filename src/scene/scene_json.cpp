@@ -387,8 +387,27 @@ Material parseMaterial(const Context& ctx, const json& j, const std::string& ptr
     return m;
 }
 
+// Generated shapes of one scene make at most this many triangles together. Each shape's
+// parameters are bounded, but a few hundred bytes of JSON could still ask for billions of
+// triangles (a 4096 x 4096 sphere is 33 M, 2^26 particles 134 M; objects multiply them):
+// minutes and tens of GB before anything is rendered. 16.7 M triangles are about 0.5 GB;
+// the largest scenes of the repository use 1.2 M (tests/fuzz/regressions/scene/).
+constexpr std::uint64_t kMaxGeneratedTriangles = std::uint64_t(1) << 24;
+
+// Charges a shape's triangles to the scene's budget before the shape is made.
+void chargeTriangles(const Context& ctx, const std::string& ptr, std::uint64_t& used,
+                     std::uint64_t triangles) {
+    if (triangles > kMaxGeneratedTriangles - used)
+        fail(ctx, ptr,
+             fmt::format("this shape makes {} triangles; generated shapes may make {} in all "
+                         "and the shapes before it make {} (use fewer segments, subdivisions or "
+                         "particles)",
+                         triangles, kMaxGeneratedTriangles, used));
+    used += triangles;
+}
+
 MeshData parseShape(const Context& ctx, const json& j, const std::string& ptr,
-                    int geometryBudgetMiB) {
+                    int geometryBudgetMiB, std::uint64_t& trianglesUsed) {
     static const std::vector<std::string> types = {"plane", "box", "sphere", "torus", "particles"};
     if (!j.is_object()) fail(ctx, ptr, fmt::format("expected an object, got {}", show(j)));
     if (!j.contains("type"))
@@ -406,11 +425,13 @@ MeshData parseShape(const Context& ctx, const json& j, const std::string& ptr,
         Obj o(ctx, j, ptr, {"type", "size", "subdivisions"});
         glm::vec2 size = o.vec<2>("size", glm::vec2(1.0f), kPositive, true);
         int sub = int(o.integer("subdivisions", 1, 1, kMaxSeg));
+        chargeTriangles(ctx, ptr, trianglesUsed, 2 * std::uint64_t(sub) * std::uint64_t(sub));
         return at(ctx, ptr, [&] { return makePlane(size, sub); });
     }
     if (type == "box") {
         Obj o(ctx, j, ptr, {"type", "size"});
         glm::vec3 size = o.vec<3>("size", glm::vec3(1.0f), kPositive, true);
+        chargeTriangles(ctx, ptr, trianglesUsed, 12);
         return at(ctx, ptr, [&] { return makeBox(size); });
     }
     if (type == "sphere") {
@@ -418,6 +439,7 @@ MeshData parseShape(const Context& ctx, const json& j, const std::string& ptr,
         float r = o.num("radius", 1.0f, kPositive);
         int seg = int(o.integer("segments", 48, 3, kMaxSeg));
         int rings = int(o.integer("rings", 24, 2, kMaxSeg));
+        chargeTriangles(ctx, ptr, trianglesUsed, 2 * std::uint64_t(seg) * std::uint64_t(rings));
         return at(ctx, ptr, [&] { return makeSphere(r, seg, rings); });
     }
     if (type == "torus") {
@@ -431,6 +453,7 @@ MeshData parseShape(const Context& ctx, const json& j, const std::string& ptr,
                 fmt::format("minor_radius ({}) must be less than major_radius ({})", minor, major));
         int ms = int(o.integer("major_segments", 48, 3, kMaxSeg));
         int ns = int(o.integer("minor_segments", 24, 3, kMaxSeg));
+        chargeTriangles(ctx, ptr, trianglesUsed, 2 * std::uint64_t(ms) * std::uint64_t(ns));
         return at(ctx, ptr, [&] { return makeTorus(major, minor, ms, ns); });
     }
     Obj o(ctx, j, ptr, {"type", "count", "radius", "particle_size", "seed"});
@@ -446,6 +469,7 @@ MeshData parseShape(const Context& ctx, const json& j, const std::string& ptr,
     float radius = o.num("radius", 1.0f, kPositive);
     float size = o.num("particle_size", 0.02f, kPositive);
     auto seed = std::uint32_t(o.integer("seed", 1, 0, std::numeric_limits<std::uint32_t>::max()));
+    chargeTriangles(ctx, ptr, trianglesUsed, 2 * std::uint64_t(count));
     return at(ctx, ptr, [&] { return makeParticleCloud(count, radius, size, seed); });
 }
 
@@ -460,6 +484,7 @@ struct Builder {
         std::string material;
     };
     std::map<std::string, std::vector<FileMesh>> files;
+    std::uint64_t generatedTriangles = 0; // charged by parseShape, kMaxGeneratedTriangles
 
     std::uint32_t addMaterial(Material m) {
         auto it = materialIndex.find(m.name);
@@ -501,8 +526,8 @@ void parseObject(const Context& ctx, const json& j, const std::string& ptr, std:
         if (!material) fail(ctx, ptr, "missing required key 'material' (required for shapes)");
         base.mesh = std::uint32_t(b.scene.meshes.size());
         base.material = *material;
-        b.scene.meshes.push_back(
-            parseShape(ctx, *shape, o.ptr("shape"), b.scene.render.geometryBudgetMiB));
+        b.scene.meshes.push_back(parseShape(
+            ctx, *shape, o.ptr("shape"), b.scene.render.geometryBudgetMiB, b.generatedTriangles));
         b.scene.objects.push_back(base);
         return;
     }
@@ -621,7 +646,7 @@ Scene parseSceneDocument(const json& doc, const fs::path& baseDir, const std::st
         scene.lights.push_back(parseLight(ctx, j, p, i));
     });
 
-    Builder builder{scene, {}, {}};
+    Builder builder{scene, {}, {}, 0};
     if (const json* mats = root.get("materials")) {
         if (!mats->is_object())
             fail(ctx, root.ptr("materials"),

@@ -219,3 +219,30 @@ TEST(SceneRobustTest, DuplicateKeyIsRefused) {
     // The same key in different objects is fine.
     EXPECT_NO_THROW(loadScene(writeScene("same-key.json", kScene)));
 }
+
+// Seen while writing the scene fuzz target, confirmed as a timeout of veil_fuzz_scene
+// (tests/fuzz/regressions/scene/generated-triangles-over-budget): 250 bytes asked for a 4096 x 4096
+// plane and sphere, 67 M triangles, 13 s and 2 GB in the fuzz build; 2^26 particles would be 134 M.
+// Generated shapes share one budget of 2^24 triangles, checked before a shape is made (the sum over
+// shapes is not tested here: reaching it means generating 16 M triangles first).
+TEST(SceneRobustTest, GeneratedTrianglesAreBoundedPerScene) {
+    const std::string materials = R"("materials": {"m": {}}, "objects": [)";
+    const std::string scene = replaced(kScene, R"("lights")", materials + "OBJECTS], \"lights\"");
+    auto with = [&](const std::string& objects) { return replaced(scene, "OBJECTS", objects); };
+
+    const std::string big = with(R"({"shape": {"type": "plane", "subdivisions": 4096},
+         "material": "m"})");
+    const std::string msg = loadError(writeScene("big_plane.json", big));
+    EXPECT_NE(msg.find("/objects/0/shape"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("33554432 triangles"), std::string::npos) << msg;
+
+    // 2^23 + 1 particles are 2^24 + 2 triangles: over the triangle budget, though their 1344
+    // MiB of vertices fit render.geometry_budget_mib (2^26 particles hit that first).
+    const std::string many = loadError(
+        writeScene("many_particles.json",
+                   with(R"({"shape": {"type": "particles", "count": 8388609}, "material": "m"})")));
+    EXPECT_NE(many.find("16777218 triangles"), std::string::npos) << many;
+
+    // The repository's largest generated scene stays far below it.
+    EXPECT_NO_THROW(loadScene(fs::path(VEIL_SOURCE_DIR) / "datasets/scenes/oit-bench-1m.json"));
+}

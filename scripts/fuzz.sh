@@ -1,0 +1,80 @@
+#!/usr/bin/env bash
+# Builds the fuzz preset and runs each libFuzzer target of tests/fuzz for SECONDS (default
+# 60) over a copy of its seed corpus; exits non-zero on any finding and prints the input that
+# caused it (docs/fuzzing.md). The repository's corpora are never written to.
+#
+#   scripts/fuzz.sh [SECONDS]
+#   FUZZ_TARGETS="scene mesh"   the targets to run (default: scene volume mesh)
+#   FUZZ_JOBS=N                 N fuzzing processes per target (libFuzzer -fork=N)
+#   FUZZ_SEED=S                 libFuzzer's -seed (default 1, so CI runs repeat)
+#   FUZZ_REPLAY_ONLY="volume"   targets that only replay their seeds and regressions once
+#                               (-runs=0), no mutation: for a target whose open findings
+#                               (tests/fuzz/findings/) would otherwise fail the run
+#   FUZZ_BUILD_JOBS=N           build parallelism (default: nproc)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+seconds=${1:-60}
+targets=${FUZZ_TARGETS:-scene volume mesh}
+jobs=${FUZZ_JOBS:-1}
+seed=${FUZZ_SEED:-1}
+build=build/fuzz
+artifacts=$build/artifacts
+runs=$build/corpus-run
+
+cmake --preset fuzz >/dev/null
+cmake --build --preset fuzz -j "${FUZZ_BUILD_JOBS:-$(nproc)}"
+
+# LeakSanitizer stays on (libFuzzer's -detect_leaks=1): OpenVDB's and TBB's global state is
+# still reachable at exit and is not reported. UBSan findings abort (the build also passes
+# -fno-sanitize-recover=undefined).
+export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:symbolize=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+
+mkdir -p "$artifacts"
+status=0
+for t in $targets; do
+  exe=$build/tests/fuzz/veil_fuzz_$t
+  test -x "$exe" || { echo "fuzz: no target '$t' ($exe)" >&2; exit 2; }
+  # The run's corpus: the seeds and every saved finding (so a fixed crash stays fixed), in a
+  # folder of the build where libFuzzer may add what it finds.
+  rm -rf "${runs:?}/$t"
+  mkdir -p "$runs/$t"
+  cp tests/fuzz/corpus/"$t"/* "$runs/$t"/
+  if compgen -G "tests/fuzz/regressions/$t/*" >/dev/null; then
+    cp tests/fuzz/regressions/"$t"/* "$runs/$t"/
+  fi
+  rm -f "$artifacts/$t"-*
+  log=$build/fuzz-$t.log
+  mode=(-max_total_time="$seconds")
+  what="for ${seconds}s"
+  if [[ " ${FUZZ_REPLAY_ONLY:-} " == *" $t "* ]]; then
+    mode=(-runs=0)
+    what="replaying its seeds and regressions only (FUZZ_REPLAY_ONLY)"
+  elif ((jobs > 1)); then
+    mode+=(-fork="$jobs")
+  fi
+  dict=()
+  if [[ -f tests/fuzz/$t.dict ]]; then dict=(-dict="tests/fuzz/$t.dict"); fi
+  echo "fuzz: $t $what over $(find "$runs/$t" -type f | wc -l) inputs (log: $log)"
+  rc=0
+  "$exe" "${mode[@]}" -timeout=10 -rss_limit_mb=2048 -seed="$seed" -print_final_stats=1 \
+    "${dict[@]}" -artifact_prefix="$artifacts/$t-" "$runs/$t" >"$log" 2>&1 || rc=$?
+  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
+  rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
+  echo "fuzz: $t: exit $rc, ${execs:-?} runs, ${rate:-?} exec/s, corpus $(find "$runs/$t" -type f | wc -l) inputs"
+  # The inputs libFuzzer saved, as it reports them (a child process of the code under test
+  # may inherit libFuzzer's handlers; fuzzer_main.cpp resets them, and only this process's
+  # log counts).
+  found=$(sed -n 's/.*Test unit written to //p' "$log" | sort -u)
+  if ((rc != 0)) || [[ -n $found ]]; then
+    status=1
+    grep -E '^==[0-9]+==|^SUMMARY|runtime error|uncaught exception|terminate called|ALARM|out-of-memory' \
+      "$log" | head -20 >&2 || true
+    for f in $found; do
+      echo "fuzz: $t: finding: $f (replay: $exe $f)" >&2
+    done
+    [[ -n $found ]] || echo "fuzz: $t: exited $rc without an artifact; see $log" >&2
+  fi
+done
+exit $status
