@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <system_error>
 
 namespace veil::scene {
@@ -107,6 +108,15 @@ Material convertMaterial(const aiMaterial& am, bool gltf) {
     return mat;
 }
 
+// "ply" at the start of the file: the token assimp's PLY importer recognises by content.
+bool startsWithPlyMagic(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    char magic[3] = {0, 0, 0};
+    in.read(magic, 3);
+    return in.gcount() == 3 && (magic[0] == 'p' || magic[0] == 'P') &&
+           (magic[1] == 'l' || magic[1] == 'L') && (magic[2] == 'y' || magic[2] == 'Y');
+}
+
 } // namespace
 
 std::vector<LoadedMesh> loadMeshFile(const std::filesystem::path& path) {
@@ -118,8 +128,10 @@ std::vector<LoadedMesh> loadMeshFile(const std::filesystem::path& path) {
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
     const bool gltf = ext == ".gltf" || ext == ".glb";
-    // assimp hangs, aborts or crashes on some broken PLY files (mesh_file_check.h).
-    if (ext == ".ply") checkPlyFile(path);
+    // assimp hangs, aborts or crashes on some broken PLY files (mesh_file_check.h). It also
+    // reads PLY content under other names when the named format's importer refuses the file
+    // (a PLY named .gltf hung it: tests/fuzz/regressions/mesh), so the content decides.
+    if (ext == ".ply" || startsWithPlyMagic(path)) checkPlyFile(path);
 
     Assimp::Importer importer;
     // Points and lines are dropped; the renderer only draws triangles.
