@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs every benchmark of bench/RESULTS.md on the GPU machine in one device call.
 # Here:  cmake --build build --target veil-bench veil-voxbench
-#        ../shared/tools/gpu-bundle build/bench/veil-bench build/bench/veil-voxbench
+#        <workplace shared>/tools/gpu-bundle build/bench/veil-bench build/bench/veil-voxbench
+#        (the bundling tool of the workplace, run here; no data is read from outside the repo)
 #        (datasets/third_party travels with the working tree)
 # There (device run, carry .gpu):  bash bench/run_gpu.sh   -> $OUT/bench-all.json + logs
 set -uo pipefail

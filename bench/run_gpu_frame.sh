@@ -2,7 +2,8 @@
 # Frame times before and after a change, in one device call (issue 9: "no pass slower by more
 # than 2%"). Here:
 #   cp <old build>/bench/veil-bench /tmp/vb/veil-bench-before; cp -r <old tree>/shaders /tmp/shaders-before
-#   ../shared/tools/gpu-bundle build/release/bench/veil-bench /tmp/vb/veil-bench-before /tmp/shaders-before
+#   <workplace shared>/tools/gpu-bundle build/release/bench/veil-bench /tmp/vb/veil-bench-before \
+#       /tmp/shaders-before   (the bundling tool, run here; the scenes come from the repo)
 # There (device run, carry .gpu): bash bench/run_gpu_frame.sh  -> $OUT/frame-*.json, a table
 set -uo pipefail
 source .gpu/env.sh
