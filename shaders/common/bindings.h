@@ -4,8 +4,17 @@
 
 #define VEIL_UBO_CAMERA 0
 #define VEIL_UBO_LIGHTS 1
+#define VEIL_UBO_SHADOWS 2 // shadows/common/views.glsl (src/shadows/views.h)
 
+// The shadow technique's textures, read by every receiver (src/shadows): the opaque casters'
+// depth array (one layer per light view) and up to three technique-specific textures.
 #define VEIL_TEX_SHADOW_MAP 0
+#define VEIL_TEX_SHADOW1 28
+#define VEIL_TEX_SHADOW2 29
+#define VEIL_TEX_SHADOW3 30
+// A shadow-casting light has one view (directional, spot) or six (point: cube faces); the
+// views of all shadowed lights are the layers of the technique's texture arrays.
+#define VEIL_MAX_SHADOW_VIEWS 24
 #define VEIL_TEX_HDR 1
 #define VEIL_TEX_DEPTH 2
 #define VEIL_TEX_OIT0 4

@@ -6,7 +6,7 @@
 
 struct Light {
     vec4 positionType;    // xyz position, w = VEIL_LIGHT_*
-    vec4 directionShadow; // xyz direction light travels, w = 1 if it owns the shadow map
+    vec4 directionShadow; // xyz direction light travels, w = 1 if it casts shadows
     vec4 radiance;        // rgb = color * intensity
     vec4 cone;            // cos(inner), cos(outer)
 };
@@ -14,11 +14,7 @@ struct Light {
 layout(std140, binding = VEIL_UBO_LIGHTS) uniform LightsBlock {
     Light lights[VEIL_MAX_LIGHTS];
     ivec4 lightCount;     // x = number of lights
-    mat4 shadowMatrix;    // world -> shadow map texture coordinates (projective)
-    mat4 shadowView;      // world -> light view space (depth = -z)
     vec4 ambient;         // rgb ambient factor (times diffuse albedo)
-    vec4 shadowParams;    // x = bias (world units), y = PCF radius, z = 1 / map size, w = has map
-    vec4 shadowDepthRange; // x = near, y = far of the stored linear depth
 } lighting;
 
 // Radiance arriving at P from light i (unshadowed) and the direction toward the light.

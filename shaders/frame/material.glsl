@@ -32,6 +32,21 @@ SurfaceMaterial currentMaterial() {
     return m;
 }
 
+// Coverage alpha of this fragment: the material's, with the soft round falloff of particles
+// (billboard quads: Gaussian over the quad, nothing outside the unit disc).
+float surfaceCoverage() {
+    float alpha = coverage;
+    if (billboard) {
+        float r2 = dot(vUv, vUv);
+        alpha = r2 > 1.0 ? 0.0 : alpha * exp(-4.0 * r2);
+    }
+    return alpha;
+}
+
+// What a transparent surface lets through toward what is behind it (light toward a shadow
+// receiver, the background toward the eye), per channel: 1 - alpha + alpha T (000 Eq. 2).
+vec3 surfaceTransmittance(float alpha) { return vec3(1.0 - alpha) + alpha * transmission; }
+
 // Shading normal facing the viewer (two-sided for thin transparent surfaces).
 vec3 facingNormal(vec3 V) {
     vec3 N = normalize(vNormal);

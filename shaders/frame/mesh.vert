@@ -10,8 +10,10 @@ layout(location = VEIL_ATTR_SIZE) in float inSize;
 uniform mat4 model;
 uniform mat3 normalMatrix;
 uniform bool billboard;      // quad particles: expand toward the camera
-uniform mat4 viewProjection; // overrides the camera's (shadow pass) when useOverride
+uniform mat4 viewProjection; // overrides the camera's (shadow passes) when useOverride
 uniform bool useOverride;
+uniform vec3 overrideRight;  // billboard axes when useOverride: particles face the light
+uniform vec3 overrideUp;
 
 out vec3 vWorldPos;
 out vec3 vNormal;
@@ -22,8 +24,10 @@ void main() {
     vec3 world = (model * vec4(inPosition, 1.0)).xyz;
     vec3 normal = normalize(normalMatrix * inNormal);
     if (billboard) {
-        world += (camera.cameraRight.xyz * inUv.x + camera.cameraUp.xyz * inUv.y) * inSize;
-        normal = viewVector(world);
+        vec3 right = useOverride ? overrideRight : camera.cameraRight.xyz;
+        vec3 up = useOverride ? overrideUp : camera.cameraUp.xyz;
+        world += (right * inUv.x + up * inUv.y) * inSize;
+        normal = useOverride ? normalize(cross(right, up)) : viewVector(world);
     }
     vWorldPos = world;
     vNormal = normal;

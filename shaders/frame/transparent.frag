@@ -10,13 +10,7 @@ void main() {
     vec3 V = viewVector(vWorldPos);
     vec3 N = facingNormal(V);
     SurfaceMaterial m = currentMaterial();
-    float alpha = m.alpha;
-    if (billboard) {
-        // Soft round particle: Gaussian falloff of coverage over the quad.
-        float r2 = dot(vUv, vUv);
-        if (r2 > 1.0) discard;
-        alpha *= exp(-4.0 * r2);
-    }
+    float alpha = surfaceCoverage(); // m.alpha with the particles' soft round falloff
     if (alpha <= 0.0) discard;
     // Light that is transmitted is not diffusely reflected.
     float diffuseWeight = 1.0 - maxComponent(m.transmission);

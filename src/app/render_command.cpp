@@ -33,6 +33,7 @@ struct RenderArgs {
     std::string report;
     std::string camera;
     std::string oit;
+    std::string shadows;
     int width = 0;
     int height = 0;
     int device = -1;
@@ -53,13 +54,17 @@ struct Rendered {
     gpu::GpuTimer::Mode timer = gpu::GpuTimer::Mode::CpuFinish;
     nlohmann::json oitStats;      // technique-specific counters (reference: fragments, pool)
     nlohmann::json oitProperties; // effective values of the technique's properties
+    std::string shadows;
+    nlohmann::json shadowStats, shadowProperties; // the same for the shadow technique
+    nlohmann::json shadowLights = nlohmann::json::array(); // scene light indices with maps
     nlohmann::json framePasses = nlohmann::json::array(); // the frame's passes and resources
     nlohmann::json volumes = nlohmann::json::array();
 };
 
 Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, const RenderArgs& args,
                     const std::string& oit) {
-    frame::Renderer renderer(scene, info, {args.width, args.height, args.camera, oit});
+    frame::Renderer renderer(scene, info,
+                             {args.width, args.height, args.camera, oit, {}, args.shadows});
     renderer.render();
     Rendered r;
     r.oit = renderer.oitName();
@@ -86,6 +91,11 @@ Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, con
     if (nlohmann::json stats = renderer.technique().stats(); !stats.empty())
         r.oitStats = std::move(stats);
     r.oitProperties = renderer.technique().properties().values();
+    r.shadows = renderer.shadowTechnique().name();
+    if (nlohmann::json stats = renderer.shadowTechnique().stats(); !stats.empty())
+        r.shadowStats = std::move(stats);
+    r.shadowProperties = renderer.shadowTechnique().properties().values();
+    r.shadowLights = renderer.shadowLights().lights;
     for (const frame::Pass& p : renderer.passes().passes())
         r.framePasses.push_back({{"name", p.name}, {"reads", p.reads}, {"writes", p.writes}});
     return r;
@@ -231,6 +241,10 @@ void runRender(const RenderArgs& args) {
         if (!main.oitStats.is_null()) report["oit_stats"] = main.oitStats;
         report["oit_properties"] = main.oitProperties;
         report["frame_passes"] = main.framePasses;
+        report["shadows"] = main.shadows;
+        report["shadow_properties"] = main.shadowProperties;
+        report["shadow_lights"] = main.shadowLights;
+        if (!main.shadowStats.is_null()) report["shadow_stats"] = main.shadowStats;
         if (!main.volumes.empty()) report["volumes"] = main.volumes;
         if (!args.compareTo.empty()) {
             report["compare"] = errorJson(args.compareTo, errors.front().second);
@@ -280,6 +294,9 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--oit", args->oit,
                     "Transparency technique (default: the scene's); 'all' renders every "
                     "available one into a contact sheet and prints each one's error vs reference");
+    cmd->add_option("--shadows", args->shadows,
+                    "Shadow technique (default: the scene's render.shadows); see `veil "
+                    "techniques`");
     cmd->add_option("--compare-to", args->compareTo,
                     "Also render with this technique (e.g. reference) and print RMSE/PSNR of the "
                     "output vs it (linear HDR); writes <output stem>-error.png (|error| x 4)");

@@ -5,6 +5,9 @@
 #include "base/error.h"
 #include "gpu/context.h"
 #include "oit/technique.h"
+#include "shadows/technique.h"
+
+#include <fmt/ranges.h>
 
 #include <nlohmann/json.hpp>
 
@@ -35,14 +38,32 @@ std::string valueText(const nlohmann::json& v) {
     return v.is_string() ? v.get<std::string>() : v.dump();
 }
 
+// One registered technique of either kind (OIT, shadows), as listed.
+struct Listed {
+    std::string kind; // "oit" or "shadows": the render key it is chosen with
+    std::string name, description;
+    std::function<bool(const gpu::ContextInfo&)> isAvailable;
+    const PropertySchema* properties;
+};
+
+template <class R>
+void collect(const R& registry, const std::string& kind, std::vector<Listed>& out) {
+    for (const auto& t : registry.all())
+        out.push_back({kind, t.name, t.description, t.isAvailable, &t.properties});
+}
+
 void run(const TechniquesArgs& args) {
-    const auto& registry = oit::Registry::instance();
-    std::vector<const oit::TechniqueInfo*> chosen;
-    if (args.name.empty())
-        for (const auto& t : registry.all())
-            chosen.push_back(&t);
-    else
-        chosen.push_back(&registry.get(args.name));
+    std::vector<Listed> all;
+    collect(oit::Registry::instance(), "oit", all);
+    collect(shadows::Registry::instance(), "shadows", all);
+    std::vector<const Listed*> chosen;
+    std::vector<std::string> names;
+    for (const auto& t : all) {
+        if (args.name.empty() || t.name == args.name) chosen.push_back(&t);
+        names.push_back(t.kind + " " + t.name);
+    }
+    VEIL_CHECK(!chosen.empty(), "unknown technique '{}' (known: {})", args.name,
+               fmt::join(names, ", "));
 
     // Availability needs a context; without one the list is still printed.
     std::optional<gpu::ContextInfo> info;
@@ -53,7 +74,7 @@ void run(const TechniquesArgs& args) {
     } catch (const Error& e) {
         noContext = e.what();
     }
-    auto availability = [&](const oit::TechniqueInfo& t) -> std::string {
+    auto availability = [&](const Listed& t) -> std::string {
         if (!info) return "unknown (no GL context)";
         if (!t.isAvailable || t.isAvailable(*info)) return "yes";
         return "no";
@@ -62,20 +83,21 @@ void run(const TechniquesArgs& args) {
     if (args.json) {
         nlohmann::json out = nlohmann::json::array();
         for (const auto* t : chosen)
-            out.push_back({{"kind", "oit"},
+            out.push_back({{"kind", t->kind},
                            {"name", t->name},
                            {"description", t->description},
                            {"available", availability(*t)},
-                           {"properties", t->properties.describe()}});
+                           {"properties", t->properties->describe()}});
         std::cout << out.dump(2) << "\n";
         return;
     }
     std::cout << "GL driver: " << (info ? info->renderer : "none (" + noContext + ")") << "\n";
     for (const auto* t : chosen) {
-        std::cout << "\noit " << t->name << "  (available: " << availability(*t) << ")\n  "
+        std::cout << "\n"
+                  << t->kind << " " << t->name << "  (available: " << availability(*t) << ")\n  "
                   << t->description << "\n";
-        if (t->properties.empty()) std::cout << "  no properties\n";
-        for (const PropertyDecl& d : t->properties.all()) {
+        if (t->properties->empty()) std::cout << "  no properties\n";
+        for (const PropertyDecl& d : t->properties->all()) {
             std::cout << fmt::format("  {:<24} {:<6} default {}", d.key, propertyTypeName(d.type),
                                      valueText(d.defaultValue));
             if (const std::string range = d.rangeText(); !range.empty())
@@ -85,8 +107,9 @@ void run(const TechniquesArgs& args) {
             std::cout << "\n";
         }
     }
-    std::cout << "\nSet them in a scene as \"render\": {\"oit\": {\"type\": NAME, KEY: VALUE}} or "
-                 "with --set render.oit.KEY=VALUE.\n";
+    std::cout << "\nSet them in a scene as \"render\": {\"oit\": {\"type\": NAME, KEY: VALUE}} "
+                 "(or \"shadows\": {...}) or with --set render.oit.KEY=VALUE "
+                 "(render.shadows.KEY=VALUE).\n";
 }
 
 } // namespace

@@ -29,12 +29,8 @@ struct LightEntry {
 struct LightsBlock {
     LightEntry lights[VEIL_MAX_LIGHTS];
     glm::ivec4 lightCount;
-    glm::mat4 shadowMatrix;
-    glm::mat4 shadowView;
     glm::vec4 ambient;
-    glm::vec4 shadowParams;
-    glm::vec4 shadowDepthRange;
 };
-static_assert(sizeof(LightsBlock) == VEIL_MAX_LIGHTS * 64 + 16 + 64 + 64 + 16 + 16 + 16);
+static_assert(sizeof(LightsBlock) == VEIL_MAX_LIGHTS * 64 + 16 + 16);
 
 } // namespace veil::frame

@@ -58,14 +58,33 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
         oit_ = oit::Registry::instance().create(oitName_, context_, programs_, {}, "--oit");
     scene.bounds(boundsLo_, boundsHi_);
 
+    // The shadow technique, chosen like the OIT technique (render.shadows, --shadows).
+    const std::string shadowsName =
+        options.shadows.empty() ? scene.render.shadows : options.shadows;
+    auto& shadowRegistry = shadows::Registry::instance();
+    std::string shadowsWhere = scene.render.shadowsWhere;
+    if (!options.shadowProperties.is_null()) {
+        shadowsWhere = "shadow properties";
+        shadows_ = shadowRegistry.create(shadowsName, context_, programs_, options.shadowProperties,
+                                         shadowsWhere);
+    } else if (shadowsName == scene.render.shadows) {
+        shadows_ = shadowRegistry.create(shadowsName, context_, programs_,
+                                         scene.render.shadowProperties, shadowsWhere);
+    } else { // another technique than the scene's (--shadows): its defaults
+        shadowsWhere = "--shadows";
+        shadows_ = shadowRegistry.create(shadowsName, context_, programs_, {}, shadowsWhere);
+    }
+    const Properties& sp = shadows_->properties();
+    shadowSet_ = shadows::chooseShadowLights(scene, sp.getInt("max_lights"),
+                                             fmt::format("{} (max_lights)", shadowsWhere));
+    if (shadowSet_.viewCount > 0) shadows_->resize(sp.getInt("size"), shadowSet_.viewCount);
+
     using gpu::ProgramDesc;
     // Receivers (opaque and transparent surfaces, the fog) see lights through the shadow
     // technique's visibility include.
-    const gpu::IncludeAliases visibility{
-        {"veil:light_visibility", shadows::ShadowMap::visibilityInclude()}};
+    const gpu::IncludeAliases visibility{{"veil:light_visibility", shadows_->visibilityInclude()}};
     opaqueProgram_ = programs_.add(
         ProgramDesc::graphics("frame/mesh.vert", "frame/opaque.frag", {}, visibility));
-    shadowProgram_ = programs_.add(ProgramDesc::graphics("frame/mesh.vert", "frame/shadow.frag"));
     for (int pass = 0; pass < oit_->geometryPasses(); ++pass) {
         std::vector<std::string> defines = oit_->defines(pass);
         defines.push_back(fmt::format("OIT_PASS {}", pass));
@@ -79,7 +98,10 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
     fog_ = std::make_unique<volume::FogPass>(scene, programs_, visibility);
     if (!fog_->active())
         fog_.reset();
-    else
+    else {
+        // A technique whose maps hold the volumes' absorbance replaces the fog's own
+        // self-shadowing volumes (one answer for every receiver, counted once).
+        fog_->setSelfShadowing(!(shadows_->attenuatesMedia() && shadowSet_.viewCount > 0));
         for (int pass = 0; pass < oit_->geometryPasses(); ++pass) {
             std::vector<std::string> defines = oit_->defines(pass);
             defines.push_back(fmt::format("OIT_PASS {}", pass));
@@ -87,27 +109,35 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
                 "volume/fullscreen.vert", "volume/fog_emit.frag", std::move(defines),
                 {{"veil:oit_emit", oit_->emitInclude()}})));
         }
+    }
 
     meshes_.reserve(scene.meshes.size());
     for (const auto& mesh : scene.meshes)
         meshes_.emplace_back(mesh);
 
-    for (std::size_t i = 0; i < scene.lights.size() && i < VEIL_MAX_LIGHTS; ++i) {
-        const auto& light = scene.lights[i];
-        if (light.castShadows && light.type != scene::LightType::Point) {
-            shadowLight_ = static_cast<int>(i);
-            break;
-        }
-    }
     if (scene.lights.size() > VEIL_MAX_LIGHTS)
         log::warn("scene has {} lights; only the first {} are used", scene.lights.size(),
                   VEIL_MAX_LIGHTS);
-    if (shadowLight_ >= 0) shadowMap_.emplace(scene.render.shadowMapSize);
+
+    shadowFrame_.mapSize = sp.getInt("size");
+    shadowFrame_.state = &state_;
+    shadowFrame_.views = &shadowViews_;
+    shadowFrame_.seed = scene.render.seed;
+    shadowFrame_.drawCasters = [this](const gpu::Program& program, shadows::CasterSet set) {
+        drawObjects(program, set == shadows::CasterSet::Opaque ? Subset::OpaqueCasters
+                                                               : Subset::TransparentCasters);
+    };
+    if (fog_ && fog_->hasGridVolumes())
+        shadowFrame_.bindMedia = [this](const gpu::Program& program) {
+            fog_->bindVolumes(program);
+        };
 
     cameraUbo_ = gpu::Buffer();
     cameraUbo_.setStorage(sizeof(CameraBlock), nullptr);
     lightsUbo_ = gpu::Buffer();
     lightsUbo_.setStorage(sizeof(LightsBlock), nullptr);
+    shadowsUbo_ = gpu::Buffer();
+    shadowsUbo_.setStorage(sizeof(shadows::ShadowsBlock), nullptr);
     createTargets();
     buildPasses();
 }
@@ -151,6 +181,9 @@ void Renderer::updateUniforms() {
     cam.viewport = {width_, height_, camera_.nearPlane, camera_.farPlane};
     cameraUbo_.setSubData(0, sizeof(cam), &cam);
 
+    std::vector<bool> shadowed(VEIL_MAX_LIGHTS, false);
+    for (int i : shadowSet_.lights)
+        shadowed[i] = true;
     LightsBlock block{};
     int count = 0;
     for (const auto& light : scene_.lights) {
@@ -161,7 +194,7 @@ void Renderer::updateUniforms() {
                                                                      : VEIL_LIGHT_POINT;
         e.positionType = glm::vec4(light.position, static_cast<float>(type));
         e.directionShadow =
-            glm::vec4(glm::normalize(light.direction), count == shadowLight_ ? 1.0f : 0.0f);
+            glm::vec4(glm::normalize(light.direction), shadowed[count] ? 1.0f : 0.0f);
         e.radiance = glm::vec4(light.color * light.intensity, 0.0f);
         e.cone = glm::vec4(std::cos(glm::radians(light.innerConeDegrees)),
                            std::cos(glm::radians(light.outerConeDegrees)), 0.0f, 0.0f);
@@ -169,15 +202,14 @@ void Renderer::updateUniforms() {
     }
     block.lightCount = glm::ivec4(count, 0, 0, 0);
     block.ambient = glm::vec4(scene_.render.ambient, 0.0f);
-    if (shadowMap_) {
-        block.shadowMatrix = shadowMap_->textureMatrix();
-        block.shadowView = shadowMap_->view();
-        block.shadowDepthRange = glm::vec4(shadowMap_->nearPlane(), shadowMap_->farPlane(), 0, 0);
-        block.shadowParams =
-            glm::vec4(scene_.render.shadowBias, static_cast<float>(scene_.render.pcfRadius),
-                      1.0f / static_cast<float>(shadowMap_->size()), 1.0f);
-    }
     lightsUbo_.setSubData(0, sizeof(block), &block);
+
+    // The shadowed lights' views, refitted every frame (lights and objects may move).
+    shadowViews_ = shadows::fitViews(scene_, shadowSet_, boundsLo_, boundsHi_);
+    shadows::ShadowsBlock sb{};
+    shadows::fillShadowsBlock(sb, shadowViews_, shadowSet_, shadowFrame_.mapSize);
+    shadows_->fillParams(sb);
+    shadowsUbo_.setSubData(0, sizeof(sb), &sb);
 }
 
 void Renderer::drawObjects(const gpu::Program& program, Subset subset) const {
@@ -187,7 +219,8 @@ void Renderer::drawObjects(const gpu::Program& program, Subset subset) const {
         const bool transparent = m.isTransparent();
         if (subset == Subset::Opaque && transparent) continue;
         if (subset == Subset::Transparent && !transparent) continue;
-        if (subset == Subset::ShadowCasters && (transparent || !object.castShadows)) continue;
+        if (subset == Subset::OpaqueCasters && (transparent || !object.castShadows)) continue;
+        if (subset == Subset::TransparentCasters && (!transparent || !object.castShadows)) continue;
         const GpuMesh& mesh = meshes_.at(object.mesh);
         program.set("model", object.transform)
             .set("normalMatrix", glm::inverseTranspose(glm::mat3(object.transform)))
@@ -208,14 +241,13 @@ void Renderer::drawObjects(const gpu::Program& program, Subset subset) const {
 }
 
 void Renderer::render() {
-    // Fit the shadow map first: updateUniforms() reads its matrix.
-    if (shadowMap_) shadowMap_->fit(scene_.lights[shadowLight_], boundsLo_, boundsHi_);
     updateUniforms();
     // Whatever ran since the last frame (another renderer, a voxelization, the viewer's UI)
     // may have changed GL state: the first pass sets all of its declared state.
     state_.invalidate();
     cameraUbo_.bindBase(GL_UNIFORM_BUFFER, VEIL_UBO_CAMERA);
     lightsUbo_.bindBase(GL_UNIFORM_BUFFER, VEIL_UBO_LIGHTS);
+    shadowsUbo_.bindBase(GL_UNIFORM_BUFFER, VEIL_UBO_SHADOWS);
 
     const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
     fogTargets_ = {width_,
@@ -224,6 +256,10 @@ void Renderer::render() {
                    camera_.projection(aspect) * camera_.view(),
                    camera_.projection(aspect),
                    scene_.render.seed};
+    if (shadowSet_.viewCount > 0)
+        fogTargets_.prepareReceiver = [this](const gpu::Program& program) {
+            shadows_->prepareReceiver(program, shadowFrame_);
+        };
     for (const Pass& pass : passes_.passes()) {
         gpu::TimerScope t(timer_, pass.name);
         pass.execute();
@@ -232,25 +268,27 @@ void Renderer::render() {
 }
 
 void Renderer::buildPasses() {
-    // Resources of the light that owns the shadow map (one today; the shadows issue adds one
-    // per shadow-casting light).
+    // The shadow technique's passes, when a light casts shadows; receivers read what its
+    // visibility include samples and bind it before they draw.
     std::vector<std::string> shadowResources;
-    if (shadowMap_) shadowResources.push_back(fmt::format("shadow.{}", shadowLight_));
+    if (shadowSet_.viewCount > 0) {
+        for (shadows::ShadowPass& p : shadows_->passes()) {
+            auto execute = std::move(p.execute);
+            passes_.add({p.name.empty() ? "shadow" : "shadow." + p.name, p.reads, p.writes,
+                         [this, execute] { execute(shadowFrame_); }});
+        }
+        shadowResources = shadows_->receiverResources();
+    }
     auto plus = [](std::vector<std::string> a, const std::vector<std::string>& b) {
         a.insert(a.end(), b.begin(), b.end());
         return a;
     };
+    auto bindShadows = [this] {
+        if (shadowSet_.viewCount > 0) shadows_->bindForReceivers();
+    };
 
-    if (shadowMap_)
-        passes_.add(
-            {"shadow", {}, shadowResources, [this] {
-                 const gpu::Program& program = programs_.get(shadowProgram_);
-                 program.set("useOverride", 1).set("viewProjection", shadowMap_->viewProjection());
-                 shadowMap_->render(state_, [&] { drawObjects(program, Subset::ShadowCasters); });
-                 shadowMap_->texture().bind(VEIL_TEX_SHADOW_MAP);
-             }});
-
-    passes_.add({"opaque", shadowResources, {"depth", "hdr"}, [this] {
+    passes_.add({"opaque", shadowResources, {"depth", "hdr"}, [this, bindShadows] {
+                     bindShadows();
                      opaqueFbo_.bind();
                      gpu::PipelineState state;
                      state.view(width_, height_).depth(GL_LESS, true);
@@ -261,6 +299,7 @@ void Renderer::buildPasses() {
                      glClearNamedFramebufferfv(opaqueFbo_.id(), GL_DEPTH, 0, &one);
                      const gpu::Program& program = programs_.get(opaqueProgram_);
                      program.set("useOverride", 0);
+                     if (shadowSet_.viewCount > 0) shadows_->prepareReceiver(program, shadowFrame_);
                      drawObjects(program, Subset::Opaque);
                      glBindFramebuffer(GL_FRAMEBUFFER, 0);
                  }});
@@ -270,14 +309,20 @@ void Renderer::buildPasses() {
         passes_.add({"fog",
                      plus({"depth"}, shadowResources),
                      {"fog.light_transmittance", "fog.radiance"},
-                     [this] { fog_->march(fogTargets_); }});
+                     [this, bindShadows] {
+                         bindShadows();
+                         fog_->march(fogTargets_);
+                     }});
         transparentReads.push_back("fog.radiance");
     }
 
-    passes_.add({"transparent", transparentReads, {"oit.accumulation"}, [this] {
+    passes_.add({"transparent", transparentReads, {"oit.accumulation"}, [this, bindShadows] {
+                     bindShadows();
                      for (int pass = 0; pass < oit_->geometryPasses(); ++pass) {
                          const gpu::Program& program = programs_.get(transparentPrograms_[pass]);
                          program.set("useOverride", 0);
+                         if (shadowSet_.viewCount > 0)
+                             shadows_->prepareReceiver(program, shadowFrame_);
                          oit_->beginAccumulate(pass, targets_, program);
                          if (fog_) {
                              // Fog first: one contribution per pixel through the same oitEmit().
@@ -315,7 +360,7 @@ const gpu::Texture* Renderer::resourceTexture(const std::string& name) const {
     if (name == "depth") return &depth_;
     if (name == "hdr") return &hdr_;
     if (name == "ldr") return &ldr_;
-    if (shadowMap_ && name == fmt::format("shadow.{}", shadowLight_)) return &shadowMap_->texture();
+    if (name.rfind("shadow.", 0) == 0) return shadows_->resourceTexture(name);
     return nullptr;
 }
 
@@ -326,7 +371,7 @@ std::size_t Renderer::gpuBytes() const {
     std::size_t bytes = static_cast<std::size_t>(width_) * height_ * (8 + 4 + 4);
     for (const auto& m : meshes_)
         bytes += m.gpuBytes();
-    if (shadowMap_) bytes += static_cast<std::size_t>(shadowMap_->size()) * shadowMap_->size() * 4;
+    if (shadowSet_.viewCount > 0) bytes += shadows_->gpuBytes();
     bytes += static_cast<std::size_t>(width_) * height_ * oit_->bytesPerPixel();
     if (fog_) bytes += fog_->gpuBytes();
     return bytes;

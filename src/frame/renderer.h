@@ -1,6 +1,7 @@
 // The frame: an ordered list of passes (frame/pass_list.h) built from the scene, with the
 // resources each reads and writes and per-pass GPU times (DESIGN.md "One frame"):
-//   shadow      Williams shadow map of opaque casters (first shadowed spot/directional light)
+//   shadow[.*]  the shadow technique's passes (src/shadows): maps of every view of every
+//               shadow-casting light (only when a light casts shadows)
 //   opaque      forward shading into the HDR target with depth
 //   fog         density volumes ray-marched per pixel (compute; only with volumes)
 //   transparent transparent surfaces through the active OIT technique's oitEmit()
@@ -17,7 +18,7 @@
 #include "gpu/timer.h"
 #include "oit/technique.h"
 #include "scene/scene.h"
-#include "shadows/shadow_map/shadow_map.h"
+#include "shadows/technique.h"
 #include "volume/fog_pass.h"
 
 #include <memory>
@@ -29,9 +30,11 @@ namespace veil::frame {
 
 struct RendererOptions {
     RendererOptions(int width_ = 0, int height_ = 0, std::string camera_ = {},
-                    std::string oit_ = {}, nlohmann::json oitProperties_ = {})
+                    std::string oit_ = {}, nlohmann::json oitProperties_ = {},
+                    std::string shadows_ = {}, nlohmann::json shadowProperties_ = {})
         : width(width_), height(height_), camera(std::move(camera_)), oit(std::move(oit_)),
-          oitProperties(std::move(oitProperties_)) {}
+          oitProperties(std::move(oitProperties_)), shadows(std::move(shadows_)),
+          shadowProperties(std::move(shadowProperties_)) {}
     int width = 0;      // 0 = the scene's render.width
     int height = 0;     // 0 = the scene's render.height
     std::string camera; // empty = the scene's render.camera
@@ -39,6 +42,9 @@ struct RendererOptions {
     // The technique's properties (a JSON object, see `veil techniques`). Null = the scene's
     // render.oit properties when the technique is the scene's, else the defaults.
     nlohmann::json oitProperties;
+    std::string shadows; // empty = the scene's render.shadows
+    // As oitProperties, for the shadow technique (null = the scene's when it is the scene's).
+    nlohmann::json shadowProperties;
 };
 
 class Renderer {
@@ -62,6 +68,10 @@ public:
     int height() const { return height_; }
     const std::string& oitName() const { return oitName_; }
     const oit::Technique& technique() const { return *oit_; }
+    const shadows::Technique& shadowTechnique() const { return *shadows_; }
+    // Scene light indices that cast shadows, and the views of their maps (last frame's fit).
+    const shadows::ShadowLightSet& shadowLights() const { return shadowSet_; }
+    const std::vector<shadows::LightView>& shadowViews() const { return shadowViews_; }
     const scene::Camera& camera() const { return camera_; }
     void setCamera(const scene::Camera& camera) { camera_ = camera; }
     gpu::GpuTimer::Mode timerMode() const { return timer_.mode(); }
@@ -70,8 +80,8 @@ public:
     const volume::FogPass* fog() const { return fog_.get(); }
     // The frame's passes in order, with the resources each reads and writes.
     const PassList& passes() const { return passes_; }
-    // The texture behind a frame resource (depth, hdr, ldr, shadow.<light>), or null when the
-    // resource lives inside a technique or has no texture.
+    // The texture behind a frame resource (depth, hdr, ldr, shadow.* of the shadow technique:
+    // arrays with one layer per light view), or null when it has no texture.
     const gpu::Texture* resourceTexture(const std::string& name) const;
     // Recompiles every shader from disk; failing programs keep their previous version.
     int reloadShaders() { return programs_.reloadAll(); }
@@ -80,7 +90,7 @@ private:
     void createTargets();
     void buildPasses();
     void updateUniforms();
-    enum class Subset { Opaque, Transparent, ShadowCasters };
+    enum class Subset { Opaque, Transparent, OpaqueCasters, TransparentCasters };
     void drawObjects(const gpu::Program& program, Subset subset) const;
 
     const scene::Scene& scene_;
@@ -91,16 +101,18 @@ private:
     glm::vec3 boundsLo_{0.0f}, boundsHi_{0.0f};
 
     gpu::ProgramManager programs_;
-    gpu::ProgramHandle opaqueProgram_, shadowProgram_, tonemapProgram_;
+    gpu::ProgramHandle opaqueProgram_, tonemapProgram_;
     std::vector<gpu::ProgramHandle> transparentPrograms_; // one per OIT geometry pass
     std::vector<gpu::ProgramHandle> fogEmitPrograms_;     // one per OIT geometry pass
     std::unique_ptr<volume::FogPass> fog_;
     std::vector<GpuMesh> meshes_;
     std::unique_ptr<oit::Technique> oit_;
-    std::optional<shadows::ShadowMap> shadowMap_;
-    int shadowLight_ = -1;
+    std::unique_ptr<shadows::Technique> shadows_;
+    shadows::ShadowLightSet shadowSet_;
+    std::vector<shadows::LightView> shadowViews_;
+    shadows::ShadowFrame shadowFrame_;
 
-    gpu::Buffer cameraUbo_{gpu::NoCreate}, lightsUbo_{gpu::NoCreate};
+    gpu::Buffer cameraUbo_{gpu::NoCreate}, lightsUbo_{gpu::NoCreate}, shadowsUbo_{gpu::NoCreate};
     gpu::Texture hdr_{gpu::NoCreate}, depth_{gpu::NoCreate}, ldr_{gpu::NoCreate};
     gpu::Framebuffer opaqueFbo_{gpu::NoCreate};
     oit::OitFrameTargets targets_;

@@ -78,6 +78,12 @@ Framebuffer& Framebuffer::attach(GLenum attachment, const Texture& texture, GLin
     return *this;
 }
 
+Framebuffer& Framebuffer::attachLayer(GLenum attachment, const Texture& texture, GLint layer,
+                                      GLint level) {
+    glNamedFramebufferTextureLayer(id_, attachment, texture.id(), level, layer);
+    return *this;
+}
+
 Framebuffer& Framebuffer::drawBuffers(std::initializer_list<GLenum> buffers) {
     glNamedFramebufferDrawBuffers(id_, static_cast<GLsizei>(buffers.size()), buffers.begin());
     return *this;

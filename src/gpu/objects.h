@@ -85,6 +85,9 @@ public:
     using GlObject::GlObject;
     Framebuffer();
     Framebuffer& attach(GLenum attachment, const Texture& texture, GLint level = 0);
+    // One layer of an array (or 3D, cube) texture.
+    Framebuffer& attachLayer(GLenum attachment, const Texture& texture, GLint layer,
+                             GLint level = 0);
     // Sets the draw buffers (GL_COLOR_ATTACHMENTi or GL_NONE).
     Framebuffer& drawBuffers(std::initializer_list<GLenum> buffers);
     // Throws veil::Error naming the incompleteness status.

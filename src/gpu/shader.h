@@ -94,6 +94,13 @@ public:
     // Recompiles every program from its files. A program that fails keeps its previous
     // version; returns the number that failed (their errors are logged).
     int reloadAll();
+    // What every program was built from, in order of add() (tests: which files are compiled).
+    std::vector<ProgramDesc> descriptions() const {
+        std::vector<ProgramDesc> d;
+        for (const auto& p : programs_)
+            d.push_back(p.first);
+        return d;
+    }
 
 private:
     std::vector<std::pair<ProgramDesc, Program>> programs_;

@@ -32,37 +32,6 @@ Registry& Registry::instance() {
     return *registry;
 }
 
-void Registry::add(TechniqueInfo info) {
-    VEIL_CHECK(!find(info.name), "OIT technique '{}' registered twice", info.name);
-    techniques_.push_back(std::move(info));
-}
-
-const TechniqueInfo* Registry::find(const std::string& name) const {
-    for (const auto& t : techniques_)
-        if (t.name == name) return &t;
-    return nullptr;
-}
-
-std::vector<std::string> Registry::names() const {
-    std::vector<std::string> n;
-    for (const auto& t : techniques_)
-        n.push_back(t.name);
-    return n;
-}
-
-const TechniqueInfo& Registry::get(const std::string& name, const std::string& where) const {
-    const TechniqueInfo* info = find(name);
-    VEIL_CHECK(info, "{}unknown OIT technique '{}' (known: {})", where.empty() ? "" : where + ": ",
-               name, fmt::join(names(), ", "));
-    return *info;
-}
-
-Properties Registry::resolve(const std::string& name, const nlohmann::json& values,
-                             const std::string& where) const {
-    return get(name, where.empty() ? where : where + "/type")
-        .properties.resolve(values, where, fmt::format("OIT technique '{}'", name));
-}
-
 std::unique_ptr<Technique> Registry::create(const std::string& name,
                                             const gpu::ContextInfo& context,
                                             gpu::ProgramManager& programs,

@@ -6,6 +6,7 @@
 // behind the contribution is modulated by (1 - alpha + alpha * transmission) (000 Eq. 2).
 #pragma once
 
+#include "base/named_registry.h"
 #include "base/properties.h"
 #include "gpu/context.h"
 #include "gpu/objects.h"
@@ -104,32 +105,18 @@ struct TechniqueInfo {
     PropertySchema properties; // declared once: scene, --set, report, `veil techniques`
 };
 
-// Technique ids in one registry (nvpro's renderer registry: STYLE.md). Built-in techniques
-// are added explicitly by registerBuiltinTechniques() (static initialisers in static
-// libraries are dropped by the linker).
-class Registry {
+// Technique ids in one registry (base/named_registry.h): find, names, get and resolve come
+// from there; create() makes a technique from validated properties.
+class Registry : public NamedRegistry<TechniqueInfo> {
 public:
+    Registry() : NamedRegistry("OIT technique") {}
     static Registry& instance();
-    void add(TechniqueInfo info);
-    const TechniqueInfo* find(const std::string& name) const;
-    const std::vector<TechniqueInfo>& all() const { return techniques_; }
-    std::vector<std::string> names() const;
-    // Throws veil::Error listing the known names, or saying why it is unavailable here.
-    const TechniqueInfo& get(const std::string& name, const std::string& where = {}) const;
-    // Validates `values` (a JSON object of the technique's properties; "type" is ignored;
-    // null = defaults) against the technique's schema; `where` is the JSON path for messages
-    // ("scene.json: /render/oit").
-    Properties resolve(const std::string& name, const nlohmann::json& values,
-                       const std::string& where) const;
     // Throws veil::Error listing the known names, saying why it is unavailable here, or naming
     // a bad property (see resolve()).
     std::unique_ptr<Technique> create(const std::string& name, const gpu::ContextInfo& context,
                                       gpu::ProgramManager& programs,
                                       const nlohmann::json& values = {},
                                       const std::string& where = "render.oit") const;
-
-private:
-    std::vector<TechniqueInfo> techniques_;
 };
 
 } // namespace veil::oit

@@ -92,9 +92,12 @@ struct RenderSettings {
     glm::vec3 background{0.0f}; // radiance where nothing is drawn
     float exposure = 1.0f;
     std::string tonemap = "aces"; // "aces" (Narkowicz fit) or "clamp"
-    int shadowMapSize = 2048;
-    float shadowBias = 0.01f; // world units along the light axis, slope-scaled in the shader
-    int pcfRadius = 1;        // PCF kernel is (2r+1)^2 taps
+    // Shadow technique (registry of src/shadows) and its properties, as for oit. The legacy
+    // keys shadow_map_size, shadow_bias and pcf_radius are stored here as size, bias and
+    // pcf_radius.
+    std::string shadows = "opaque";
+    nlohmann::json shadowProperties;
+    std::string shadowsWhere = "render.shadows";
     // Fog marcher (src/volume): steps per ray through a volume's bounds, resolution divisor
     // (1 = full, 2 = half, 4 = quarter, joint-bilateral upsampled), jitter of the start.
     int fogSteps = 128;

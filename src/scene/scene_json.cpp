@@ -245,30 +245,53 @@ glm::mat4 parseTransform(const Context& ctx, const json& j, const std::string& p
     return glm::scale(m, s);
 }
 
+// `key`: NAME or {"type": NAME, property: value, ...}; the properties are checked against the
+// technique's declared schema when the frame creates it (src/oit, src/shadows).
+void parseTechniqueChoice(const Obj& o, const char* key, std::string& name,
+                          nlohmann::json& properties, std::string& where) {
+    if (const json* t = o.get(key); t && t->is_object()) {
+        // No "type": the default technique with these properties (--set render.shadows.size=512
+        // on a scene that names no technique).
+        if (const json* type = t->contains("type") ? &(*t)["type"] : nullptr) {
+            if (!type->is_string())
+                fail(o.ctx(), o.ptr(key) + "/type", "expected the technique name as a string");
+            name = type->get<std::string>();
+        }
+        properties = *t;
+        properties.erase("type");
+    } else {
+        name = o.str(key, name);
+    }
+    where = fmt::format("{}: {}", o.ctx().source, o.ptr(key));
+    if (name.empty()) fail(o.ctx(), o.ptr(key), "technique name must not be empty");
+}
+
 void parseRender(const Obj& o, RenderSettings& r) {
     r.width = int(o.integer("width", r.width, 1, 16384));
     r.height = int(o.integer("height", r.height, 1, 16384));
     r.camera = o.str("camera", r.camera);
-    // "oit": NAME or {"type": NAME, property: value, ...} (properties checked by src/oit).
-    if (const json* oit = o.get("oit"); oit && oit->is_object()) {
-        const json* type = oit->contains("type") ? &(*oit)["type"] : nullptr;
-        if (!type || !type->is_string())
-            fail(o.ctx(), o.ptr("oit") + "/type", "expected the technique name as a string");
-        r.oit = type->get<std::string>();
-        r.oitProperties = *oit;
-        r.oitProperties.erase("type");
-    } else {
-        r.oit = o.str("oit", r.oit);
+    parseTechniqueChoice(o, "oit", r.oit, r.oitProperties, r.oitWhere);
+    parseTechniqueChoice(o, "shadows", r.shadows, r.shadowProperties, r.shadowsWhere);
+    // Legacy keys of the opaque shadow map, kept as aliases of the shadow technique's
+    // properties (every technique has an opaque map: src/shadows/opaque/opaque.h).
+    for (const auto& [legacy, key] :
+         {std::pair<const char*, const char*>{"shadow_map_size", "size"},
+          {"shadow_bias", "bias"},
+          {"pcf_radius", "pcf_radius"}}) {
+        const json* v = o.get(legacy);
+        if (!v) continue;
+        if (r.shadowProperties.is_object() && r.shadowProperties.contains(key))
+            fail(o.ctx(), o.ptr(legacy),
+                 fmt::format("set twice: here and as {}/{} (use only the latter)", o.ptr("shadows"),
+                             key));
+        if (!r.shadowProperties.is_object()) r.shadowProperties = json::object();
+        r.shadowProperties[key] = *v;
     }
-    r.oitWhere = fmt::format("{}: {}", o.ctx().source, o.ptr("oit"));
-    if (r.oit.empty()) fail(o.ctx(), o.ptr("oit"), "technique name must not be empty");
     r.seed = std::uint32_t(o.integer("seed", r.seed, 0, std::numeric_limits<std::uint32_t>::max()));
     r.ambient = o.color("ambient", r.ambient);
     r.background = o.color("background", r.background);
     r.exposure = o.num("exposure", r.exposure, kPositive);
     r.tonemap = o.str("tonemap", r.tonemap, {"aces", "clamp"});
-    r.shadowMapSize = int(o.integer("shadow_map_size", r.shadowMapSize, 16, 16384));
-    r.shadowBias = o.num("shadow_bias", r.shadowBias, kNonNegative);
     r.fogSteps = static_cast<int>(o.integer("fog_steps", r.fogSteps, 1, 4096));
     r.fogResolution = static_cast<int>(o.integer("fog_resolution", r.fogResolution, 1, 4));
     if (r.fogResolution == 3) fail(o.ctx(), o.ptr("fog_resolution"), "must be 1, 2 or 4");
@@ -279,7 +302,6 @@ void parseRender(const Obj& o, RenderSettings& r) {
     r.geometryBudgetMiB =
         static_cast<int>(o.integer("geometry_budget_mib", r.geometryBudgetMiB, 1, 1 << 20));
     r.fogSampleLimit = o.integer("fog_sample_limit", r.fogSampleLimit, -1, 1LL << 50);
-    r.pcfRadius = int(o.integer("pcf_radius", r.pcfRadius, 0, 16));
 }
 
 Camera parseCamera(const Context& ctx, const json& j, const std::string& ptr, std::size_t i) {
@@ -617,10 +639,26 @@ Scene parseSceneDocument(const json& doc, const fs::path& baseDir, const std::st
 
     if (const json* r = root.get("render"))
         parseRender(Obj(ctx, *r, root.ptr("render"),
-                        {"width", "height", "camera", "oit", "seed", "ambient", "background",
-                         "exposure", "tonemap", "shadow_map_size", "shadow_bias", "pcf_radius",
-                         "fog_steps", "fog_resolution", "fog_jitter", "volume_budget_mib",
-                         "volume_over_budget", "geometry_budget_mib", "fog_sample_limit"}),
+                        {"width",
+                         "height",
+                         "camera",
+                         "oit",
+                         "shadows",
+                         "seed",
+                         "ambient",
+                         "background",
+                         "exposure",
+                         "tonemap",
+                         "shadow_map_size",
+                         "shadow_bias",
+                         "pcf_radius",
+                         "fog_steps",
+                         "fog_resolution",
+                         "fog_jitter",
+                         "volume_budget_mib",
+                         "volume_over_budget",
+                         "geometry_budget_mib",
+                         "fog_sample_limit"}),
                     scene.render);
 
     forEach(root, "cameras", [&](const json& j, const std::string& p, std::size_t i) {

@@ -135,7 +135,7 @@ void FogPass::march(const FogTargets& targets) {
         light ? glm::vec4(directional ? glm::normalize(light->direction) : light->position,
                           directional ? float(VEIL_LIGHT_DIRECTIONAL) : float(VEIL_LIGHT_SPOT))
               : glm::vec4(0.0f);
-    if (light && !volumes_.empty() && (!lightValid_ || key != lightKey_)) {
+    if (selfShadowing_ && light && !volumes_.empty() && (!lightValid_ || key != lightKey_)) {
         lightKey_ = key;
         lightValid_ = true;
         const gpu::Program& lp = programs_.get(lightProgram_);
@@ -166,10 +166,11 @@ void FogPass::march(const FogTargets& targets) {
         .set("steps", scene_.render.fogSteps)
         .set("seed", targets.seed)
         .set("jitter", scene_.render.fogJitter ? 1 : 0)
-        .set("primaryLight", volumes_.empty() ? -1 : primaryLight_)
+        .set("primaryLight", volumes_.empty() || !selfShadowing_ ? -1 : primaryLight_)
         .set("globalDensity", globalDensity_)
         .set("globalAlbedo", globalAlbedo_)
         .set("globalAnisotropy", globalAnisotropy_);
+    if (targets.prepareReceiver) targets.prepareReceiver(mp);
     mp.use();
     targets.depth->bind(VEIL_TEX_DEPTH);
     glBindImageTexture(VEIL_IMG_FOG_RADIANCE, radiance_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,

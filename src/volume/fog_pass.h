@@ -14,6 +14,7 @@
 #include "scene/scene.h"
 #include "volume/gpu_volume.h"
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -24,6 +25,8 @@ struct FogTargets {
     const gpu::Texture* depth = nullptr; // opaque depth
     glm::mat4 viewProjection{1.0f}, projection{1.0f};
     std::uint32_t seed = 1;
+    // Called on the march program before it runs: the shadow technique's receiver uniforms.
+    std::function<void(const gpu::Program&)> prepareReceiver;
 };
 
 class FogPass {
@@ -48,6 +51,13 @@ public:
     void bindForEmit(const gpu::Program& program, const FogTargets& targets) const;
     // Draws the full-screen triangle (the emit program must be in use).
     void drawEmit() const;
+    // Binds the grid volumes and sets the volume uniforms of shaders/volume/volume_common.glsl
+    // on `program` (for other passes that sample the density: shadow techniques).
+    void bindVolumes(const gpu::Program& program) const { setVolumeUniforms(program); }
+    bool hasGridVolumes() const { return !volumes_.empty(); }
+    // False when the shadow technique's maps already hold the volumes' absorbance toward
+    // every light: the marcher then skips its own self-shadowing volumes.
+    void setSelfShadowing(bool on) { selfShadowing_ = on; }
 
 private:
     void resize(int width, int height);
@@ -73,6 +83,7 @@ private:
     // primary light moves (DESIGN.md: derived structures are rebuilt when the light moved).
     glm::vec4 lightKey_{0.0f};
     bool lightValid_ = false;
+    bool selfShadowing_ = true;
     gpu::Texture radiance_{gpu::NoCreate}, transmittance_{gpu::NoCreate};
     gpu::VertexArray emptyVao_{gpu::NoCreate};
 };

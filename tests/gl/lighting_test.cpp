@@ -1,12 +1,12 @@
 // The opaque pass against analytic radiance: a lit floor point receives the GGX + Lambert
 // response to the light's irradiance times N.L, a point in the box's shadow receives only the
-// ambient term, and a point light falls off with 1/d^2. The reference BRDF below is written
-// out in double precision from the formulas (Walter et al. 2007 GGX, height-correlated Smith,
-// Schlick), independently of shaders/common/brdf.glsl.
+// ambient term, and a point light falls off with 1/d^2. The reference BRDF is
+// tests/support/analytic_shading.h (double precision, independent of the shaders).
 #include "gl_fixture.h"
 
 #include "frame/renderer.h"
 #include "scene/scene.h"
+#include "support/analytic_shading.h"
 #include "support/test_support.h"
 
 #include <nlohmann/json.hpp>
@@ -17,32 +17,7 @@ namespace veil::test {
 
 namespace {
 
-struct Vec {
-    double x, y, z;
-};
-Vec operator+(Vec a, Vec b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-double dot(Vec a, Vec b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-Vec normalize(Vec a) {
-    const double l = std::sqrt(dot(a, a));
-    return {a.x / l, a.y / l, a.z / l};
-}
-
-// f(l, v) * (n.l) for a dielectric (metalness 0) of albedo `albedo` and perceptual roughness r.
-double brdfCos(double albedo, double r, Vec n, Vec v, Vec l) {
-    const double pi = 3.14159265358979323846;
-    const double nl = dot(n, l), nv = dot(n, v);
-    if (nl <= 0) return 0;
-    const Vec h = normalize(l + v);
-    const double nh = dot(n, h), lh = dot(l, h);
-    const double a = std::max(r * r, 1e-3), a2 = a * a;
-    const double dd = nh * nh * (a2 - 1) + 1;
-    const double D = a2 / (pi * dd * dd);
-    const double gv = nl * std::sqrt(nv * nv * (1 - a2) + a2);
-    const double gl = nv * std::sqrt(nl * nl * (1 - a2) + a2);
-    const double V = 0.5 / (gv + gl);
-    const double F = 0.04 + 0.96 * std::pow(1 - lh, 5);
-    return ((1 - F) * albedo / pi + D * V * F) * nl;
-}
+using namespace analytic;
 
 nlohmann::json boxOnFloor(nlohmann::json light) {
     nlohmann::json doc = nlohmann::json::parse(R"({

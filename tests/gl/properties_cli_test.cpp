@@ -37,14 +37,15 @@ TEST(PropertiesCliTest, TechniquesListsEveryTechniqueWithItsProperties) {
     const nlohmann::json j = nlohmann::json::parse(r.output.substr(r.output.find('[')));
     std::vector<std::string> names;
     for (const auto& t : j) {
-        names.push_back(t["name"]);
+        names.push_back(t["kind"].get<std::string>() + " " + t["name"].get<std::string>());
         for (const auto& p : t["properties"]) {
             EXPECT_FALSE(p["doc"].get<std::string>().empty()) << t["name"] << p["key"];
             EXPECT_TRUE(p.contains("default") && p.contains("range") && p.contains("type"));
         }
     }
-    for (const char* n : {"blend", "reference", "wboit", "phenomenological", "moment-p6",
-                          "moment-t4-16", "stochastic-depth", "phenomenological-volume"})
+    for (const char* n : {"oit blend", "oit reference", "oit wboit", "oit phenomenological",
+                          "oit moment-p6", "oit moment-t4-16", "oit stochastic-depth",
+                          "oit phenomenological-volume", "shadows opaque"})
         EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
     const CommandResult text = runCommand(veilExe() + " techniques moment-p6");
     ASSERT_EQ(text.exitCode, 0) << text.output;
@@ -52,7 +53,11 @@ TEST(PropertiesCliTest, TechniquesListsEveryTechniqueWithItsProperties) {
         EXPECT_NE(text.output.find(s), std::string::npos) << s << "\n" << text.output;
     const CommandResult bad = runCommand(veilExe() + " techniques nope");
     EXPECT_EQ(bad.exitCode, 1) << bad.output;
-    EXPECT_NE(bad.output.find("unknown OIT technique 'nope'"), std::string::npos) << bad.output;
+    EXPECT_NE(bad.output.find("unknown technique 'nope'"), std::string::npos) << bad.output;
+    const CommandResult shadow = runCommand(veilExe() + " techniques opaque");
+    ASSERT_EQ(shadow.exitCode, 0) << shadow.output;
+    for (const char* s : {"shadows opaque", "pcf_radius", "max_lights"})
+        EXPECT_NE(shadow.output.find(s), std::string::npos) << s << "\n" << shadow.output;
 }
 
 TEST(PropertiesCliTest, SetReachesTheTechniqueAndTheReport) {

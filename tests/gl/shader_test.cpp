@@ -7,6 +7,7 @@
 #include "oit/phenomenological/phenomenological.h"
 #include "oit/reference/reference.h"
 #include "oit/technique.h"
+#include "shadows/technique.h"
 #include "support/test_support.h"
 
 #include <fmt/format.h>
@@ -142,12 +143,30 @@ ProjectPrograms projectPrograms(const gpu::ContextInfo& info, gpu::ProgramManage
     using gpu::ProgramDesc;
     ProjectPrograms out;
     auto& P = out.programs;
-    const gpu::IncludeAliases visibility{
-        {"veil:light_visibility", "shadows/shadow_map/visibility.glsl"}};
-    P.push_back(ProgramDesc::graphics("frame/mesh.vert", "frame/opaque.frag", {}, visibility));
-    P.push_back(ProgramDesc::graphics("frame/mesh.vert", "frame/shadow.frag"));
+    // Shadows: every registered technique (its constructor adds its own programs to the
+    // manager: collected at the end), and each receiver with its visibility include.
+    std::vector<gpu::IncludeAliases> visibilities;
+    for (const shadows::TechniqueInfo& t : shadows::Registry::instance().all()) {
+        if (t.isAvailable && !t.isAvailable(info)) {
+            out.skipped.push_back("shadows " + t.name + " (not available on this driver)");
+            continue;
+        }
+        try {
+            auto technique = shadows::Registry::instance().create(t.name, info, manager);
+            visibilities.push_back({{"veil:light_visibility", technique->visibilityInclude()}});
+        } catch (const Error& e) {
+            ADD_FAILURE() << "shadows " << t.name << ": " << e.what();
+        }
+    }
+    for (const auto& v : visibilities) {
+        P.push_back(ProgramDesc::graphics("frame/mesh.vert", "frame/opaque.frag", {}, v));
+        P.push_back(ProgramDesc::compute("volume/fog_march.comp", {}, v));
+        P.push_back(ProgramDesc::graphics("frame/mesh.vert", "frame/transparent.frag",
+                                          {"OIT_PASS 0"},
+                                          {{"veil:oit_emit", "oit/blend/emit.glsl"}, v[0]}));
+    }
+    const gpu::IncludeAliases visibility = visibilities.at(0); // `opaque`, registered first
     P.push_back(ProgramDesc::compute("frame/tonemap.comp"));
-    P.push_back(ProgramDesc::compute("volume/fog_march.comp", {}, visibility));
     P.push_back(ProgramDesc::compute("volume/light_transmittance.comp"));
 
     // OIT: one technique object per registered name (and the phenomenological options that
@@ -237,6 +256,9 @@ ProjectPrograms projectPrograms(const gpu::ContextInfo& info, gpu::ProgramManage
     P.push_back(ProgramDesc::compute("voxelize/compute.comp"));
     P.push_back(ProgramDesc::compute("voxelize/compute.comp", {"COUNT_TILES"}));
     P.push_back(ProgramDesc::compute("voxelize/query_probe.comp"));
+    // What the techniques' constructors added (shadow techniques' own passes).
+    for (const gpu::ProgramDesc& d : manager.descriptions())
+        P.push_back(d);
     return out;
 }
 

@@ -65,8 +65,8 @@ TEST(SceneTest, MinimalSceneHasDefaults) {
     EXPECT_EQ(s.render.height, 360);
     EXPECT_EQ(s.render.oit, "blend");
     EXPECT_EQ(s.render.tonemap, "aces");
-    EXPECT_EQ(s.render.shadowMapSize, 2048);
-    EXPECT_FLOAT_EQ(s.render.shadowBias, RenderSettings{}.shadowBias);
+    EXPECT_EQ(s.render.shadows, "opaque");
+    EXPECT_TRUE(s.render.shadowProperties.is_null()); // the technique's defaults
     ASSERT_EQ(s.cameras.size(), 1u);
     EXPECT_EQ(s.cameras[0].type, CameraType::Perspective);
     EXPECT_FLOAT_EQ(s.cameras[0].fovYDegrees, 45.0f);
@@ -101,6 +101,29 @@ TEST(SceneTest, FullRenderAndLightSettings) {
     EXPECT_FALSE(s.lights[0].castShadows);
     EXPECT_EQ(s.lights[1].direction, glm::vec3(0.0f, -1.0f, 0.0f)); // normalized
     EXPECT_EQ(s.lights[2].type, LightType::Point);
+    // The legacy shadow keys are aliases of the shadow technique's properties.
+    EXPECT_EQ(s.render.shadowProperties,
+              json({{"size", 1024}, {"bias", 0.002}, {"pcf_radius", 2}}));
+}
+
+TEST(SceneTest, ShadowTechniqueChoice) {
+    json doc = minimal();
+    doc["render"] = json::parse(R"({"shadows": {"type": "moment", "size": 512}})");
+    Scene s = parseScene(doc, ".");
+    EXPECT_EQ(s.render.shadows, "moment");
+    EXPECT_EQ(s.render.shadowProperties, json({{"size", 512}}));
+    EXPECT_NE(s.render.shadowsWhere.find("/render/shadows"), std::string::npos);
+    doc["render"] = json::parse(R"({"shadows": "opaque"})");
+    EXPECT_EQ(parseScene(doc, ".").render.shadows, "opaque");
+    // A legacy key and its property both set: which one wins is not guessed.
+    doc["render"] =
+        json::parse(R"({"shadows": {"type": "opaque", "size": 512}, "shadow_map_size": 64})");
+    EXPECT_THROW(parseScene(doc, "."), veil::Error);
+    // No type: the default technique with these properties.
+    doc["render"] = json::parse(R"({"shadows": {"size": 512}})");
+    EXPECT_EQ(parseScene(doc, ".").render.shadows, "opaque");
+    doc["render"] = json::parse(R"({"shadows": {"type": 3}})");
+    EXPECT_THROW(parseScene(doc, "."), veil::Error);
 }
 
 TEST(SceneTest, EveryShapeKind) {

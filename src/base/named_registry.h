@@ -1,0 +1,63 @@
+// Techniques of one kind by name (nvpro's renderer registry: STYLE.md), with the properties
+// each declares (properties.h). One registry per kind of technique derives from this: OIT
+// (src/oit/technique.h) and shadows (src/shadows/technique.h). `Info` has at least
+// `std::string name` and `PropertySchema properties`.
+//
+// Built-in techniques are added explicitly by each registry's instance() (static
+// initialisers in static libraries are dropped by the linker).
+#pragma once
+
+#include "base/error.h"
+#include "base/properties.h"
+
+#include <fmt/ranges.h>
+
+#include <string>
+#include <vector>
+
+namespace veil {
+
+template <class Info>
+class NamedRegistry {
+public:
+    // `kind` names the technique kind in messages ("OIT technique", "shadow technique").
+    explicit NamedRegistry(std::string kind) : kind_(std::move(kind)) {}
+
+    void add(Info info) {
+        VEIL_CHECK(!find(info.name), "{} '{}' registered twice", kind_, info.name);
+        items_.push_back(std::move(info));
+    }
+    const Info* find(const std::string& name) const {
+        for (const auto& t : items_)
+            if (t.name == name) return &t;
+        return nullptr;
+    }
+    const std::vector<Info>& all() const { return items_; }
+    std::vector<std::string> names() const {
+        std::vector<std::string> n;
+        for (const auto& t : items_)
+            n.push_back(t.name);
+        return n;
+    }
+    const std::string& kind() const { return kind_; }
+    // Throws veil::Error listing the known names.
+    const Info& get(const std::string& name, const std::string& where = {}) const {
+        const Info* info = find(name);
+        VEIL_CHECK(info, "{}unknown {} '{}' (known: {})", where.empty() ? "" : where + ": ", kind_,
+                   name, fmt::join(names(), ", "));
+        return *info;
+    }
+    // Validates `values` (a JSON object of the technique's properties; "type" is ignored;
+    // null = defaults); `where` is the JSON path for messages ("scene.json: /render/oit").
+    Properties resolve(const std::string& name, const nlohmann::json& values,
+                       const std::string& where) const {
+        return get(name, where.empty() ? where : where + "/type")
+            .properties.resolve(values, where, fmt::format("{} '{}'", kind_, name));
+    }
+
+private:
+    std::string kind_;
+    std::vector<Info> items_;
+};
+
+} // namespace veil

@@ -1,0 +1,61 @@
+#include "shadows/opaque/opaque.h"
+
+#include "shadows/common/depth_maps.h"
+
+namespace veil::shadows {
+
+namespace {
+
+class OpaqueTechnique final : public Technique {
+public:
+    OpaqueTechnique(gpu::ProgramManager& programs, const Properties& p)
+        : depth_(programs), bias_(p.getFloat("bias")), pcfRadius_(p.getInt("pcf_radius")) {}
+
+    std::string name() const override { return "opaque"; }
+    std::filesystem::path visibilityInclude() const override {
+        return "shadows/opaque/visibility.glsl";
+    }
+    void resize(int mapSize, int viewCount) override { depth_.resize(mapSize, viewCount); }
+    std::vector<ShadowPass> passes() override {
+        return {{"", {}, {"shadow.depth"}, [this](const ShadowFrame& f) { depth_.render(f); }}};
+    }
+    std::vector<std::string> receiverResources() const override { return {"shadow.depth"}; }
+    void bindForReceivers() const override { depth_.bind(); }
+    void fillParams(ShadowsBlock& block) const override {
+        block.params[0] = glm::vec4(bias_, static_cast<float>(pcfRadius_), 0.0f, 0.0f);
+    }
+    const gpu::Texture* resourceTexture(const std::string& name) const override {
+        return name == "shadow.depth" ? &depth_.texture() : nullptr;
+    }
+    std::size_t gpuBytes() const override { return depth_.gpuBytes(); }
+
+private:
+    DepthMaps depth_;
+    float bias_;
+    int pcfRadius_;
+};
+
+} // namespace
+
+PropertySchema& addOpaqueMapProperties(PropertySchema& schema) {
+    schema.real("bias", 0.01, 0.0, 1e6,
+                "opaque map depth bias in world units along the light axis (slope-scaled on "
+                "surfaces)");
+    schema.integer("pcf_radius", 1, 0, 16, "opaque map PCF kernel: (2r+1)^2 taps");
+    return schema;
+}
+
+void registerOpaque(Registry& registry) {
+    PropertySchema schema = commonProperties();
+    addOpaqueMapProperties(schema);
+    registry.add({"opaque",
+                  "Williams depth maps of the opaque casters with PCF; transparent casters and "
+                  "fog cast no shadow (the baseline)",
+                  nullptr,
+                  [](gpu::ProgramManager& programs, const Properties& p) {
+                      return std::make_unique<OpaqueTechnique>(programs, p);
+                  },
+                  std::move(schema)});
+}
+
+} // namespace veil::shadows

@@ -1,0 +1,20 @@
+// `opaque`: Williams (1978) shadow maps of the opaque casters for every shadow-casting light
+// (directional, spot, and point lights through six cube faces), PCF-filtered in the receivers
+// (shaders/shadows/opaque/visibility.glsl). Transparent casters and the fog cast no shadow:
+// this is the baseline the other shadow techniques are measured against.
+//
+// Properties: size (texels per view side, 2048), max_lights (4), bias (world-space depth bias
+// along the light axis, slope-scaled for surfaces, 0.01), pcf_radius (taps (2r+1)^2, 1).
+#pragma once
+
+#include "shadows/technique.h"
+
+namespace veil::shadows {
+
+void registerOpaque(Registry& registry);
+
+// The receiver-side properties every technique's opaque map reads (bias, pcf_radius), for
+// the schemas of techniques that include the opaque map.
+PropertySchema& addOpaqueMapProperties(PropertySchema& schema);
+
+} // namespace veil::shadows

@@ -1,0 +1,46 @@
+#include "shadows/technique.h"
+
+#include "base/error.h"
+#include "shadows/opaque/opaque.h"
+
+namespace veil::shadows {
+
+namespace {
+void registerBuiltinTechniques(Registry& registry) { registerOpaque(registry); }
+} // namespace
+
+PropertySchema commonProperties(int defaultSize) {
+    PropertySchema s;
+    s.integer("size", defaultSize, 16, 16384,
+              "texels per side of each light view's map (a point light has six)");
+    s.integer("max_lights", 4, 1, VEIL_MAX_LIGHTS,
+              "most shadow-casting lights; more is an error naming the scene, not a silent "
+              "drop");
+    return s;
+}
+
+Registry& Registry::instance() {
+    static Registry* registry = [] {
+        auto* r = new Registry();
+        registerBuiltinTechniques(*r);
+        return r;
+    }();
+    return *registry;
+}
+
+std::unique_ptr<Technique> Registry::create(const std::string& name,
+                                            const gpu::ContextInfo& context,
+                                            gpu::ProgramManager& programs,
+                                            const nlohmann::json& values,
+                                            const std::string& where) const {
+    const TechniqueInfo& info = get(name, where.empty() ? where : where + "/type");
+    Properties properties = resolve(name, values, where);
+    VEIL_CHECK(!info.isAvailable || info.isAvailable(context),
+               "shadow technique '{}' is not available on this GL driver ({})", name,
+               context.renderer);
+    std::unique_ptr<Technique> technique = info.create(programs, properties);
+    technique->properties_ = std::move(properties);
+    return technique;
+}
+
+} // namespace veil::shadows

@@ -1,0 +1,134 @@
+// The shadow interface (DESIGN.md "Passes, properties, resources"): a shadow technique owns
+// its maps for every view of every shadow-casting light (src/shadows/views.h), renders them in
+// its passes, and provides the GLSL file defining
+//     void lightAttenuate(int light, vec3 P, vec3 N, vec3 L, inout vec3 radiance);
+//     void lightAttenuateInMedium(int light, vec3 P, inout vec3 radiance);
+//     vec3 lightVisibility(int light, vec3 P, vec3 N, vec3 L);
+//     vec3 lightVisibilityInMedium(int light, vec3 P);
+// which every receiver includes as "veil:light_visibility": opaque and transparent surfaces
+// (shaders/frame/shading.glsl) and the fog marcher's in-scattering. So one technique gives
+// every receiver the same answer.
+//
+// Techniques are registered by name in one registry (src/shadows/registry.cpp) with their
+// properties declared once (src/base/properties.h); every technique declares the common ones
+// of commonProperties() (map size, max_lights) first.
+#pragma once
+
+#include "base/named_registry.h"
+#include "base/properties.h"
+#include "gpu/context.h"
+#include "gpu/objects.h"
+#include "gpu/pipeline_state.h"
+#include "gpu/shader.h"
+#include "scene/scene.h"
+#include "shadows/views.h"
+
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace veil::shadows {
+
+enum class CasterSet {
+    Opaque,      // opaque materials of objects with "shadows": true
+    Transparent, // transparent materials (coverage < 1 or transmission > 0) that cast
+};
+
+// What the frame gives a technique's passes.
+struct ShadowFrame {
+    const std::vector<LightView>* views = nullptr;
+    int mapSize = 0;
+    // The frame's state tracker: a pass applies a declared PipelineState before each of its
+    // draws and clears (clears obey the masks) and issues no raw GL state calls of its own.
+    gpu::StateTracker* state = nullptr;
+    // Draws the casters of `set` with `program` in use (frame/mesh.vert inputs and the
+    // material uniforms of shaders/frame/material.glsl set per object). The caller sets
+    // `viewProjection`, `useOverride` = 1 and `billboardAxes` (particles face the light).
+    std::function<void(const gpu::Program&, CasterSet)> drawCasters;
+    // Binds the scene's density volumes for sampling with shaders/volume/volume_common.glsl
+    // (textures and the uniforms of `program`); null when the scene has no volumes.
+    std::function<void(const gpu::Program&)> bindMedia;
+    std::uint32_t seed = 1;
+};
+
+// One pass of a technique, added to the frame as "shadow" (the first) or "shadow.<name>".
+// Resources are named "shadow.<what>" (shadow.depth is the opaque casters' depth array).
+struct ShadowPass {
+    std::string name;
+    std::vector<std::string> reads;
+    std::vector<std::string> writes;
+    std::function<void(const ShadowFrame&)> execute;
+};
+
+class Technique {
+public:
+    virtual ~Technique() = default;
+    virtual std::string name() const = 0;
+    // GLSL file (relative to shaders/) of "veil:light_visibility".
+    virtual std::filesystem::path visibilityInclude() const = 0;
+    // Called when the number of views or the map size changes: (re)creates the texture arrays
+    // with one layer per view.
+    virtual void resize(int mapSize, int viewCount) = 0;
+    // The passes, in order. The frame's receivers read `receiverResources()`.
+    virtual std::vector<ShadowPass> passes() = 0;
+    virtual std::vector<std::string> receiverResources() const = 0;
+    // Binds the textures the visibility include samples (VEIL_TEX_SHADOW_MAP, _SHADOW1..3);
+    // called before every receiving pass.
+    virtual void bindForReceivers() const = 0;
+    // Sets what the visibility include needs on a receiver's program (opaque and transparent
+    // surfaces, the fog marcher) before it draws: e.g. frame.bindMedia(program) for an include
+    // that marches the density toward the light. Most techniques need nothing beyond the
+    // textures of bindForReceivers() and the shadows block.
+    virtual void prepareReceiver(const gpu::Program& program, const ShadowFrame& frame) const {
+        (void)program;
+        (void)frame;
+    }
+    // The technique's params[4] of the shadows block (views.glsl), read by its include.
+    virtual void fillParams(ShadowsBlock& block) const = 0;
+    // True when the maps hold the absorbance of the grid density volumes, so the fog marcher
+    // must not multiply its own self-shadowing volumes (src/volume) in again. (Global
+    // homogeneous fog stays analytic in the marcher.)
+    virtual bool attenuatesMedia() const { return false; }
+    // The texture behind one of the technique's resources (debug views, dumps), or null.
+    virtual const gpu::Texture* resourceTexture(const std::string& name) const {
+        (void)name;
+        return nullptr;
+    }
+    virtual std::size_t gpuBytes() const = 0;
+    // Counters of the last frame (JSON object) for reports and the viewer.
+    virtual nlohmann::json stats() const { return nlohmann::json::object(); }
+
+    const Properties& properties() const { return properties_; }
+
+private:
+    friend class Registry;
+    Properties properties_;
+};
+
+struct TechniqueInfo {
+    std::string name;
+    std::string description;
+    std::function<bool(const gpu::ContextInfo&)> isAvailable; // null = always
+    std::function<std::unique_ptr<Technique>(gpu::ProgramManager&, const Properties&)> create;
+    PropertySchema properties;
+};
+
+// The properties every shadow technique declares first: size (texels per side of every
+// view's map), max_lights (more shadow-casting lights than this is an error).
+PropertySchema commonProperties(int defaultSize = 2048);
+
+class Registry : public NamedRegistry<TechniqueInfo> {
+public:
+    Registry() : NamedRegistry("shadow technique") {}
+    static Registry& instance();
+    // Throws veil::Error for an unknown or unavailable technique or a bad property.
+    std::unique_ptr<Technique> create(const std::string& name, const gpu::ContextInfo& context,
+                                      gpu::ProgramManager& programs,
+                                      const nlohmann::json& values = {},
+                                      const std::string& where = "render.shadows") const;
+};
+
+} // namespace veil::shadows
