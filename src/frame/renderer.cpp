@@ -250,12 +250,13 @@ void Renderer::render() {
     shadowsUbo_.bindBase(GL_UNIFORM_BUFFER, VEIL_UBO_SHADOWS);
 
     const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
-    fogTargets_ = {width_,
-                   height_,
-                   &depth_,
-                   camera_.projection(aspect) * camera_.view(),
-                   camera_.projection(aspect),
-                   scene_.render.seed};
+    fogTargets_ = {};
+    fogTargets_.width = width_;
+    fogTargets_.height = height_;
+    fogTargets_.depth = &depth_;
+    fogTargets_.viewProjection = camera_.projection(aspect) * camera_.view();
+    fogTargets_.projection = camera_.projection(aspect);
+    fogTargets_.seed = scene_.render.seed;
     if (shadowSet_.viewCount > 0)
         fogTargets_.prepareReceiver = [this](const gpu::Program& program) {
             shadows_->prepareReceiver(program, shadowFrame_);
