@@ -1,12 +1,16 @@
 #include "shadows/technique.h"
 
 #include "base/error.h"
+#include "shadows/moment/moment.h"
 #include "shadows/opaque/opaque.h"
 
 namespace veil::shadows {
 
 namespace {
-void registerBuiltinTechniques(Registry& registry) { registerOpaque(registry); }
+void registerBuiltinTechniques(Registry& registry) {
+    registerOpaque(registry);
+    registerMoment(registry);
+}
 } // namespace
 
 PropertySchema commonProperties(int defaultSize) {
