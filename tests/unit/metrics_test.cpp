@@ -224,9 +224,10 @@ TEST(MetricsTest, HolmRejectsAtLeastWhatBonferroniDoes) {
 }
 
 TEST(MetricsTest, UnbiasedNoiseIsRarelyRejectedAndABiasIs) {
-    // 16 renders of a 32 x 32 image: value = 0.5 + noise (a fixed deterministic sequence of
-    // +-0.1 with mean 0 per pixel) against the exact 0.5: no rejections; shifting the mean by
-    // 0.1 (more than 4 standard errors 0.1/4) rejects every pixel.
+    // 16 renders of a 32 x 32 image: value = 0.5 + noise (a fixed sequence of +-0.1 or +-0.15,
+    // mean near 0 per pixel, s ~ 0.11) against the exact 0.5: no rejections. Shifting the mean
+    // by 0.3 (t ~ 0.3 / (0.11 / 4) ~ 11, p of t(15) ~ 1e-8, under the Holm/Bonferroni level
+    // 0.01 / 3072 = 3e-6) rejects every pixel; 0.1 (t ~ 3.6, p ~ 3e-3) would not.
     std::vector<ImageF> s, biased;
     for (int k = 0; k < 16; ++k) {
         ImageF img(32, 32, 3), b(32, 32, 3);
@@ -234,7 +235,7 @@ TEST(MetricsTest, UnbiasedNoiseIsRarelyRejectedAndABiasIs) {
             const float noise =
                 ((k + i) % 2 ? 0.1f : -0.1f) * (1.0f + 0.5f * float((i * 7 + k) % 3 == 0));
             img.pixels[i] = 0.5f + noise;
-            b.pixels[i] = img.pixels[i] + 0.1f;
+            b.pixels[i] = img.pixels[i] + 0.3f;
         }
         s.push_back(img);
         biased.push_back(b);
