@@ -3,6 +3,7 @@
 #include "base/error.h"
 #include "shadows/moment/moment.h"
 #include "shadows/opaque/opaque.h"
+#include "shadows/reference/reference.h"
 
 namespace veil::shadows {
 
@@ -10,6 +11,7 @@ namespace {
 void registerBuiltinTechniques(Registry& registry) {
     registerOpaque(registry);
     registerMoment(registry);
+    registerReference(registry);
 }
 } // namespace
 

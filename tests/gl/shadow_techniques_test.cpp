@@ -44,6 +44,15 @@ std::vector<TechniqueCase> cases() {
          "Williams map of opaque casters only: transparent casters and fog cast nothing (the "
          "baseline); 2e-3 of float rounding",
          -1},
+        {"reference",
+         {},
+         2e-3,
+         2e-3,
+         2e-3,
+         1e-2,
+         "exact products of the casters' transmittances (float32), RGBA16F output (2^-11): "
+         "2e-3; the slab's optical depth is a 256-step midpoint sum from the receiver, with "
+         "half-float densities and trilinear ramps symmetric about the faces: 1%"},
         {"moment",
          {},
          2e-3,
