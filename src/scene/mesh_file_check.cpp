@@ -77,6 +77,8 @@ class Reader {
 public:
     explicit Reader(const std::filesystem::path& path) : in_(path, std::ios::binary) {}
     bool ok() const { return bool(in_); }
+    // Bytes consumed so far (get, read, token and line).
+    std::uint64_t offset() const { return base_ + pos_; }
 
     int get() {
         if (!fill()) return -1;
@@ -122,6 +124,7 @@ private:
     bool fill() {
         if (pos_ < end_) return true;
         if (!in_) return false;
+        base_ += end_;
         in_.read(buffer_.data(), std::streamsize(buffer_.size()));
         end_ = static_cast<std::size_t>(in_.gcount());
         pos_ = 0;
@@ -131,6 +134,7 @@ private:
     std::ifstream in_;
     std::vector<char> buffer_ = std::vector<char>(std::size_t(1) << 20);
     std::size_t pos_ = 0, end_ = 0;
+    std::uint64_t base_ = 0;
 };
 
 std::vector<std::string> words(const std::string& line) {
@@ -246,6 +250,47 @@ private:
     std::string token_;
 };
 
+// A keyword for an error message: printable, at most 40 characters.
+std::string boundedKeyword(const std::string& word) {
+    std::string out;
+    for (char c : word.substr(0, 40)) {
+        const auto u = static_cast<unsigned char>(c);
+        out.push_back(u < 0x20 || u >= 0x7f ? '?' : c);
+    }
+    return word.size() > 40 ? out + "..." : out;
+}
+
+// A binary body's size where the layout fixes it: every element without list properties
+// takes count x (sum of its property sizes) bytes, and a list takes at least its count's
+// size per instance. Refuses, before the body is walked, a file too short for that minimum
+// (a huge element count in a small file), with the sizes in the message.
+void checkBinarySize(const std::filesystem::path& path, const std::string& file,
+                     const std::vector<Element>& elements, std::uint64_t headerBytes) {
+    std::error_code ec;
+    const std::uint64_t fileSize = std::filesystem::file_size(path, ec);
+    if (ec) return; // the walk reports what cannot be read
+    const std::uint64_t body = fileSize >= headerBytes ? fileSize - headerBytes : 0;
+    // Fits in a long double without overflow for any 64-bit count.
+    long double minimum = 0.0L;
+    bool fixed = true;
+    for (const Element& e : elements) {
+        std::uint64_t perInstance = 0;
+        for (const Property& p : e.properties) {
+            perInstance += sizeOf(p.list ? p.countType : p.type);
+            fixed = fixed && !p.list;
+        }
+        minimum += static_cast<long double>(e.count) * static_cast<long double>(perInstance);
+    }
+    VEIL_CHECK(minimum <= static_cast<long double>(body),
+               "mesh file '{}' is truncated: its PLY header describes a binary body of {}{:.0f} "
+               "bytes, but the file has {} bytes after the header",
+               file, fixed ? "" : "at least ", double(minimum), body);
+    VEIL_CHECK(!fixed || minimum == static_cast<long double>(body),
+               "mesh file '{}': its PLY header describes a binary body of {:.0f} bytes, but the "
+               "file has {} bytes after the header (the header does not describe the body)",
+               file, double(minimum), body);
+}
+
 } // namespace
 
 void checkPlyFile(const std::filesystem::path& path) {
@@ -260,7 +305,9 @@ void checkPlyFile(const std::filesystem::path& path) {
     bool haveFormat = false, ended = false;
     Format format = Format::Ascii;
     std::vector<Element> elements;
+    std::uint64_t lineNumber = 1;
     while (reader.line(line)) {
+        ++lineNumber;
         const std::vector<std::string> w = words(line);
         if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
         if (w[0] == "end_header") {
@@ -297,17 +344,39 @@ void checkPlyFile(const std::filesystem::path& path) {
             }
             VEIL_CHECK(ok, "mesh file '{}': malformed PLY property line '{}'", file, line);
             elements.back().properties.push_back(p);
+        } else {
+            // assimp skips a line it does not know, so a misspelt `property` silently drops a
+            // property and shifts every later value: a binary file is then read at the wrong
+            // offsets and TriangulateProcess aborts on what it finds
+            // (tests/fuzz/regressions/mesh/ply-misspelt-property-triangulate-abort). The
+            // format has no vendor keywords besides comment and obj_info, so anything else
+            // is an error.
+            throw Error(fmt::format("mesh file '{}': line {} of the PLY header has the unknown "
+                                    "keyword '{}' (expected element, property, comment, "
+                                    "obj_info, format or end_header)",
+                                    file, lineNumber, boundedKeyword(w[0])));
         }
-        // Other header lines (vendor keywords) do not change the body's layout: ignored.
     }
     VEIL_CHECK(haveFormat && ended, "mesh file '{}': PLY header without {}", file,
                haveFormat ? "'end_header'" : "a 'format' line");
     std::uint64_t vertices = 0;
     for (const Element& e : elements)
         if (e.name == "vertex") vertices = e.count;
+    if (format != Format::Ascii) checkBinarySize(path, file, elements, reader.offset());
     BodyChecker body(reader, format, file);
     for (const Element& e : elements)
         body.element(e, vertices);
+    // A binary body must end where its layout says: extra bytes mean that the header does
+    // not describe the body (a property missing or of the wrong type shifts everything).
+    if (format != Format::Ascii) {
+        std::uint64_t extra = 0;
+        while (reader.get() >= 0)
+            ++extra;
+        VEIL_CHECK(extra == 0,
+                   "mesh file '{}': {} bytes follow the last element of the binary PLY body (the "
+                   "header does not describe the body)",
+                   file, extra);
+    }
 }
 
 } // namespace veil::scene

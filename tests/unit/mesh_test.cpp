@@ -377,6 +377,57 @@ TEST(MeshTest, TruncatedPlyIsAnError) {
     }
 }
 
+// assimp skips unknown header lines, so a misspelt `property` shifts the binary body and
+// TriangulateProcess aborts the process (tests/fuzz/regressions/mesh/ply-misspelt-*); in ASCII
+// it leaked on assimp's error path (regressions/mesh/ply-error-leak). The pre-check refuses
+// the keyword, naming the line.
+TEST(MeshTest, PlyUnknownHeaderKeywordIsRefusedNamingTheLine) {
+    for (bool binary : {false, true}) {
+        std::string bytes = tetraPly(binary, {1, 2, 3});
+        bytes.replace(bytes.find("property float y"), 8, "prnperty");
+        const fs::path p = outputDir() / fmt::format("misspelt_{}.ply", binary ? "bin" : "ascii");
+        writeBytes(p, bytes);
+        const std::string msg = errorOf(p);
+        EXPECT_NE(msg.find(p.filename().string()), std::string::npos) << msg;
+        EXPECT_NE(msg.find("line 5"), std::string::npos) << msg;
+        EXPECT_NE(msg.find("unknown keyword 'prnperty'"), std::string::npos) << msg;
+    }
+}
+
+// A binary body must have the size its header gives it: bytes left over or missing mean
+// values read at the wrong offsets.
+TEST(MeshTest, BinaryPlyBodyMustMatchItsHeaderSize) {
+    const std::string tetra = tetraPly(true, {1, 2, 3});
+    const fs::path extra = outputDir() / "tetra_extra_bytes.ply";
+    writeBytes(extra, tetra + "junk");
+    std::string msg = errorOf(extra);
+    EXPECT_NE(msg.find("tetra_extra_bytes.ply"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("4 bytes follow the last element"), std::string::npos) << msg;
+
+    // Points only (no list): the size is fixed by the header, checked before the walk.
+    std::string points = "ply\nformat binary_little_endian 1.0\nelement vertex 3\n"
+                         "property float x\nproperty float y\nproperty float z\nend_header\n";
+    points.append(36, '\0');
+    const fs::path shortBody = outputDir() / "points_short.ply";
+    writeBytes(shortBody, points.substr(0, points.size() - 4));
+    msg = errorOf(shortBody);
+    EXPECT_NE(msg.find("points_short.ply"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("binary body of 36 bytes, but the file has 32"), std::string::npos) << msg;
+    const fs::path longBody = outputDir() / "points_long.ply";
+    writeBytes(longBody, points + std::string(8, '\0'));
+    msg = errorOf(longBody);
+    EXPECT_NE(msg.find("binary body of 36 bytes, but the file has 44"), std::string::npos) << msg;
+
+    // A count of billions in a file of bytes is refused at once, not walked.
+    std::string huge = tetra;
+    huge.replace(huge.find("element vertex 4"), 16, "element vertex 4000000000");
+    const fs::path hugePath = outputDir() / "tetra_huge_count.ply";
+    writeBytes(hugePath, huge);
+    msg = errorOf(hugePath);
+    EXPECT_NE(msg.find("tetra_huge_count.ply"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("at least 48000000004 bytes"), std::string::npos) << msg;
+}
+
 TEST(MeshTest, ObjWithNanOrInfiniteVerticesIsRefused) {
     for (const char* bad : {"nan", "inf", "-inf"}) {
         const fs::path p = outputDir() / fmt::format("nonfinite_{}.obj", bad);
