@@ -77,8 +77,9 @@ class Reader {
 public:
     explicit Reader(const std::filesystem::path& path) : in_(path, std::ios::binary) {}
     bool ok() const { return bool(in_); }
-    // Bytes consumed so far (get, read, token and line).
+    // Bytes consumed so far (get, read and line).
     std::uint64_t offset() const { return base_ + pos_; }
+    bool atEnd() { return !fill(); }
 
     int get() {
         if (!fill()) return -1;
@@ -95,24 +96,12 @@ public:
         }
         return true;
     }
-    // Next whitespace-separated token (at most 64 characters); false at the end of the file.
-    bool token(std::string& out) {
-        out.clear();
-        int c = get();
-        while (c == ' ' || c == '\t' || c == '\n' || c == '\r')
-            c = get();
-        while (c >= 0 && c != ' ' && c != '\t' && c != '\n' && c != '\r' && out.size() < 64) {
-            out.push_back(char(c));
-            c = get();
-        }
-        return !out.empty();
-    }
     // One header line without its line ending; false at the end of the file.
-    bool line(std::string& out) {
+    bool line(std::string& out, std::size_t limit = 4096) {
         out.clear();
         int c = get();
         if (c < 0) return false;
-        while (c >= 0 && c != '\n' && out.size() < 4096) {
+        while (c >= 0 && c != '\n' && out.size() < limit) {
             out.push_back(char(c));
             c = get();
         }
@@ -154,13 +143,42 @@ std::vector<std::string> words(const std::string& line) {
 
 class BodyChecker {
 public:
-    BodyChecker(Reader& reader, Format format, std::string file)
-        : reader_(reader), format_(format), file_(std::move(file)) {}
+    BodyChecker(Reader& reader, Format format, std::string file, std::uint64_t headerLines)
+        : reader_(reader), format_(format), file_(std::move(file)), lineNumber_(headerLines) {}
+
+    // ASCII: the next non-empty line holds instance `index` of `e`; false at the end of the
+    // file. assimp reads one instance per line, so the pre-check does too: a line with values
+    // left over or missing is what assimp would read differently from the header (a face
+    // list then ran into the next line's values and TriangulateProcess aborted).
+    bool beginInstance() {
+        if (format_ != Format::Ascii) return true;
+        std::string text;
+        do {
+            if (!reader_.line(text, kMaxLine + 1)) return false;
+            ++lineNumber_;
+            VEIL_CHECK(text.size() <= kMaxLine, "mesh file '{}': line {} is over {} characters",
+                       file_, lineNumber_, kMaxLine);
+            tokens_ = words(text);
+        } while (tokens_.empty());
+        next_ = 0;
+        return true;
+    }
+    void endInstance(const Element& e, std::uint64_t index) const {
+        VEIL_CHECK(format_ != Format::Ascii || next_ == tokens_.size(),
+                   "mesh file '{}': line {} ({} {}) has {} values, but the header's properties "
+                   "of '{}' give {}",
+                   file_, lineNumber_, e.name, index, tokens_.size(), e.name, next_);
+    }
 
     // One value of type `t`; false at the end of the file. Throws on a malformed ASCII value.
     bool value(Type t, double& out, const Element& e, std::uint64_t index) {
         if (format_ == Format::Ascii) {
-            if (!reader_.token(token_)) return false;
+            if (next_ == tokens_.size() && reader_.atEnd()) return false; // the file is cut
+            VEIL_CHECK(next_ < tokens_.size(),
+                       "mesh file '{}': line {} ({} {}) has {} values, fewer than the header's "
+                       "properties of '{}' give",
+                       file_, lineNumber_, e.name, index, tokens_.size(), e.name);
+            token_ = tokens_[next_++];
             char* end = nullptr;
             out = std::strtod(token_.c_str(), &end);
             VEIL_CHECK(end != token_.c_str() && *end == '\0' &&
@@ -207,7 +225,8 @@ public:
         // Strips use -1 as the restart marker; faces index vertices only.
         const bool faces = e.name == "face" || e.name == "tristrips";
         const double lowest = e.name == "tristrips" ? -1.0 : 0.0;
-        for (std::uint64_t i = 0; i < e.count; ++i)
+        for (std::uint64_t i = 0; i < e.count; ++i) {
+            if (!beginInstance()) truncated(e, i);
             for (const Property& p : e.properties) {
                 double v = 0.0;
                 if (!p.list) {
@@ -221,6 +240,9 @@ public:
                            e.name, i, n);
                 const bool indices =
                     faces && (p.name == "vertex_indices" || p.name == "vertex_index");
+                // assimp's TriangulateProcess aborts (ai_assert) on a face without indices.
+                VEIL_CHECK(!indices || n > 0 || e.name != "face",
+                           "mesh file '{}': face {} has no vertex indices", file_, i);
                 for (double k = 0; k < n; ++k) {
                     if (!value(p.type, v, e, i)) truncated(e, i);
                     VEIL_CHECK(!indices || v == lowest ||
@@ -230,6 +252,8 @@ public:
                                file_, e.name, i, v, vertexCount);
                 }
             }
+            endInstance(e, i);
+        }
     }
 
 private:
@@ -244,10 +268,15 @@ private:
                                 file_, e.name, i, e.count));
     }
 
+    static constexpr std::size_t kMaxLine = std::size_t(1) << 20;
+
     Reader& reader_;
     Format format_;
     std::string file_;
     std::string token_;
+    std::uint64_t lineNumber_;        // ASCII: the line of the current instance
+    std::vector<std::string> tokens_; // ASCII: its values
+    std::size_t next_ = 0;            // ASCII: the next one to read
 };
 
 // A keyword for an error message: printable, at most 40 characters.
@@ -363,7 +392,7 @@ void checkPlyFile(const std::filesystem::path& path) {
     for (const Element& e : elements)
         if (e.name == "vertex") vertices = e.count;
     if (format != Format::Ascii) checkBinarySize(path, file, elements, reader.offset());
-    BodyChecker body(reader, format, file);
+    BodyChecker body(reader, format, file, lineNumber);
     for (const Element& e : elements)
         body.element(e, vertices);
     // A binary body must end where its layout says: extra bytes mean that the header does

@@ -428,6 +428,47 @@ TEST(MeshTest, BinaryPlyBodyMustMatchItsHeaderSize) {
     EXPECT_NE(msg.find("at least 48000000004 bytes"), std::string::npos) << msg;
 }
 
+// Two ways to give assimp a face without indices, which aborts the process in
+// TriangulateProcess (ai_assert): a list count of 0, and an ASCII vertex count smaller than the
+// vertex lines, which assimp reads one instance per line, so that faces start on vertex lines
+// (the fuzz finding tests/fuzz/regressions/mesh/ply-ascii-vertex-count-short-*).
+TEST(MeshTest, PlyFacesAssimpWouldReadWithoutIndicesAreRefused) {
+    std::string bin = tetraPly(true, {1, 2, 3});
+    bin.resize(bin.size() - 13); // the last face: count 3 and three ints
+    bin.push_back('\0');
+    const fs::path empty = outputDir() / "face_without_indices.ply";
+    writeBytes(empty, bin);
+    std::string msg = errorOf(empty);
+    EXPECT_NE(msg.find("face_without_indices.ply"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("face 3 has no vertex indices"), std::string::npos) << msg;
+
+    std::string ascii = tetraPly(false, {1, 2, 3});
+    ascii.replace(ascii.find("element vertex 4"), 16, "element vertex 2");
+    const fs::path shifted = outputDir() / "vertex_count_short.ply";
+    writeBytes(shifted, ascii);
+    msg = errorOf(shifted);
+    EXPECT_NE(msg.find("vertex_count_short.ply"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("face 0 has no vertex indices"), std::string::npos) << msg; // "0 1 0"
+
+    std::string fewer = tetraPly(false, {1, 2, 3});
+    fewer.replace(fewer.find("\n3 0 2 1\n"), 9, "\n3 0 2\n");
+    const fs::path shorter = outputDir() / "face_line_short.ply";
+    writeBytes(shorter, fewer);
+    msg = errorOf(shorter);
+    EXPECT_NE(msg.find("face_line_short.ply"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("line 14 (face 0) has 3 values, fewer than"), std::string::npos) << msg;
+
+    std::string extra = tetraPly(false, {1, 2, 3});
+    extra.replace(extra.find("\n3 0 2 1\n"), 9, "\n3 0 2 1 7\n");
+    const fs::path longer = outputDir() / "face_line_too_long.ply";
+    writeBytes(longer, extra);
+    msg = errorOf(longer);
+    EXPECT_NE(msg.find("face_line_too_long.ply"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("has 5 values, but the header's properties of 'face' give 4"),
+              std::string::npos)
+        << msg;
+}
+
 TEST(MeshTest, ObjWithNanOrInfiniteVerticesIsRefused) {
     for (const char* bad : {"nan", "inf", "-inf"}) {
         const fs::path p = outputDir() / fmt::format("nonfinite_{}.obj", bad);
