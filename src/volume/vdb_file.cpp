@@ -42,6 +42,15 @@ public:
     HeaderCheck(const fs::path& path, std::uint64_t size)
         : in_(path, std::ios::binary), file_(path.string()), size_(size) {}
 
+    // A descriptor's grid, block and end offsets; `usable` when they are in order and in the
+    // file (a file written by io::Stream has none).
+    struct Offsets {
+        std::int64_t grid = 0, block = 0, end = 0;
+        bool usable = false;
+    };
+
+    // The file header, the file metadata and, at their offsets, every grid's descriptor and
+    // grid header. known() tells afterwards whether the layout was one this check knows.
     void run() {
         char magic[8];
         if (!in_.read(magic, 8) || std::memcmp(magic, " BDV\0\0\0\0", 8) != 0) return;
@@ -57,27 +66,51 @@ public:
         const std::uint32_t grids = u32("the grid count");
         // A descriptor takes at least 3 lengths and 3 offsets.
         need(std::uint64_t(grids) * 36, fmt::format("{} grid descriptors", grids));
+        known_ = true;
+        offsets_ = offsets != 0;
         for (std::uint32_t i = 0; i < grids; ++i) {
             const std::string where = fmt::format("grid {} of {}", i + 1, grids);
-            skipString(where + "'s name");
-            skipString(where + "'s type name");
-            skipString(where + "'s instance parent name");
-            const std::int64_t grid = i64(where), block = i64(where), end = i64(where);
-            const bool consistent =
-                grid >= pos() && grid <= block && block <= end && std::uint64_t(end) <= size_;
+            const Offsets o = descriptor(pos(), where);
             // Written by io::Stream: no offsets, the grids follow each other and only the
-            // first one's header can be found without decoding its tree.
-            if (!offsets && !consistent) break;
-            VEIL_CHECK(consistent,
-                       "cannot read OpenVDB file '{}' (truncated or corrupt?): {} has the offsets "
-                       "{}, {}, {} (grid, blocks, end), out of order or past the end of the file "
-                       "({} bytes)",
-                       file_, where, grid, block, end, size_);
-            in_.seekg(grid);
-            u32(where + "'s compression flags");
-            metadata(where + "'s metadata");
-            in_.seekg(end);
+            // first one's header can be found without decoding its tree; the child's read
+            // checks the others where it finds them.
+            if (!o.usable) break;
+            gridHeader(o.grid, where);
+            in_.seekg(o.end);
         }
+    }
+    bool known() const { return known_; }
+
+    // The grid descriptor at byte `at`: its three strings fit in the file. Throws if the file
+    // has grid offsets and this descriptor's are out of order or past the end.
+    Offsets descriptor(std::int64_t at, const std::string& where) {
+        in_.clear();
+        in_.seekg(at);
+        skipString(where + "'s name");
+        skipString(where + "'s type name");
+        skipString(where + "'s instance parent name");
+        Offsets o;
+        o.grid = i64(where);
+        o.block = i64(where);
+        o.end = i64(where);
+        o.usable = o.grid >= pos() && o.grid <= o.block && o.block <= o.end &&
+                   std::uint64_t(o.end) <= size_;
+        VEIL_CHECK(o.usable || !offsets_,
+                   "cannot read OpenVDB file '{}' (truncated or corrupt?): {} has the offsets "
+                   "{}, {}, {} (grid, blocks, end), out of order or past the end of the file "
+                   "({} bytes)",
+                   file_, where, o.grid, o.block, o.end, size_);
+        return o;
+    }
+
+    // The grid header at byte `at`: compression flags, the grid's metadata and its transform's
+    // map type name (io::Archive::readGrid reads them in this order before the tree).
+    void gridHeader(std::int64_t at, const std::string& where) {
+        in_.clear();
+        in_.seekg(at);
+        u32(where + "'s compression flags");
+        metadata(where + "'s metadata");
+        skipString(where + "'s transform type");
     }
 
 private:
@@ -121,6 +154,7 @@ private:
     std::ifstream in_;
     std::string file_;
     std::uint64_t size_;
+    bool known_ = false, offsets_ = false;
 };
 
 // A trial read taking longer than this is treated as a hang. Decoding runs at well over
@@ -134,11 +168,64 @@ std::string gridNames(const openvdb::io::File& file) {
     return boundedText(names, 200);
 }
 
-// Reads and decodes everything through io::Stream over a stream we hold: unlike io::File's
-// eager path it reports the file ending early (the stream fails), which io::File reads as
-// zeros. io::File::open reads only the header and grid descriptors, for the grid names in
-// errors. Runs in the forked child only (readInChild).
-openvdb::GridPtrVecPtr readEagerly(const fs::path& path) {
+// io::Stream's sequential read, one grid at a time, each checked where OpenVDB actually reads
+// it: io::Stream reads a grid's descriptor where the previous grid's data ended, not at the
+// offset the file gives, so damage inside one grid's data (a flipped mask bit, a compression
+// byte) moved the next descriptor read into voxel data and a "type name" of 2 GB was allocated
+// and quoted (a fuzz finding, tests/fuzz/regressions/volume/grid-data-shifts-next-descriptor.vdb).
+// So before OpenVDB reads a descriptor or a grid header, `check` bounds its strings at that
+// position, and a grid must end exactly at the end offset its descriptor gives (where the file
+// has offsets).
+class CheckedStreamRead : public openvdb::io::Archive {
+public:
+    openvdb::GridPtrVecPtr read(std::istream& is, HeaderCheck& check, const std::string& file) {
+        readHeader(is);
+        openvdb::io::StreamMetadata::Ptr meta(new openvdb::io::StreamMetadata);
+        openvdb::io::setStreamMetadataPtr(is, meta, /*transfer=*/false);
+        openvdb::io::setVersion(is, libraryVersion(), fileVersion());
+        openvdb::io::setDataCompression(is, compression());
+        openvdb::MetaMap fileMetadata;
+        fileMetadata.readMeta(is);
+        const std::int32_t count = readGridCount(is);
+        auto grids = std::make_shared<openvdb::GridPtrVec>();
+        std::vector<openvdb::io::GridDescriptor> descriptors;
+        NamedGridMap named;
+        for (std::int32_t i = 0; i < count && is; ++i) {
+            const std::string where = fmt::format("grid {} of {}", i + 1, count);
+            HeaderCheck::Offsets o;
+            if (check.known()) o = check.descriptor(std::int64_t(is.tellg()), where);
+            openvdb::io::GridDescriptor gd;
+            gd.read(is);
+            if (!is) break; // truncated: the caller says so
+            VEIL_CHECK(openvdb::GridBase::isRegistered(gd.gridType()),
+                       "cannot read OpenVDB file '{}' (corrupt?): {} has the unknown grid type "
+                       "'{}'",
+                       file, where, boundedText(gd.gridType(), 60));
+            if (check.known()) check.gridHeader(std::int64_t(is.tellg()), where);
+            openvdb::GridBase::Ptr grid = openvdb::GridBase::createGrid(gd.gridType());
+            grid->setSaveFloatAsHalf(gd.saveFloatAsHalf());
+            Archive::readGrid(grid, gd, is);
+            if (!is) break;
+            VEIL_CHECK(!o.usable || std::int64_t(is.tellg()) == o.end,
+                       "cannot read OpenVDB file '{}' (corrupt?): {} ('{}') ends at byte {}, but "
+                       "its descriptor says {}",
+                       file, where, boundedText(gd.gridName(), 60), std::int64_t(is.tellg()),
+                       o.end);
+            descriptors.push_back(gd);
+            grids->push_back(grid);
+            named[gd.uniqueName()] = grid;
+        }
+        for (const openvdb::io::GridDescriptor& gd : descriptors)
+            connectInstance(gd, named);
+        return grids;
+    }
+};
+
+// Reads and decodes everything as io::Stream does (CheckedStreamRead) over a stream we hold:
+// unlike io::File's eager path it reports the file ending early (the stream fails), which
+// io::File reads as zeros. io::File::open reads only the header and grid descriptors, for the grid
+// names in errors. Runs in the forked child only (readInChild).
+openvdb::GridPtrVecPtr readEagerly(const fs::path& path, std::uint64_t size) {
     std::string names;
     openvdb::GridPtrVecPtr grids;
     bool truncated = false;
@@ -148,10 +235,13 @@ openvdb::GridPtrVecPtr readEagerly(const fs::path& path) {
         names = gridNames(file);
         file.close();
         std::ifstream in(path, std::ios::binary);
-        VEIL_CHECK(in, "cannot open it");
-        openvdb::io::Stream stream(in, /*delayLoad=*/false);
-        grids = stream.getGrids();
+        VEIL_CHECK(in, "cannot open OpenVDB file '{}'", path.string());
+        HeaderCheck check(path, size);
+        check.run();
+        grids = CheckedStreamRead().read(in, check, path.string());
         truncated = in.fail();
+    } catch (const Error&) {
+        throw; // ours: names the file already
     } catch (const std::exception& e) {
         throw Error(fmt::format(
             "cannot read OpenVDB file '{}' (truncated or corrupt?){}: {}", path.string(),
@@ -200,7 +290,7 @@ constexpr std::size_t kMaxErrorReply = 4096;
 //
 // Reply: 'K' and the io::Stream bytes, the child exiting 0; or 'E' and an error message of
 // at most kMaxErrorReply bytes.
-openvdb::GridPtrVecPtr readInChild(const fs::path& path) {
+openvdb::GridPtrVecPtr readInChild(const fs::path& path, std::uint64_t size) {
     int fds[2];
     VEIL_CHECK(::pipe(fds) == 0, "cannot read OpenVDB file '{}': no pipe for the trial read ({})",
                path.string(), std::strerror(errno));
@@ -227,7 +317,7 @@ openvdb::GridPtrVecPtr readInChild(const fs::path& path) {
         if (devNull >= 0) ::dup2(devNull, STDERR_FILENO);
         std::string reply;
         try {
-            const openvdb::GridPtrVecPtr grids = readEagerly(path);
+            const openvdb::GridPtrVecPtr grids = readEagerly(path, size);
             std::ostringstream out(std::ios::binary);
             out.put('K');
             openvdb::io::Stream stream(out);
@@ -345,7 +435,7 @@ openvdb::GridPtrVecPtr readVdbFile(const fs::path& path) {
     }
     const auto t0 = std::chrono::steady_clock::now();
     HeaderCheck(path, size).run();
-    openvdb::GridPtrVecPtr grids = readInChild(path);
+    openvdb::GridPtrVecPtr grids = readInChild(path, size);
     log::debug(
         "volume '{}': read in a child and decoded here in {:.1f} ms", path.string(),
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());

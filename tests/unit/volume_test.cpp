@@ -171,6 +171,25 @@ TEST(VolumeTest, HeaderLengthsPastTheFileAreRefusedAtOnce) {
     }
 }
 
+// io::Stream reads each descriptor where the previous grid's data ended: two bytes changed
+// inside grid data (a fuzz finding, tests/fuzz/regressions/volume/grid-data-shifts-next-*)
+// made it read a "type name" of gigabytes from voxel data (58 s, 11 GB). The child's read
+// checks each grid against its descriptor's end offset and each descriptor where it is read.
+TEST(VolumeTest, GridEndingAwayFromItsDescriptorIsRefusedAtOnce) {
+    const fs::path p = dir() / "grid-data-shifts-next-descriptor.vdb";
+    fs::copy_file(sourceDir() /
+                      "tests/fuzz/regressions/volume/grid-data-shifts-next-descriptor.vdb",
+                  p, fs::copy_options::overwrite_existing);
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::string msg = errorOf([&] { volume::listGrids(p); });
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_NE(msg.find("grid-data-shifts-next-descriptor.vdb"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("grid 3 of 5 ('ls') ends at byte 35382, but its descriptor says 35158"),
+              std::string::npos)
+        << msg;
+    EXPECT_LT(s, 1.0);
+}
+
 // This process decodes only the grids the trial-read child re-encoded, never the file's bytes:
 // a blosc block that overflowed the heap silently let the child "succeed" and then overflowed
 // this process's heap on the second read (tests/fuzz/regressions/volume/blosc-heap-overflow.vdb).
