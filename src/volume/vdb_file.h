@@ -13,7 +13,9 @@
 // bytes with OpenVDB: the child sends the grids it read back re-encoded by io::Stream (plain
 // values, no decompressor) and only that is decoded here (vdb_file.cpp says why).
 // Before the child, the header's string lengths, counts and grid offsets are checked against
-// the file size, so a corrupt length is refused at once instead of allocating gigabytes.
+// the file size, so a corrupt length is refused at once instead of allocating gigabytes; the
+// child checks each grid's descriptor and header again where it reads them, and that each
+// grid ends where its descriptor says.
 //
 // The child's read is eager (no delayed loading), so OpenVDB's "Expected to decompress N bytes"
 // cannot surface later without a file name, and goes through io::Stream, which reports a file
