@@ -93,6 +93,25 @@ TEST_F(SlicemapShadowTest, LocalSlicingSeparatesCloseLayers) {
     }
 }
 
+// A lit semi-transparent surface is a receiver in its own slice: it must not shadow itself.
+// The pane (coverage 0.5, diffuse 0.6) over a floor point that the light reaches beside it
+// (x = -0.5: its light ray crosses height 1 at x = -1.5, outside the pane) looks the same as
+// under `opaque`, which has no transparent casters at all.
+TEST_F(SlicemapShadowTest, LitPaneDoesNotShadowItself) {
+    std::array<double, 3> v[2];
+    for (int i = 0; i < 2; ++i) {
+        nlohmann::json doc =
+            ss::base(i == 0 ? technique() : nlohmann::json{{"type", "opaque"}, {"size", 1024}});
+        ss::addPane(doc, "pane", 1.0, 0.5, {0.3, 0.3, 0.3});
+        doc["materials"]["pane"]["base_color"] = 0.6;
+        const ImageF img = render(doc);
+        for (int c = 0; c < 3; ++c)
+            v[i][c] = img.at(ss::px(-0.5), ss::px(0.0), c);
+    }
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(v[0][c], v[1][c], 2e-3 * v[1][c]) << "channel " << c;
+}
+
 // The GPU attenuation (slices.glsl: bitCount over the words a prefix of slices touches, the
 // last one masked) against prod_c T_c^(n_c) in double precision with n_c from
 // SliceMap::countOccupied, on random words of 2 views x 3 classes x 5 columns x 1..1024
