@@ -112,6 +112,34 @@ TEST_F(SlicemapShadowTest, LitPaneDoesNotShadowItself) {
         EXPECT_NEAR(v[0][c], v[1][c], 2e-3 * v[1][c]) << "channel " << c;
 }
 
+// Perspective light views (a spot light, and a point light's -y cube face): the slice
+// coordinate is the view's normalized linear depth there too. Light at (-2, 4, 0), the pane
+// (T = (0.8, 0.5, 0.2)) at height 1 over x in [-1, 1] shadows the floor at (1.5, 0, 0), which
+// the camera sees beside the pane; T = (radiance - ambient) with the pane over that without.
+TEST_F(SlicemapShadowTest, PerspectiveViewsGiveT) {
+    for (const char* type : {"spot", "point"}) {
+        std::array<double, 3> v[2];
+        for (int withPane = 0; withPane < 2; ++withPane) {
+            nlohmann::json doc = ss::base(technique());
+            nlohmann::json light = {
+                {"type", type}, {"position", {-2, 4, 0}}, {"intensity", 20}, {"shadows", true}};
+            if (std::string(type) == "spot") {
+                light["target"] = {1, 0, 0};
+                light["inner_cone"] = 50;
+                light["outer_cone"] = 60;
+            }
+            doc["lights"] = nlohmann::json::array({light});
+            if (withPane) ss::addPane(doc, "stained", 1.0, 1.0, {0.8, 0.5, 0.2});
+            const ImageF img = render(doc);
+            for (int c = 0; c < 3; ++c)
+                v[withPane][c] = img.at(ss::px(1.5), ss::px(0.0), c) - ss::ambient();
+        }
+        const double t[3] = {0.8, 0.5, 0.2};
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(v[1][c] / v[0][c], t[c], 2e-3 * t[c] + 1e-3) << type << " channel " << c;
+    }
+}
+
 // The GPU attenuation (slices.glsl: bitCount over the words a prefix of slices touches, the
 // last one masked) against prod_c T_c^(n_c) in double precision with n_c from
 // SliceMap::countOccupied, on random words of 2 views x 3 classes x 5 columns x 1..1024
