@@ -58,6 +58,8 @@
 
 #define VEIL_MAX_LIGHTS 8
 
+#define VEIL_SSBO_SHADOW_SLICES 12 // transmittance-slicemap: light-space slice-map words
+
 // Voxelization (src/voxelize, shaders/voxelize): slice-map words, per-column local-slicing
 // ranges (near, far pairs), triangle soup, per-axis maps of three-axis voxelization.
 #define VEIL_SSBO_VOX_WORDS 8

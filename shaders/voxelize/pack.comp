@@ -14,6 +14,9 @@ layout(binding = VEIL_TEX_VOX0 + 7) uniform usampler2D uT7;
 layout(std430, binding = VEIL_SSBO_VOX_WORDS) buffer Words { uint words[]; };
 uniform ivec3 uGridSize;
 uniform int uPass;
+// First word of this slice map in the SSBO (0 = the voxelizer's single map; the shadow
+// technique transmittance-slicemap packs one map per light view and material class).
+uniform uint uWordOffset;
 
 void main() {
     ivec2 c = ivec2(gl_GlobalInvocationID.xy);
@@ -28,6 +31,6 @@ void main() {
         uint v = t[i / 4][i % 4];
         // Slices past the grid's count (last word) stay clear: solid passes set to the end.
         if (w == wpc - 1 && uGridSize.z % 32 != 0) v &= (1u << uint(uGridSize.z % 32)) - 1u;
-        words[base + w] = v;
+        words[uWordOffset + uint(base + w)] = v;
     }
 }

@@ -122,6 +122,7 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
     shadowFrame_.mapSize = sp.getInt("size");
     shadowFrame_.state = &state_;
     shadowFrame_.views = &shadowViews_;
+    shadowFrame_.scene = &scene_;
     shadowFrame_.seed = scene.render.seed;
     shadowFrame_.drawCasters = [this](const gpu::Program& program, shadows::CasterSet set) {
         drawObjects(program, set == shadows::CasterSet::Opaque ? Subset::OpaqueCasters

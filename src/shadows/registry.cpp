@@ -4,6 +4,7 @@
 #include "shadows/moment/moment.h"
 #include "shadows/opaque/opaque.h"
 #include "shadows/reference/reference.h"
+#include "shadows/transmittance_slicemap/transmittance_slicemap.h"
 
 namespace veil::shadows {
 
@@ -12,6 +13,7 @@ void registerBuiltinTechniques(Registry& registry) {
     registerOpaque(registry);
     registerMoment(registry);
     registerReference(registry);
+    registerTransmittanceSlicemap(registry);
 }
 } // namespace
 

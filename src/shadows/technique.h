@@ -40,6 +40,8 @@ enum class CasterSet {
 // What the frame gives a technique's passes.
 struct ShadowFrame {
     const std::vector<LightView>* views = nullptr;
+    // The scene being drawn (materials of the casters, e.g. transmittance classes).
+    const scene::Scene* scene = nullptr;
     int mapSize = 0;
     // The frame's state tracker: a pass applies a declared PipelineState before each of its
     // draws and clears (clears obey the masks) and issues no raw GL state calls of its own.

@@ -256,6 +256,11 @@ ProjectPrograms projectPrograms(const gpu::ContextInfo& info, gpu::ProgramManage
     P.push_back(ProgramDesc::compute("voxelize/compute.comp"));
     P.push_back(ProgramDesc::compute("voxelize/compute.comp", {"COUNT_TILES"}));
     P.push_back(ProgramDesc::compute("voxelize/query_probe.comp"));
+    // transmittance-slicemap: the variants its defaults do not build, and the test probe.
+    for (const char* d : {"LOCAL", "CONSERVATIVE"})
+        P.push_back(ProgramDesc::graphics("frame/mesh.vert",
+                                          "shadows/transmittance_slicemap/caster.frag", {d}));
+    P.push_back(ProgramDesc::compute("shadows/transmittance_slicemap/count_probe.comp"));
     // What the techniques' constructors added (shadow techniques' own passes).
     for (const gpu::ProgramDesc& d : manager.descriptions())
         P.push_back(d);

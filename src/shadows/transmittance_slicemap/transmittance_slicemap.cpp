@@ -1,0 +1,399 @@
+#include "shadows/transmittance_slicemap/transmittance_slicemap.h"
+
+#include "base/error.h"
+#include "shadows/common/depth_maps.h"
+#include "shadows/opaque/opaque.h"
+#include "voxelize/gpu_voxelizer.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace veil::shadows {
+
+namespace slicemap {
+
+glm::dvec3 surfaceTransmittance(const scene::Material& m) {
+    const double a = m.alpha;
+    return glm::dvec3(1.0 - a) + a * glm::dvec3(m.transmission);
+}
+
+std::vector<glm::dvec3> groupClasses(const std::vector<glm::dvec3>& transmittances, int maxClasses,
+                                     std::vector<int>* assignment) {
+    VEIL_CHECK(maxClasses >= 1, "transmittance classes: {} must be at least 1", maxClasses);
+    struct Cluster {
+        glm::dvec3 absorbance{0.0}; // sum of -log T of the members
+        int count = 0;
+        std::vector<int> members;
+        glm::dvec3 mean() const { return absorbance / double(count); }
+    };
+    const auto absorbance = [](const glm::dvec3& t) {
+        return -glm::log(glm::max(t, glm::dvec3(1e-4)));
+    };
+    std::vector<Cluster> clusters;
+    for (std::size_t i = 0; i < transmittances.size(); ++i) {
+        const glm::dvec3 a = absorbance(transmittances[i]);
+        auto it = std::find_if(clusters.begin(), clusters.end(), [&](const Cluster& c) {
+            const glm::dvec3 d = glm::abs(glm::exp(-c.mean()) - transmittances[i]);
+            return std::max({d.x, d.y, d.z}) < 1e-4;
+        });
+        if (it == clusters.end()) {
+            clusters.push_back({});
+            it = clusters.end() - 1;
+        }
+        it->absorbance += a;
+        it->count += 1;
+        it->members.push_back(static_cast<int>(i));
+    }
+    while (static_cast<int>(clusters.size()) > maxClasses) {
+        std::size_t bi = 0, bj = 1;
+        double best = 1e300;
+        for (std::size_t i = 0; i < clusters.size(); ++i)
+            for (std::size_t j = i + 1; j < clusters.size(); ++j) {
+                const glm::dvec3 d = clusters[i].mean() - clusters[j].mean();
+                // Ward-like cost: merging big classes moves more receivers.
+                const double w = double(clusters[i].count) * clusters[j].count /
+                                 (clusters[i].count + clusters[j].count);
+                const double cost = w * glm::dot(d, d);
+                if (cost < best) {
+                    best = cost;
+                    bi = i;
+                    bj = j;
+                }
+            }
+        clusters[bi].absorbance += clusters[bj].absorbance;
+        clusters[bi].count += clusters[bj].count;
+        clusters[bi].members.insert(clusters[bi].members.end(), clusters[bj].members.begin(),
+                                    clusters[bj].members.end());
+        clusters.erase(clusters.begin() + static_cast<std::ptrdiff_t>(bj));
+    }
+    std::vector<glm::dvec3> out;
+    if (assignment) assignment->assign(transmittances.size(), 0);
+    for (std::size_t c = 0; c < clusters.size(); ++c) {
+        out.push_back(glm::exp(-clusters[c].mean()));
+        if (assignment)
+            for (int m : clusters[c].members)
+                (*assignment)[m] = static_cast<int>(c);
+    }
+    return out;
+}
+
+std::vector<glm::dvec3> casterTransmittances(const scene::Scene& scene) {
+    std::vector<glm::dvec3> t;
+    for (const auto& object : scene.objects) {
+        const scene::Material& m = scene.materials.at(object.material);
+        if (object.castShadows && m.isTransparent()) t.push_back(surfaceTransmittance(m));
+    }
+    return t;
+}
+
+} // namespace slicemap
+
+namespace {
+
+constexpr int kSlicesPerPass = 1024; // 8 RGBA32UI targets (003 sec. 2: MRT)
+
+class TransmittanceSlicemapTechnique final : public Technique {
+public:
+    TransmittanceSlicemapTechnique(gpu::ProgramManager& programs, const Properties& p)
+        : programs_(programs), depth_(programs), bias_(p.getFloat("bias")),
+          pcfRadius_(p.getInt("pcf_radius")), slices_(p.getInt("slices")),
+          local_(p.getBool("local_slicing")), maxClasses_(p.getInt("classes")),
+          fog_(p.getBool("fog")), fogColumns_(p.getInt("fog_columns")),
+          fogSubsteps_(p.getInt("fog_substeps")) {
+        const voxelize::Method method = voxelize::parseMethod(p.getString("method"));
+        VEIL_CHECK(method == voxelize::Method::Raster || method == voxelize::Method::Conservative,
+                   "transmittance-slicemap: method '{}' is not available for light views (it "
+                   "voxelizes CPU triangles into a world-aligned orthographic grid; the casters "
+                   "come from the frame's caster draw into perspective/oblique light views): "
+                   "use raster or conservative",
+                   voxelize::methodName(method));
+        std::vector<std::string> defines;
+        if (method == voxelize::Method::Conservative) defines.push_back("CONSERVATIVE");
+        if (local_) defines.push_back("LOCAL");
+        const char* frag = "shadows/transmittance_slicemap/caster.frag";
+        sliceProgram_ = programs.add(gpu::ProgramDesc::graphics("frame/mesh.vert", frag, defines));
+        rangeProgram_ =
+            programs.add(gpu::ProgramDesc::graphics("frame/mesh.vert", frag, {"DEPTH_PASS"}));
+        packProgram_ = programs.add(gpu::ProgramDesc::compute("voxelize/pack.comp"));
+        if (fog_)
+            fogProgram_ = programs.add(
+                gpu::ProgramDesc::compute("shadows/transmittance_slicemap/fog.comp"));
+    }
+
+    std::string name() const override { return "transmittance-slicemap"; }
+    std::filesystem::path visibilityInclude() const override {
+        return "shadows/transmittance_slicemap/visibility.glsl";
+    }
+    void resize(int mapSize, int viewCount) override {
+        depth_.resize(mapSize, viewCount);
+        if (mapSize == size_ && viewCount == views_) return;
+        size_ = mapSize;
+        views_ = viewCount;
+        range_ = gpu::Texture(GL_TEXTURE_2D_ARRAY);
+        range_.storage3D(1, GL_RG32F, size_, size_, std::max(views_, 1))
+            .parameter(GL_TEXTURE_MIN_FILTER, GL_NEAREST)
+            .parameter(GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        const int targets = std::min(8, (std::min(slices_, kSlicesPerPass) + 127) / 128);
+        targets_.clear();
+        for (int t = 0; t < targets; ++t) {
+            targets_.emplace_back(GL_TEXTURE_2D);
+            targets_.back()
+                .storage2D(1, GL_RGBA32UI, size_, size_)
+                .parameter(GL_TEXTURE_MIN_FILTER, GL_NEAREST)
+                .parameter(GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        }
+        sliceFbo_ = gpu::Framebuffer();
+        for (int t = 0; t < targets; ++t)
+            sliceFbo_.attach(GL_COLOR_ATTACHMENT0 + t, targets_[t]);
+        auto buf = [&](int t) { return t < targets ? GLenum(GL_COLOR_ATTACHMENT0 + t) : GLenum(GL_NONE); };
+        sliceFbo_.drawBuffers({buf(0), buf(1), buf(2), buf(3), buf(4), buf(5), buf(6), buf(7)});
+        sliceFbo_.checkComplete("transmittance-slicemap slice pass");
+        rangeFbo_ = gpu::Framebuffer();
+        words_ = gpu::Buffer{gpu::NoCreate};
+        fogTau_ = gpu::Texture(GL_TEXTURE_3D);
+        fogTau_.storage3D(1, GL_R32F, fog_ ? fogColumns_ : 1, fog_ ? fogColumns_ : 1,
+                          fog_ ? std::max(views_, 1) * (slices_ + 1) : 1)
+            .parameter(GL_TEXTURE_MIN_FILTER, GL_LINEAR)
+            .parameter(GL_TEXTURE_MAG_FILTER, GL_LINEAR)
+            .parameter(GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE)
+            .parameter(GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE)
+            .parameter(GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+    }
+    std::vector<ShadowPass> passes() override {
+        std::vector<ShadowPass> p = {
+            {"", {}, {"shadow.depth"}, [this](const ShadowFrame& f) { depth_.render(f); }},
+            {"slices", {}, {"shadow.slices"}, [this](const ShadowFrame& f) { render(f); }}};
+        if (fog_)
+            p.push_back({"fog", {}, {"shadow.fog"}, [this](const ShadowFrame& f) { fog(f); }});
+        return p;
+    }
+    std::vector<std::string> receiverResources() const override {
+        if (fog_) return {"shadow.depth", "shadow.slices", "shadow.fog"};
+        return {"shadow.depth", "shadow.slices"};
+    }
+    bool attenuatesMedia() const override { return fog_; }
+    void bindForReceivers() const override {
+        depth_.bind();
+        range_.bind(VEIL_TEX_SHADOW1);
+        fogTau_.bind(VEIL_TEX_SHADOW2);
+        if (words_) words_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_SLICES);
+    }
+    void fillParams(ShadowsBlock& block) const override {
+        block.params[0] = glm::vec4(bias_, float(pcfRadius_), float(slices_), local_ ? 1.0f : 0.0f);
+    }
+    // The classes and the fog come from this frame's passes (they run before every
+    // receiver; the shadows block is filled before them): uniforms of the receiver.
+    void prepareReceiver(const gpu::Program& program, const ShadowFrame& frame) const override {
+        (void)frame;
+        std::vector<glm::vec3> t(3, glm::vec3(1.0f));
+        for (int c = 0; c < classCount(); ++c)
+            t[c] = glm::vec3(classT_[c]);
+        program.set("slmClasses", classCount()).set("slmFog", fogActive_ ? 1 : 0);
+        glProgramUniform3fv(program.id(), program.uniformLocation("slmClassT"), 3, &t[0].x);
+    }
+    const gpu::Texture* resourceTexture(const std::string& name) const override {
+        if (name == "shadow.depth") return &depth_.texture();
+        if (name == "shadow.range") return &range_;
+        if (name == "shadow.fog") return &fogTau_;
+        return nullptr;
+    }
+    std::size_t gpuBytes() const override {
+        return depth_.gpuBytes() + (words_ ? words_.size() : 0) +
+               (fog_ ? std::size_t(fogColumns_) * fogColumns_ * views_ * (slices_ + 1) * 4 : 0) +
+               std::size_t(size_) * size_ * (8 + 16 * targets_.size()) * std::max(views_, 1);
+    }
+    nlohmann::json stats() const override {
+        nlohmann::json classes = nlohmann::json::array();
+        for (const auto& t : classT_)
+            classes.push_back({t.x, t.y, t.z});
+        return {{"slices", slices_},
+                {"local_slicing", local_},
+                {"classes", classes},
+                {"occupied_words_bytes", words_ ? words_.size() : 0}};
+    }
+
+private:
+    int classCount() const { return static_cast<int>(classT_.size()); }
+
+    // Optical depth of the grid density volumes per slice along every fog column (fog.comp).
+    void fog(const ShadowFrame& frame) {
+        fogActive_ = static_cast<bool>(frame.bindMedia);
+        if (!fogActive_) return;
+        const gpu::Program& p = programs_.get(fogProgram_);
+        p.use();
+        frame.bindMedia(p);
+        glBindImageTexture(VEIL_IMG_VOLUME_LIGHT, fogTau_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
+                           GL_R32F);
+        for (const LightView& view : *frame.views) {
+            p.set("shadowView", view.layer)
+                .set("uSlices", slices_)
+                .set("uSubsteps", fogSubsteps_)
+                .set("uColumns", fogColumns_)
+                .set("uClipToWorld", glm::inverse(view.viewProjection));
+            glDispatchCompute((fogColumns_ + 7) / 8, (fogColumns_ + 7) / 8, 1);
+        }
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+        glUseProgram(0);
+    }
+
+    void render(const ShadowFrame& frame) {
+        VEIL_CHECK(frame.scene, "transmittance-slicemap: the frame gives no scene (classes)");
+        const std::vector<glm::dvec3> ts = slicemap::casterTransmittances(*frame.scene);
+        classT_ = ts.empty() ? std::vector<glm::dvec3>{} : slicemap::groupClasses(ts, maxClasses_);
+        const int classes = std::max(classCount(), 1);
+        const int wpc = (slices_ + 31) / 32;
+        const std::size_t words = std::size_t(views_) * classes * size_ * size_ * wpc;
+        VEIL_CHECK(words * 4 <= (std::size_t(2) << 30),
+                   "transmittance-slicemap: {} views x {} classes x {}^2 columns x {} slices need "
+                   "{} MiB of slice words (limit 2048): lower size, slices or classes",
+                   views_, classes, size_, slices_, words * 4 >> 20);
+        if (!words_ || words_.size() != words * 4) {
+            words_ = gpu::Buffer();
+            words_.setStorage(words * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
+        }
+        const GLuint zero = 0;
+        glClearNamedBufferData(words_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+        if (classT_.empty()) return; // no transparent caster: every count is 0
+
+        const gpu::Program& slice = programs_.get(sliceProgram_);
+        const gpu::Program& range = programs_.get(rangeProgram_);
+        const gpu::Program& pack = programs_.get(packProgram_);
+        std::vector<glm::vec3> classT(3, glm::vec3(1.0f));
+        for (int c = 0; c < classCount(); ++c)
+            classT[c] = glm::vec3(classT_[c]);
+        for (const LightView& view : *frame.views) {
+            if (local_) {
+                // 003 sec. 2.2: per-column near and far of the casters (one MIN-blended pass).
+                rangeFbo_.attachLayer(GL_COLOR_ATTACHMENT0, range_, view.layer)
+                    .drawBuffers({GL_COLOR_ATTACHMENT0});
+                rangeFbo_.bind();
+                gpu::PipelineState s;
+                s.view(size_, size_);
+                s.depthWrite = false;
+                frame.state->apply(s);
+                const GLfloat big[4] = {1e30f, 1e30f, 0.0f, 0.0f};
+                glClearNamedFramebufferfv(rangeFbo_.id(), GL_COLOR, 0, big);
+                s.blendAll(gpu::BlendState::func(GL_ONE, GL_ONE, GL_MIN));
+                frame.state->apply(s);
+                range.use();
+                setCasterView(range, view);
+                range.set("shadowView", view.layer);
+                frame.drawCasters(range, CasterSet::Transparent);
+                glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+                range_.bind(VEIL_TEX_SHADOW1);
+            }
+            const int passes = (slices_ + kSlicesPerPass - 1) / kSlicesPerPass;
+            for (int c = 0; c < classCount(); ++c)
+                for (int p = 0; p < passes; ++p) {
+                    sliceFbo_.bind();
+                    gpu::PipelineState s;
+                    s.view(size_, size_);
+                    s.depthWrite = false;
+                    frame.state->apply(s);
+                    const GLuint zeros[4] = {0, 0, 0, 0};
+                    for (int t = 0; t < int(targets_.size()); ++t)
+                        glClearNamedFramebufferuiv(sliceFbo_.id(), GL_COLOR, t, zeros);
+                    // 003 sec. 2: the fragments' bit masks OR-ed into the integer targets.
+                    s.logicOp = true;
+                    s.logicOpMode = GL_OR;
+                    frame.state->apply(s);
+                    slice.use();
+                    setCasterView(slice, view);
+                    slice.set("shadowView", view.layer)
+                        .set("uSlices", slices_)
+                        .set("uPass", p)
+                        .set("uClass", c)
+                        .set("uClasses", classCount());
+                    glProgramUniform3fv(slice.id(), slice.uniformLocation("uClassT"), 3,
+                                        &classT[0].x);
+                    frame.drawCasters(slice, CasterSet::Transparent);
+                    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+                    // src/voxelize's pack pass: targets -> column-contiguous words of map
+                    // (view, class).
+                    const std::size_t offset =
+                        (std::size_t(view.layer) * classes + c) * size_ * size_ * wpc;
+                    glProgramUniform3i(pack.id(), pack.uniformLocation("uGridSize"), size_, size_,
+                                       slices_);
+                    pack.set("uPass", p).set("uWordOffset", static_cast<unsigned>(offset));
+                    for (int t = 0; t < 8; ++t)
+                        targets_[std::min<std::size_t>(t, targets_.size() - 1)].bind(
+                            VEIL_TEX_VOX0 + t);
+                    words_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_VOX_WORDS);
+                    pack.use();
+                    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+                    glDispatchCompute((size_ + 7) / 8, (size_ + 7) / 8, 1);
+                    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+                    glUseProgram(0);
+                }
+        }
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
+
+    gpu::ProgramManager& programs_;
+    DepthMaps depth_;
+    float bias_;
+    int pcfRadius_, slices_;
+    bool local_;
+    int maxClasses_;
+    bool fog_;
+    int fogColumns_, fogSubsteps_;
+    bool fogActive_ = false;
+    gpu::ProgramHandle sliceProgram_, rangeProgram_, packProgram_, fogProgram_;
+    gpu::Texture fogTau_{gpu::NoCreate};
+    int size_ = 0, views_ = 0;
+    gpu::Texture range_{gpu::NoCreate};
+    std::vector<gpu::Texture> targets_;
+    gpu::Framebuffer sliceFbo_{gpu::NoCreate}, rangeFbo_{gpu::NoCreate};
+    gpu::Buffer words_{gpu::NoCreate};
+    std::vector<glm::dvec3> classT_;
+};
+
+} // namespace
+
+void registerTransmittanceSlicemap(Registry& registry) {
+    PropertySchema schema = commonProperties(1024);
+    addOpaqueMapProperties(schema);
+    schema.integer("slices", 128, 1, 1024,
+                   "slices per light-view column (32 per word; 1024 per geometry pass of 8 "
+                   "RGBA32UI targets and per material class)",
+                   "003 sec. 2, 3");
+    schema.boolean("local_slicing", false,
+                   "slices subdivide each column's [near, far] of the transparent casters (one "
+                   "MIN-blended range pass per view) instead of the whole light view",
+                   "003 sec. 2.2");
+    schema.choice("method", "raster", {"raster", "conservative", "three-axis", "compute"},
+                  "voxelizer method (src/voxelize names): raster = one slice per texel centre per "
+                  "surface (003, exact counts for thin surfaces); conservative = every slice of "
+                  "the surface's depth range over the texel (steep surfaces count more than "
+                  "once); three-axis and compute need CPU triangles in a world grid: an error",
+                  "003 sec. 2");
+    schema.integer("classes", 3, 1, 3,
+                   "material classes (maps per view): casters are grouped by their transmittance "
+                   "per crossing surface 1 - alpha + alpha T; each class has its own T_c",
+                   "003 sec. 3 (three leaf colours)");
+    schema.boolean("fog", true,
+                   "the grid density volumes attenuate receivers through a per-slice optical "
+                   "depth along the light view's columns (a compute pass; the fog marcher's own "
+                   "self-shadowing volumes are then off); false: the marcher self-shadows and "
+                   "surfaces get no fog shadow",
+                   "003 sec. 3 (volumetric extinction, deep shadow maps)");
+    schema.integer("fog_columns", 128, 4, 4096,
+                   "fog columns per side of each light view (optical depth is bilinear between "
+                   "them)");
+    schema.integer("fog_substeps", 4, 1, 64,
+                   "midpoint density samples per slice of the fog's optical depth (error of a "
+                   "density edge: sigma x slice length / substeps)");
+    registry.add({"transmittance-slicemap",
+                  "003 transmittance shadow maps: light-space slice maps of the semi-transparent "
+                  "casters per material class, attenuation prod T_c^(n_c) from slice counts, "
+                  "times the opaque casters' map",
+                  nullptr,
+                  [](gpu::ProgramManager& programs, const Properties& p) {
+                      return std::make_unique<TransmittanceSlicemapTechnique>(programs, p);
+                  },
+                  std::move(schema)});
+}
+
+} // namespace veil::shadows
