@@ -2,12 +2,15 @@
 #include "app/commands.h"
 
 #include "app/compare.h"
+#include "app/compare_target.h"
+#include "app/exr_output.h"
 
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/text.h"
 #include "frame/renderer.h"
 #include "gpu/context.h"
+#include "io/exr_writer.h"
 #include "io/image_io.h"
 #include "oit/technique.h"
 #include "scene/scene.h"
@@ -16,6 +19,7 @@
 
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -39,6 +43,8 @@ struct RenderArgs {
     bool glDebug = false;
     std::vector<std::string> overrides;
     std::string compareTo;
+    bool half = false;             // EXR: half instead of float32 channels
+    std::vector<std::string> aovs; // EXR: extra channels ("fog")
 };
 
 // One frame of the scene with one technique, kept for writing and comparing.
@@ -55,6 +61,7 @@ struct Rendered {
     nlohmann::json oitProperties; // effective values of the technique's properties
     nlohmann::json framePasses = nlohmann::json::array(); // the frame's passes and resources
     nlohmann::json volumes = nlohmann::json::array();
+    FrameExtras extras; // Z, AOVs and camera matrices (app/exr_output.h)
 };
 
 Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, const RenderArgs& args,
@@ -88,6 +95,8 @@ Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, con
     r.oitProperties = renderer.technique().properties().values();
     for (const frame::Pass& p : renderer.passes().passes())
         r.framePasses.push_back({{"name", p.name}, {"reads", p.reads}, {"writes", p.writes}});
+    const bool fogAov = std::find(args.aovs.begin(), args.aovs.end(), "fog") != args.aovs.end();
+    r.extras = captureExtras(renderer, fogAov);
     return r;
 }
 
@@ -123,7 +132,10 @@ std::string formatError(const ImageError& e) {
 
 // Every file the command will write, checked before the scene is loaded or rendered.
 void checkOutputPaths(const RenderArgs& args) {
-    const std::vector<fs::path> inputs{args.scene};
+    std::vector<fs::path> inputs{args.scene};
+    if (parseCompareTarget(args.compareTo).kind == CompareTarget::Kind::File)
+        inputs.push_back(args.compareTo); // -o ref.exr --compare-to ref.exr
+
     checkOutputPath(args.output, "output", inputs);
     if (!args.report.empty()) checkOutputPath(args.report, "report", inputs);
     if (!args.compareTo.empty())
@@ -137,6 +149,8 @@ void runRender(const RenderArgs& args) {
     // The report is optional: a default name beside the output could overwrite the scene.
     VEIL_CHECK(args.report.empty() || lowerExtension(args.report) == ".json",
                "report '{}' must end in .json", args.report);
+    VEIL_CHECK(ext == ".exr" || (!args.half && args.aovs.empty()),
+               "--half and --aov need an .exr output, not '{}'", args.output);
     checkOutputPaths(args);
     scene::Scene scene = scene::loadScene(args.scene, args.overrides);
     const std::string oitName = args.oit.empty() ? scene.render.oit : args.oit;
@@ -148,10 +162,13 @@ void runRender(const RenderArgs& args) {
             oit::Registry::instance().resolve(oitName, scene.render.oitProperties,
                                               scene.render.oitWhere);
     }
+    const CompareTarget compareTarget = parseCompareTarget(args.compareTo);
     if (!args.compareTo.empty()) {
         VEIL_CHECK(!all, "--compare-to cannot be combined with --oit all (which compares "
                          "every technique with reference)");
-        checkKnown(args.compareTo, "--compare-to");
+        if (compareTarget.kind == CompareTarget::Kind::Technique)
+            checkKnown(args.compareTo, "--compare-to");
+        checkCompareTarget(compareTarget, scene);
     }
     gpu::HeadlessContext context({args.device, args.glDebug});
     const bool png = ext == ".png";
@@ -159,6 +176,8 @@ void runRender(const RenderArgs& args) {
     // Render everything first, write afterwards: a failing technique leaves no output.
     std::vector<Rendered> frames;
     std::vector<std::pair<std::string, ImageError>> errors;
+    ImageF referenceHdr; // what --compare-to compares with
+    std::string compareNote;
     if (all) {
         frames.push_back(renderWith(scene, context.info(), args, "reference"));
         for (const auto& t : oit::Registry::instance().all()) {
@@ -174,13 +193,20 @@ void runRender(const RenderArgs& args) {
             errors.emplace_back(f.oit, compareLinear(f.hdr, frames.front().hdr));
     } else {
         frames.push_back(renderWith(scene, context.info(), args, oitName));
-        if (!args.compareTo.empty()) {
-            Rendered ref = renderWith(scene, context.info(), args, args.compareTo);
-            errors.emplace_back(frames.front().oit, compareLinear(frames.front().hdr, ref.hdr));
-            frames.push_back(std::move(ref));
-        }
+        const Rendered& f = frames.front();
+        if (compareTarget.kind == CompareTarget::Kind::Technique)
+            referenceHdr = renderWith(scene, context.info(), args, args.compareTo).hdr;
+        else if (compareTarget.kind == CompareTarget::Kind::File)
+            referenceHdr = loadReferenceImage(compareTarget, f.width, f.height);
+        else if (compareTarget.kind == CompareTarget::Kind::Cpu)
+            referenceHdr = cpuFogReference(scene, args.camera, f.width, f.height, compareNote);
+        if (compareTarget.kind != CompareTarget::Kind::None)
+            errors.emplace_back(f.oit, compareLinear(f.hdr, referenceHdr));
     }
     const Rendered& main = frames.front();
+    const RenderMetadata metadata =
+        describeRender(args.scene, all ? std::string("all") : main.oit, main.oitProperties,
+                       main.camera, main.extras, main.width, main.height, context.info().renderer);
 
     // PNG gets the tone-mapped sRGB image, EXR the linear HDR radiance.
     fs::path errorPath;
@@ -190,10 +216,13 @@ void runRender(const RenderArgs& args) {
             tiles.push_back(png ? f.ldr : f.hdr);
         io::writeImage(output, contactSheet(tiles));
     } else {
-        io::writeImage(output, png ? main.ldr : main.hdr);
+        if (png)
+            io::writeImage(output, main.ldr);
+        else
+            io::writeExr(output, makeExr(main.hdr, main.extras, metadata, args.half));
         if (!args.compareTo.empty()) {
             errorPath = errorImagePath(output);
-            io::writeImage(errorPath, errorImage(main.hdr, frames.back().hdr));
+            io::writeImage(errorPath, errorImage(main.hdr, referenceHdr));
         }
     }
 
@@ -207,6 +236,7 @@ void runRender(const RenderArgs& args) {
     report["renderer"] = context.info().renderer;
     report["gl_version"] = context.info().version;
     report["vendor"] = context.info().vendor;
+    report["metadata"] = metadataJson(metadata);
     report["timer"] = main.timer == gpu::GpuTimer::Mode::Query
                           ? "GL_TIME_ELAPSED"
                           : "glFinish + CPU clock (driver timer unusable)";
@@ -251,6 +281,7 @@ void runRender(const RenderArgs& args) {
     } else {
         std::cout << "wrote " << args.output << " (" << main.width << "x" << main.height << ", oit "
                   << main.oit << ", " << context.info().renderer << ")\n";
+        if (!compareNote.empty()) std::cout << compareNote << "\n";
         if (!args.compareTo.empty())
             std::cout << fmt::format("{} vs {}: {} (linear HDR)\nwrote {} (|error| x {} in "
                                      "linear, sRGB-encoded)\n",
@@ -268,8 +299,15 @@ void addRenderCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("render", "Render a scene headless to PNG or EXR");
     cmd->add_option("scene", args->scene, "Scene file (JSON, docs/scene-format.md)")->required();
     cmd->add_option("-o,--output", args->output,
-                    "Output image: .png (tone-mapped sRGB) or .exr (linear HDR)")
+                    "Output image: .png (tone-mapped sRGB) or .exr (float32 R,G,B,A,Z + metadata; "
+                    "A = 1, Z = view depth of the opaque surface, +inf for none)")
         ->required();
+    cmd->add_flag("--half", args->half,
+                  "EXR: half-float channels (rounded to nearest) instead of float32");
+    cmd->add_option("--aov", args->aovs,
+                    "EXR: extra channels; 'fog' adds fog.R/G/B (fog radiance) and "
+                    "fog.transmittance (repeatable)")
+        ->check(CLI::IsMember({"fog"}));
     cmd->add_option("--report", args->report,
                     "Also write a JSON report: per-pass GPU times, image size, renderer, errors");
     cmd->add_option("--width", args->width, "Image width (default: the scene's)")
@@ -281,8 +319,10 @@ void addRenderCommand(CLI::App& app) {
                     "Transparency technique (default: the scene's); 'all' renders every "
                     "available one into a contact sheet and prints each one's error vs reference");
     cmd->add_option("--compare-to", args->compareTo,
-                    "Also render with this technique (e.g. reference) and print RMSE/PSNR of the "
-                    "output vs it (linear HDR); writes <output stem>-error.png (|error| x 4)");
+                    "Compare the output (linear HDR RGB) with: a technique (e.g. reference, "
+                    "rendered too), an image file (e.g. ref.exr, same size), or cpu (the fog's "
+                    "CPU reference over the background; scenes with volumes). Prints RMSE/PSNR, "
+                    "writes <output stem>-error.png (|error| x 4)");
     cmd->add_option("--set", args->overrides,
                     "Override a scene value: key=value, e.g. render.exposure=2 or "
                     "lights.0.intensity=5 (repeatable)");

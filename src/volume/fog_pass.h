@@ -48,6 +48,10 @@ public:
     void bindForEmit(const gpu::Program& program, const FogTargets& targets) const;
     // Draws the full-screen triangle (the emit program must be in use).
     void drawEmit() const;
+    // The march's results at 1/divisor() resolution (frame resource "fog.radiance"): rgb
+    // in-scattered radiance (a: its mean depth) and rgb transmittance (a: opaque view depth).
+    const gpu::Texture& radianceTexture() const { return radiance_; }
+    const gpu::Texture& transmittanceTexture() const { return transmittance_; }
 
 private:
     void resize(int width, int height);
