@@ -13,5 +13,6 @@ void addInfoCommand(CLI::App& app);
 void addViewCommand(CLI::App& app);
 void addVoxelizeCommand(CLI::App& app);
 void addTechniquesCommand(CLI::App& app);
+void addExportCommand(CLI::App& app);
 
 } // namespace veil::app
