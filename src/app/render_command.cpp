@@ -3,6 +3,7 @@
 
 #include "app/compare.h"
 #include "app/compare_target.h"
+#include "app/dump.h"
 #include "app/exr_output.h"
 
 #include "base/atomic_file.h"
@@ -45,6 +46,7 @@ struct RenderArgs {
     std::string compareTo;
     bool half = false;             // EXR: half instead of float32 channels
     std::vector<std::string> aovs; // EXR: extra channels ("fog")
+    std::string dump;              // folder for every frame resource (app/dump.h)
 };
 
 // One frame of the scene with one technique, kept for writing and comparing.
@@ -61,11 +63,12 @@ struct Rendered {
     nlohmann::json oitProperties; // effective values of the technique's properties
     nlohmann::json framePasses = nlohmann::json::array(); // the frame's passes and resources
     nlohmann::json volumes = nlohmann::json::array();
-    FrameExtras extras; // Z, AOVs and camera matrices (app/exr_output.h)
+    FrameExtras extras;          // Z, AOVs and camera matrices (app/exr_output.h)
+    nlohmann::json dumpManifest; // --dump
 };
 
 Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, const RenderArgs& args,
-                    const std::string& oit) {
+                    const std::string& oit, bool dump = false) {
     frame::Renderer renderer(scene, info, {args.width, args.height, args.camera, oit});
     renderer.render();
     Rendered r;
@@ -97,6 +100,7 @@ Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, con
         r.framePasses.push_back({{"name", p.name}, {"reads", p.reads}, {"writes", p.writes}});
     const bool fogAov = std::find(args.aovs.begin(), args.aovs.end(), "fog") != args.aovs.end();
     r.extras = captureExtras(renderer, fogAov);
+    if (dump) r.dumpManifest = dumpFrame(renderer, args.dump);
     return r;
 }
 
@@ -152,6 +156,10 @@ void runRender(const RenderArgs& args) {
     VEIL_CHECK(ext == ".exr" || (!args.half && args.aovs.empty()),
                "--half and --aov need an .exr output, not '{}'", args.output);
     checkOutputPaths(args);
+    if (!args.dump.empty()) {
+        VEIL_CHECK(args.oit != "all", "--dump needs one technique, not --oit all");
+        checkDumpDirectory(args.dump);
+    }
     scene::Scene scene = scene::loadScene(args.scene, args.overrides);
     const std::string oitName = args.oit.empty() ? scene.render.oit : args.oit;
     const bool all = oitName == "all";
@@ -192,7 +200,7 @@ void runRender(const RenderArgs& args) {
         for (const Rendered& f : frames)
             errors.emplace_back(f.oit, compareLinear(f.hdr, frames.front().hdr));
     } else {
-        frames.push_back(renderWith(scene, context.info(), args, oitName));
+        frames.push_back(renderWith(scene, context.info(), args, oitName, !args.dump.empty()));
         const Rendered& f = frames.front();
         if (compareTarget.kind == CompareTarget::Kind::Technique)
             referenceHdr = renderWith(scene, context.info(), args, args.compareTo).hdr;
@@ -290,6 +298,9 @@ void runRender(const RenderArgs& args) {
     }
     if (!args.report.empty())
         std::cout << "wrote " << reportPath.string() << " (per-pass GPU times)\n";
+    if (!args.dump.empty())
+        std::cout << "wrote " << (fs::path(args.dump) / "manifest.json").string() << " ("
+                  << main.dumpManifest["resources"].size() << " frame resources)\n";
 }
 
 } // namespace
@@ -308,6 +319,9 @@ void addRenderCommand(CLI::App& app) {
                     "EXR: extra channels; 'fog' adds fog.R/G/B (fog radiance) and "
                     "fog.transmittance (repeatable)")
         ->check(CLI::IsMember({"fog"}));
+    cmd->add_option("--dump", args->dump,
+                    "Write every frame resource into this folder: 2D textures as float32 EXR, 3D "
+                    "as .vti, and manifest.json (file, resource, size, format, units)");
     cmd->add_option("--report", args->report,
                     "Also write a JSON report: per-pass GPU times, image size, renderer, errors");
     cmd->add_option("--width", args->width, "Image width (default: the scene's)")

@@ -316,6 +316,8 @@ const gpu::Texture* Renderer::resourceTexture(const std::string& name) const {
     if (name == "hdr") return &hdr_;
     if (name == "ldr") return &ldr_;
     if (shadowMap_ && name == fmt::format("shadow.{}", shadowLight_)) return &shadowMap_->texture();
+    if (fog_ && name == "fog.radiance") return &fog_->radianceTexture();
+    if (fog_ && name == "fog.light_transmittance") return fog_->lightTransmittanceTexture(0);
     return nullptr;
 }
 

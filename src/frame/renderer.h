@@ -70,8 +70,9 @@ public:
     const volume::FogPass* fog() const { return fog_.get(); }
     // The frame's passes in order, with the resources each reads and writes.
     const PassList& passes() const { return passes_; }
-    // The texture behind a frame resource (depth, hdr, ldr, shadow.<light>), or null when the
-    // resource lives inside a technique or has no texture.
+    // The texture behind a frame resource (depth, hdr, ldr, shadow.<light>, fog.radiance,
+    // fog.light_transmittance of the first volume), or null when the resource lives inside a
+    // technique or has no texture.
     const gpu::Texture* resourceTexture(const std::string& name) const;
     // Recompiles every shader from disk; failing programs keep their previous version.
     int reloadShaders() { return programs_.reloadAll(); }
