@@ -5,6 +5,7 @@
 #include "app/compare_target.h"
 #include "app/dump.h"
 #include "app/exr_output.h"
+#include "app/vdb_scene.h"
 
 #include "base/atomic_file.h"
 #include "base/error.h"
@@ -47,6 +48,7 @@ struct RenderArgs {
     bool half = false;             // EXR: half instead of float32 channels
     std::vector<std::string> aovs; // EXR: extra channels ("fog")
     std::string dump;              // folder for every frame resource (app/dump.h)
+    std::string grid;              // file.vdb: the density grid (name or index)
 };
 
 // One frame of the scene with one technique, kept for writing and comparing.
@@ -160,7 +162,17 @@ void runRender(const RenderArgs& args) {
         VEIL_CHECK(args.oit != "all", "--dump needs one technique, not --oit all");
         checkDumpDirectory(args.dump);
     }
-    scene::Scene scene = scene::loadScene(args.scene, args.overrides);
+    const bool bareVdb = lowerExtension(args.scene) == ".vdb";
+    VEIL_CHECK(bareVdb || args.grid.empty(), "--grid is for a .vdb input, not '{}'", args.scene);
+    std::string vdbNote;
+    scene::Scene scene;
+    if (bareVdb) {
+        VdbScene v = sceneForVdb(args.scene, args.grid, args.overrides);
+        scene = std::move(v.scene);
+        vdbNote = std::move(v.description);
+    } else {
+        scene = scene::loadScene(args.scene, args.overrides);
+    }
     const std::string oitName = args.oit.empty() ? scene.render.oit : args.oit;
     const bool all = oitName == "all";
     if (!all) {
@@ -287,6 +299,7 @@ void runRender(const RenderArgs& args) {
         for (const auto& [name, e] : errors)
             std::cout << fmt::format("  {:<12} vs reference: {}\n", name, formatError(e));
     } else {
+        if (!vdbNote.empty()) std::cout << vdbNote << "\n";
         std::cout << "wrote " << args.output << " (" << main.width << "x" << main.height << ", oit "
                   << main.oit << ", " << context.info().renderer << ")\n";
         if (!compareNote.empty()) std::cout << compareNote << "\n";
@@ -308,7 +321,13 @@ void runRender(const RenderArgs& args) {
 void addRenderCommand(CLI::App& app) {
     auto args = std::make_shared<RenderArgs>();
     CLI::App* cmd = app.add_subcommand("render", "Render a scene headless to PNG or EXR");
-    cmd->add_option("scene", args->scene, "Scene file (JSON, docs/scene-format.md)")->required();
+    cmd->add_option("scene", args->scene,
+                    "Scene file (JSON, docs/scene-format.md), or an OpenVDB file (.vdb) framed "
+                    "with a default camera and light")
+        ->required();
+    cmd->add_option("--grid", args->grid,
+                    ".vdb input: the density grid, by name or index (default: the first float "
+                    "grid)");
     cmd->add_option("-o,--output", args->output,
                     "Output image: .png (tone-mapped sRGB) or .exr (float32 R,G,B,A,Z + metadata; "
                     "A = 1, Z = view depth of the opaque surface, +inf for none)")

@@ -21,7 +21,13 @@ fs::path dir() {
     return d;
 }
 
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+// Single-quoted for the shell (appended: GCC 12 warns falsely on "'" + string + "'").
+std::string q(const fs::path& p) {
+    std::string s = "'";
+    s += p.string();
+    s += '\'';
+    return s;
+}
 
 openvdb::GridPtrVecPtr readGrids(const fs::path& path) {
     openvdb::initialize();
