@@ -5,6 +5,7 @@
 #include "app/compare_target.h"
 #include "app/dump.h"
 #include "app/exr_output.h"
+#include "app/progress.h"
 #include "app/vdb_scene.h"
 
 #include "base/atomic_file.h"
@@ -26,6 +27,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 namespace veil::app {
 
@@ -49,6 +51,7 @@ struct RenderArgs {
     std::vector<std::string> aovs; // EXR: extra channels ("fog")
     std::string dump;              // folder for every frame resource (app/dump.h)
     std::string grid;              // file.vdb: the density grid (name or index)
+    bool progress = false;         // progress on stderr even when it is not a terminal
 };
 
 // One frame of the scene with one technique, kept for writing and comparing.
@@ -71,8 +74,15 @@ struct Rendered {
 
 Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, const RenderArgs& args,
                     const std::string& oit, bool dump = false) {
-    frame::Renderer renderer(scene, info, {args.width, args.height, args.camera, oit});
-    renderer.render();
+    std::optional<frame::Renderer> frameRenderer;
+    {
+        ProgressTicker ticker("rendering with " + oit, progressWanted(args.progress));
+        frameRenderer.emplace(scene, info,
+                              frame::RendererOptions{args.width, args.height, args.camera, oit});
+        frameRenderer->render();
+        glFinish(); // the ticker measures the frame, not its submission
+    }
+    frame::Renderer& renderer = *frameRenderer;
     Rendered r;
     r.oit = renderer.oitName();
     r.hdr = renderer.readHdr();
@@ -218,8 +228,10 @@ void runRender(const RenderArgs& args) {
             referenceHdr = renderWith(scene, context.info(), args, args.compareTo).hdr;
         else if (compareTarget.kind == CompareTarget::Kind::File)
             referenceHdr = loadReferenceImage(compareTarget, f.width, f.height);
-        else if (compareTarget.kind == CompareTarget::Kind::Cpu)
+        else if (compareTarget.kind == CompareTarget::Kind::Cpu) {
+            ProgressTicker ticker("CPU fog reference", progressWanted(args.progress));
             referenceHdr = cpuFogReference(scene, args.camera, f.width, f.height, compareNote);
+        }
         if (compareTarget.kind != CompareTarget::Kind::None)
             errors.emplace_back(f.oit, compareLinear(f.hdr, referenceHdr));
     }
@@ -341,6 +353,9 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--dump", args->dump,
                     "Write every frame resource into this folder: 2D textures as float32 EXR, 3D "
                     "as .vti, and manifest.json (file, resource, size, format, units)");
+    cmd->add_flag("--progress", args->progress,
+                  "Show progress on stderr for frames over 2 s even when stderr is not a "
+                  "terminal (on a terminal it is always shown)");
     cmd->add_option("--report", args->report,
                     "Also write a JSON report: per-pass GPU times, image size, renderer, errors");
     cmd->add_option("--width", args->width, "Image width (default: the scene's)")
