@@ -15,5 +15,6 @@ void addVoxelizeCommand(CLI::App& app);
 void addTechniquesCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app); // compare_command.cpp
 void addRegressCommand(CLI::App& app); // regress_command.cpp
+void addExportCommand(CLI::App& app);
 
 } // namespace veil::app

@@ -1,24 +1,53 @@
 // veil: render, inspect and (later) voxelize volumetric and transparent scenes.
 #include "app/commands.h"
+#include "app/suggest.h"
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/text.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <new>
 #include <string>
+#include <vector>
 
 namespace {
 
+// Exit statuses (README, `veil --help`): 1 for an error while running a command (bad input
+// files, a failed render, I/O), 2 for a command line that was not understood.
+constexpr int kExitError = 1;
+constexpr int kExitUsage = 2;
+
 // One line, as README promises for every error: CLI11 messages may hold newlines, and
 // arguments echoed in messages may hold any bytes.
-int fail(const std::string& message) {
+int fail(const std::string& message, int status = kExitError) {
     std::string line = message;
     for (std::size_t i = line.find('\n'); i != std::string::npos; i = line.find('\n', i))
         line.replace(i, 1, "; ");
     std::fprintf(stderr, "veil: error: %s\n", veil::printable(line, 1000).c_str());
-    return 1;
+    return status;
+}
+
+// " (did you mean '--width'?)" for the first option word of argv that `command` does not know
+// and that is near one it does; empty when there is none.
+std::string suggestOption(const CLI::App& command, int argc, char** argv) {
+    std::vector<std::string> names;
+    for (const CLI::Option* o : command.get_options()) {
+        for (const std::string& l : o->get_lnames())
+            names.push_back("--" + l);
+        for (const std::string& s : o->get_snames())
+            names.push_back("-" + s);
+    }
+    for (int i = 2; i < argc; ++i) {
+        std::string word = argv[i];
+        if (word.size() < 2 || word[0] != '-' || word == "--") continue;
+        word = word.substr(0, word.find('='));
+        if (std::find(names.begin(), names.end(), word) != names.end()) continue;
+        if (const std::string near = veil::app::nearestWord(word, names); !near.empty())
+            return " (did you mean '" + near + "'?)";
+    }
+    return {};
 }
 
 } // namespace
@@ -29,6 +58,8 @@ int main(int argc, char** argv) {
     CLI::App app{"Veil: volumetric and transparent real-time rendering"};
     app.set_version_flag("--version", std::string("veil ") + VEIL_VERSION);
     app.require_subcommand(1);
+    app.footer("Exit status: 0 success; 1 error while running (bad input file, failed render, "
+               "I/O); 2 usage error (unknown command or option, missing or invalid argument).");
     veil::app::addRenderCommand(app);
     veil::app::addInfoCommand(app);
     veil::app::addViewCommand(app);
@@ -36,24 +67,38 @@ int main(int argc, char** argv) {
     veil::app::addTechniquesCommand(app);
     veil::app::addCompareCommand(app);
     veil::app::addRegressCommand(app);
+    veil::app::addExportCommand(app);
     // CLI11 would call a misspelt command an unexpected argument, after "a subcommand is
     // required"; the user wants to hear which word was not understood.
     if (argc > 1 && argv[1][0] != '-') {
         std::string names;
+        std::vector<std::string> list;
         bool known = false;
         for (const CLI::App* sub : app.get_subcommands({})) {
             known = known || sub->check_name(argv[1]);
             names += (names.empty() ? "" : ", ") + sub->get_name();
+            list.push_back(sub->get_name());
         }
+        const std::string near = veil::app::nearestWord(argv[1], list);
         if (!known)
-            return fail("unknown command '" + std::string(argv[1]) + "' (commands: " + names +
-                        "; see veil --help)");
+            return fail("unknown command '" + std::string(argv[1]) + "'" +
+                            (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                            " (commands: " + names + "; see veil --help)",
+                        kExitUsage);
     }
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return app.exit(e); // --help, --version
-        return fail(std::string(e.what()) + " (see veil --help)");
+        std::string hint;
+        const bool named = argc > 1 && argv[1][0] != '-';
+        if (named)
+            for (const CLI::App* sub : app.get_subcommands({}))
+                if (sub->check_name(argv[1])) hint = suggestOption(*sub, argc, argv);
+        return fail(std::string(e.what()) + hint +
+                        (named ? " (see veil " + std::string(argv[1]) + " --help)"
+                               : std::string(" (see veil --help)")),
+                    kExitUsage);
     } catch (const veil::Error& e) {
         return fail(e.what());
     } catch (const std::bad_alloc&) {

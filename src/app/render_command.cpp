@@ -2,12 +2,18 @@
 #include "app/commands.h"
 
 #include "app/compare.h"
+#include "app/compare_target.h"
+#include "app/dump.h"
+#include "app/exr_output.h"
+#include "app/progress.h"
+#include "app/vdb_scene.h"
 
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/text.h"
 #include "frame/renderer.h"
 #include "gpu/context.h"
+#include "io/exr_writer.h"
 #include "io/image_io.h"
 #include "oit/technique.h"
 #include "scene/scene.h"
@@ -16,10 +22,12 @@
 
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 namespace veil::app {
 
@@ -40,6 +48,11 @@ struct RenderArgs {
     bool glDebug = false;
     std::vector<std::string> overrides;
     std::string compareTo;
+    bool half = false;             // EXR: half instead of float32 channels
+    std::vector<std::string> aovs; // EXR: extra channels ("fog")
+    std::string dump;              // folder for every frame resource (app/dump.h)
+    std::string grid;              // file.vdb: the density grid (name or index)
+    bool progress = false;         // progress on stderr even when it is not a terminal
 };
 
 // One frame of the scene with one technique, kept for writing and comparing.
@@ -59,13 +72,22 @@ struct Rendered {
     nlohmann::json shadowLights = nlohmann::json::array(); // scene light indices with maps
     nlohmann::json framePasses = nlohmann::json::array(); // the frame's passes and resources
     nlohmann::json volumes = nlohmann::json::array();
+    FrameExtras extras;          // Z, AOVs and camera matrices (app/exr_output.h)
+    nlohmann::json dumpManifest; // --dump
 };
 
 Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, const RenderArgs& args,
-                    const std::string& oit) {
-    frame::Renderer renderer(scene, info,
-                             {args.width, args.height, args.camera, oit, {}, args.shadows});
-    renderer.render();
+                    const std::string& oit, bool dump = false) {
+    std::optional<frame::Renderer> frameRenderer;
+    {
+        ProgressTicker ticker("rendering with " + oit, progressWanted(args.progress));
+        frameRenderer.emplace(scene, info,
+                              frame::RendererOptions{args.width, args.height, args.camera, oit, {},
+                                                     args.shadows});
+        frameRenderer->render();
+        glFinish(); // the ticker measures the frame, not its submission
+    }
+    frame::Renderer& renderer = *frameRenderer;
     Rendered r;
     r.oit = renderer.oitName();
     r.hdr = renderer.readHdr();
@@ -98,6 +120,9 @@ Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, con
     r.shadowLights = renderer.shadowLights().lights;
     for (const frame::Pass& p : renderer.passes().passes())
         r.framePasses.push_back({{"name", p.name}, {"reads", p.reads}, {"writes", p.writes}});
+    const bool fogAov = std::find(args.aovs.begin(), args.aovs.end(), "fog") != args.aovs.end();
+    r.extras = captureExtras(renderer, fogAov);
+    if (dump) r.dumpManifest = dumpFrame(renderer, args.dump);
     return r;
 }
 
@@ -133,7 +158,10 @@ std::string formatError(const ImageError& e) {
 
 // Every file the command will write, checked before the scene is loaded or rendered.
 void checkOutputPaths(const RenderArgs& args) {
-    const std::vector<fs::path> inputs{args.scene};
+    std::vector<fs::path> inputs{args.scene};
+    if (parseCompareTarget(args.compareTo).kind == CompareTarget::Kind::File)
+        inputs.push_back(args.compareTo); // -o ref.exr --compare-to ref.exr
+
     checkOutputPath(args.output, "output", inputs);
     if (!args.report.empty()) checkOutputPath(args.report, "report", inputs);
     if (!args.compareTo.empty())
@@ -147,8 +175,24 @@ void runRender(const RenderArgs& args) {
     // The report is optional: a default name beside the output could overwrite the scene.
     VEIL_CHECK(args.report.empty() || lowerExtension(args.report) == ".json",
                "report '{}' must end in .json", args.report);
+    VEIL_CHECK(ext == ".exr" || (!args.half && args.aovs.empty()),
+               "--half and --aov need an .exr output, not '{}'", args.output);
     checkOutputPaths(args);
-    scene::Scene scene = scene::loadScene(args.scene, args.overrides);
+    if (!args.dump.empty()) {
+        VEIL_CHECK(args.oit != "all", "--dump needs one technique, not --oit all");
+        checkDumpDirectory(args.dump);
+    }
+    const bool bareVdb = lowerExtension(args.scene) == ".vdb";
+    VEIL_CHECK(bareVdb || args.grid.empty(), "--grid is for a .vdb input, not '{}'", args.scene);
+    std::string vdbNote;
+    scene::Scene scene;
+    if (bareVdb) {
+        VdbScene v = sceneForVdb(args.scene, args.grid, args.overrides);
+        scene = std::move(v.scene);
+        vdbNote = std::move(v.description);
+    } else {
+        scene = scene::loadScene(args.scene, args.overrides);
+    }
     const std::string oitName = args.oit.empty() ? scene.render.oit : args.oit;
     const bool all = oitName == "all";
     if (!all) {
@@ -158,10 +202,13 @@ void runRender(const RenderArgs& args) {
             oit::Registry::instance().resolve(oitName, scene.render.oitProperties,
                                               scene.render.oitWhere);
     }
+    const CompareTarget compareTarget = parseCompareTarget(args.compareTo);
     if (!args.compareTo.empty()) {
         VEIL_CHECK(!all, "--compare-to cannot be combined with --oit all (which compares "
                          "every technique with reference)");
-        checkKnown(args.compareTo, "--compare-to");
+        if (compareTarget.kind == CompareTarget::Kind::Technique)
+            checkKnown(args.compareTo, "--compare-to");
+        checkCompareTarget(compareTarget, scene);
     }
     gpu::HeadlessContext context({args.device, args.glDebug});
     const bool png = ext == ".png";
@@ -169,6 +216,8 @@ void runRender(const RenderArgs& args) {
     // Render everything first, write afterwards: a failing technique leaves no output.
     std::vector<Rendered> frames;
     std::vector<std::pair<std::string, ImageError>> errors;
+    ImageF referenceHdr; // what --compare-to compares with
+    std::string compareNote;
     if (all) {
         frames.push_back(renderWith(scene, context.info(), args, "reference"));
         for (const auto& t : oit::Registry::instance().all()) {
@@ -183,14 +232,23 @@ void runRender(const RenderArgs& args) {
         for (const Rendered& f : frames)
             errors.emplace_back(f.oit, compareLinear(f.hdr, frames.front().hdr));
     } else {
-        frames.push_back(renderWith(scene, context.info(), args, oitName));
-        if (!args.compareTo.empty()) {
-            Rendered ref = renderWith(scene, context.info(), args, args.compareTo);
-            errors.emplace_back(frames.front().oit, compareLinear(frames.front().hdr, ref.hdr));
-            frames.push_back(std::move(ref));
+        frames.push_back(renderWith(scene, context.info(), args, oitName, !args.dump.empty()));
+        const Rendered& f = frames.front();
+        if (compareTarget.kind == CompareTarget::Kind::Technique)
+            referenceHdr = renderWith(scene, context.info(), args, args.compareTo).hdr;
+        else if (compareTarget.kind == CompareTarget::Kind::File)
+            referenceHdr = loadReferenceImage(compareTarget, f.width, f.height);
+        else if (compareTarget.kind == CompareTarget::Kind::Cpu) {
+            ProgressTicker ticker("CPU fog reference", progressWanted(args.progress));
+            referenceHdr = cpuFogReference(scene, args.camera, f.width, f.height, compareNote);
         }
+        if (compareTarget.kind != CompareTarget::Kind::None)
+            errors.emplace_back(f.oit, compareLinear(f.hdr, referenceHdr));
     }
     const Rendered& main = frames.front();
+    const RenderMetadata metadata =
+        describeRender(args.scene, all ? std::string("all") : main.oit, main.oitProperties,
+                       main.camera, main.extras, main.width, main.height, context.info().renderer);
 
     // PNG gets the tone-mapped sRGB image, EXR the linear HDR radiance.
     fs::path errorPath;
@@ -200,10 +258,13 @@ void runRender(const RenderArgs& args) {
             tiles.push_back(png ? f.ldr : f.hdr);
         io::writeImage(output, contactSheet(tiles));
     } else {
-        io::writeImage(output, png ? main.ldr : main.hdr);
+        if (png)
+            io::writeImage(output, main.ldr);
+        else
+            io::writeExr(output, makeExr(main.hdr, main.extras, metadata, args.half));
         if (!args.compareTo.empty()) {
             errorPath = errorImagePath(output);
-            io::writeImage(errorPath, errorImage(main.hdr, frames.back().hdr));
+            io::writeImage(errorPath, errorImage(main.hdr, referenceHdr));
         }
     }
 
@@ -217,6 +278,7 @@ void runRender(const RenderArgs& args) {
     report["renderer"] = context.info().renderer;
     report["gl_version"] = context.info().version;
     report["vendor"] = context.info().vendor;
+    report["metadata"] = metadataJson(metadata);
     report["timer"] = main.timer == gpu::GpuTimer::Mode::Query
                           ? "GL_TIME_ELAPSED"
                           : "glFinish + CPU clock (driver timer unusable)";
@@ -263,8 +325,10 @@ void runRender(const RenderArgs& args) {
         for (const auto& [name, e] : errors)
             std::cout << fmt::format("  {:<12} vs reference: {}\n", name, formatError(e));
     } else {
+        if (!vdbNote.empty()) std::cout << vdbNote << "\n";
         std::cout << "wrote " << args.output << " (" << main.width << "x" << main.height << ", oit "
                   << main.oit << ", " << context.info().renderer << ")\n";
+        if (!compareNote.empty()) std::cout << compareNote << "\n";
         if (!args.compareTo.empty())
             std::cout << fmt::format("{} vs {}: {} (linear HDR)\nwrote {} (|error| x {} in "
                                      "linear, sRGB-encoded)\n",
@@ -273,6 +337,9 @@ void runRender(const RenderArgs& args) {
     }
     if (!args.report.empty())
         std::cout << "wrote " << reportPath.string() << " (per-pass GPU times)\n";
+    if (!args.dump.empty())
+        std::cout << "wrote " << (fs::path(args.dump) / "manifest.json").string() << " ("
+                  << main.dumpManifest["resources"].size() << " frame resources)\n";
 }
 
 } // namespace
@@ -280,10 +347,29 @@ void runRender(const RenderArgs& args) {
 void addRenderCommand(CLI::App& app) {
     auto args = std::make_shared<RenderArgs>();
     CLI::App* cmd = app.add_subcommand("render", "Render a scene headless to PNG or EXR");
-    cmd->add_option("scene", args->scene, "Scene file (JSON, docs/scene-format.md)")->required();
-    cmd->add_option("-o,--output", args->output,
-                    "Output image: .png (tone-mapped sRGB) or .exr (linear HDR)")
+    cmd->add_option("scene", args->scene,
+                    "Scene file (JSON, docs/scene-format.md), or an OpenVDB file (.vdb) framed "
+                    "with a default camera and light")
         ->required();
+    cmd->add_option("--grid", args->grid,
+                    ".vdb input: the density grid, by name or index (default: the first float "
+                    "grid)");
+    cmd->add_option("-o,--output", args->output,
+                    "Output image: .png (tone-mapped sRGB) or .exr (float32 R,G,B,A,Z + metadata; "
+                    "A = 1, Z = view depth of the opaque surface, +inf for none)")
+        ->required();
+    cmd->add_flag("--half", args->half,
+                  "EXR: half-float channels (rounded to nearest) instead of float32");
+    cmd->add_option("--aov", args->aovs,
+                    "EXR: extra channels; 'fog' adds fog.R/G/B (fog radiance) and "
+                    "fog.transmittance (repeatable)")
+        ->check(CLI::IsMember({"fog"}));
+    cmd->add_option("--dump", args->dump,
+                    "Write every frame resource into this folder: 2D textures as float32 EXR, 3D "
+                    "as .vti, and manifest.json (file, resource, size, format, units)");
+    cmd->add_flag("--progress", args->progress,
+                  "Show progress on stderr for frames over 2 s even when stderr is not a "
+                  "terminal (on a terminal it is always shown)");
     cmd->add_option("--report", args->report,
                     "Also write a JSON report: per-pass GPU times, image size, renderer, errors");
     cmd->add_option("--width", args->width, "Image width (default: the scene's)")
@@ -298,8 +384,10 @@ void addRenderCommand(CLI::App& app) {
                     "Shadow technique (default: the scene's render.shadows); see `veil "
                     "techniques`");
     cmd->add_option("--compare-to", args->compareTo,
-                    "Also render with this technique (e.g. reference) and print RMSE/PSNR of the "
-                    "output vs it (linear HDR); writes <output stem>-error.png (|error| x 4)");
+                    "Compare the output (linear HDR RGB) with: a technique (e.g. reference, "
+                    "rendered too), an image file (e.g. ref.exr, same size), or cpu (the fog's "
+                    "CPU reference over the background; scenes with volumes). Prints RMSE/PSNR, "
+                    "writes <output stem>-error.png (|error| x 4)");
     cmd->add_option("--set", args->overrides,
                     "Override a scene value: key=value, e.g. render.exposure=2 or "
                     "lights.0.intensity=5 (repeatable)");

@@ -295,6 +295,14 @@ void addViewCommand(CLI::App& app) {
     cmd->add_option("--frames", args->frames,
                     "Render this many frames without the GUI, then exit (for tests)");
     cmd->add_option("--screenshot", args->screenshot, "With --frames: save the last frame");
+    // What runView() reads from the mouse and keyboard; kept here so --help tells the truth.
+    cmd->footer("Key bindings:\n"
+                "  left drag    orbit the camera around the scene\n"
+                "  wheel        zoom (orbit distance)\n"
+                "  R            reload shaders from disk (failing programs keep the last good)\n"
+                "  window close quit\n"
+                "The panel switches techniques, edits their properties, exposure, ambient and "
+                "lights, and takes screenshots (veil-NNNN.png).");
     cmd->callback([args] { runView(*args); });
 }
 

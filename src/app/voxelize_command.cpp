@@ -1,7 +1,10 @@
-// `veil voxelize scene.json --res 256 --slices 256 [--solid] [--method M] [--local]
+// `veil voxelize scene.json|mesh.{obj,ply,glb,gltf} --res 256 --slices 256 [--solid] [--method M]
+// [--local]
 //  [--perspective [--camera NAME]] -o grid.vdb [--vti grid.vti] [--smooth W]`:
 // slice-map voxelization on the GPU (src/voxelize), written as OpenVDB grids ("density",
-// "mask") and optionally as a VTK image for ParaView.
+// "mask") and optionally as a VTK image for ParaView. A mesh file is voxelized without a
+// scene: cubic voxels of (largest extent x 1.06) / res, the grid fitted to the mesh bounds on
+// every axis (so a flat mesh gets few slices).
 #include "app/commands.h"
 
 #include "app/cli_checks.h"
@@ -16,7 +19,11 @@
 #include "voxelize/triangles.h"
 #include "voxelize/vdb_convert.h"
 
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -60,6 +67,27 @@ private:
     int lastPercent_ = -1;
 };
 
+bool isMeshFile(const std::string& path) {
+    const std::string ext = lowerExtension(path);
+    return ext == ".obj" || ext == ".ply" || ext == ".glb" || ext == ".gltf";
+}
+
+// A scene of one object: the mesh file, with its own materials.
+scene::Scene sceneForMesh(const fs::path& mesh) {
+    std::error_code ec;
+    VEIL_CHECK(fs::is_regular_file(mesh, ec), "cannot read mesh '{}': no such file", mesh.string());
+    // The camera is required by the scene format; the orthographic grid does not use it.
+    const nlohmann::json doc = {{"cameras", {{{"name", "mesh"}, {"position", {0, 0, 1}}}}},
+                                {"objects", {{{"mesh", fs::absolute(mesh).string()}}}}};
+    try {
+        return scene::parseScene(doc, fs::absolute(mesh).parent_path());
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        if (what.find(mesh.filename().string()) != std::string::npos) throw;
+        throw Error(fmt::format("mesh '{}': {}", mesh.string(), what));
+    }
+}
+
 void runVoxelize(const VoxelizeArgs& args) {
     using namespace veil::voxelize;
     const auto start = std::chrono::steady_clock::now();
@@ -71,8 +99,12 @@ void runVoxelize(const VoxelizeArgs& args) {
                "--vti '{}' must end in .vti", args.vti);
     checkOutputPath(args.output, "output", {args.scene});
     if (!args.vti.empty()) checkOutputPath(args.vti, "--vti", {args.scene, args.output});
-    const int slices = args.slices > 0 ? args.slices : args.res;
-    const scene::Scene scene = scene::loadScene(args.scene, args.overrides);
+    const bool mesh = isMeshFile(args.scene);
+    VEIL_CHECK(!mesh || (!args.perspective && args.overrides.empty()),
+               "'{}' is a mesh: --perspective and --set need a scene file", args.scene);
+    int slices = args.slices > 0 ? args.slices : args.res;
+    const scene::Scene scene =
+        mesh ? sceneForMesh(args.scene) : scene::loadScene(args.scene, args.overrides);
     // The scene's own .vdb volumes are inputs too: -o smoke.vdb would replace one.
     std::vector<fs::path> volumeFiles;
     for (const scene::VolumeRef& v : scene.volumes)
@@ -97,6 +129,22 @@ void runVoxelize(const VoxelizeArgs& args) {
         VEIL_CHECK(f > n && dmax > 0.0, "the scene lies behind camera '{}'", cam.name);
         grid = makePerspectiveGrid(eye, glm::dvec3(cam.target), glm::dvec3(cam.up), cam.fovYDegrees,
                                    n, f, args.res, args.res, slices);
+    } else if (mesh) {
+        // Cubic voxels: --res cells along the largest extent (with a 3% margin per side), as
+        // many as the bounds need along the others; --slices overrides the z count.
+        const glm::dvec3 e = glm::dvec3(hi - lo), c = 0.5 * glm::dvec3(lo + hi);
+        const double voxel = std::max({e.x, e.y, e.z, 1e-9}) * 1.06 / args.res;
+        glm::ivec3 dims;
+        for (int i = 0; i < 3; ++i)
+            dims[i] =
+                std::clamp(static_cast<int>(std::ceil(e[i] * 1.06 / voxel - 1e-9)), 1, args.res);
+        glm::dvec3 h = 0.5 * voxel * glm::dvec3(dims);
+        if (args.slices > 0) { // z fitted to the bounds, cut into the slices asked for
+            dims.z = args.slices;
+            h.z = 0.5 * std::max(e.z * 1.06, voxel);
+        }
+        slices = dims.z;
+        grid = makeOrthoGrid(c - h, c + h, dims.x, dims.y, slices);
     } else {
         // Orthographic along +z world, fitted to the bounds with a 3% margin.
         const glm::dvec3 e = glm::dvec3(hi - lo), c = 0.5 * glm::dvec3(lo + hi);
@@ -163,7 +211,10 @@ void runVoxelize(const VoxelizeArgs& args) {
 void addVoxelizeCommand(CLI::App& app) {
     auto args = std::make_shared<VoxelizeArgs>();
     CLI::App* cmd = app.add_subcommand("voxelize", "Voxelize a scene on the GPU into .vdb / .vti");
-    cmd->add_option("scene", args->scene, "Scene file (JSON, docs/scene-format.md)")->required();
+    cmd->add_option("scene", args->scene,
+                    "Scene file (JSON, docs/scene-format.md) or a mesh (.obj, .ply, .glb, "
+                    ".gltf: cubic voxels, grid fitted to its bounds)")
+        ->required();
     cmd->add_option("-o,--output", args->output, "Output OpenVDB file (.vdb)")->required();
     cmd->add_option("--vti", args->vti, "Also write a VTK image (.vti) for ParaView");
     cmd->add_option("--res", args->res, "Columns per side of the grid camera")

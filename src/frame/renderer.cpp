@@ -363,6 +363,8 @@ const gpu::Texture* Renderer::resourceTexture(const std::string& name) const {
     if (name == "hdr") return &hdr_;
     if (name == "ldr") return &ldr_;
     if (name.rfind("shadow.", 0) == 0) return shadows_->resourceTexture(name);
+    if (fog_ && name == "fog.radiance") return &fog_->radianceTexture();
+    if (fog_ && name == "fog.light_transmittance") return fog_->lightTransmittanceTexture(0);
     return nullptr;
 }
 

@@ -81,7 +81,8 @@ public:
     // The frame's passes in order, with the resources each reads and writes.
     const PassList& passes() const { return passes_; }
     // The texture behind a frame resource (depth, hdr, ldr, shadow.* of the shadow technique:
-    // arrays with one layer per light view), or null when it has no texture.
+    // arrays with one layer per light view, fog.radiance, fog.light_transmittance of the first
+    // volume), or null when it has no texture.
     const gpu::Texture* resourceTexture(const std::string& name) const;
     // Recompiles every shader from disk; failing programs keep their previous version.
     int reloadShaders() { return programs_.reloadAll(); }

@@ -2,10 +2,12 @@
 
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "base/half.h"
 
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <cstdint>
 
 namespace veil::io {
 
@@ -34,7 +36,13 @@ void writeImage(const fs::path& path, const ImageF& image, bool dropAlpha) {
         if (ext == ".exr") spec.attribute("compression", "zip");
         VEIL_CHECK(out->open(tmp.string(), spec), "cannot write '{}': {}", path.string(),
                    out->geterror());
-        const bool ok = out->write_image(OIIO::TypeDesc::FLOAT, data.data());
+        // Half rounded to nearest here (base/half.h), not left to the library's conversion.
+        std::vector<std::uint16_t> halves;
+        if (ext == ".exr")
+            for (float v : data)
+                halves.push_back(floatToHalf(v));
+        const bool ok = ext == ".exr" ? out->write_image(OIIO::TypeDesc::HALF, halves.data())
+                                      : out->write_image(OIIO::TypeDesc::FLOAT, data.data());
         std::string err = out->geterror();
         // close() flushes the last compressed rows: its failure is a truncated file too.
         const bool closed = out->close();

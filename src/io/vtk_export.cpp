@@ -18,18 +18,24 @@ namespace veil::io {
 
 void writeVti(const std::filesystem::path& path, const DenseGrid& grid) {
     const std::size_t n = std::size_t(grid.dims[0]) * grid.dims[1] * grid.dims[2];
-    VEIL_CHECK(n > 0 && grid.values.size() == n, "vti '{}': {} values for a {}x{}x{} grid",
-               path.string(), grid.values.size(), grid.dims[0], grid.dims[1], grid.dims[2]);
+    VEIL_CHECK(grid.components == 1 || grid.components == 3, "vti '{}': {} components per point",
+               path.string(), grid.components);
+    VEIL_CHECK(n > 0 && grid.values.size() == n * grid.components,
+               "vti '{}': {} values for a {}x{}x{} grid of {} component(s)", path.string(),
+               grid.values.size(), grid.dims[0], grid.dims[1], grid.dims[2], grid.components);
     vtkNew<vtkImageData> image;
     image->SetDimensions(grid.dims[0], grid.dims[1], grid.dims[2]);
     image->SetOrigin(grid.origin[0], grid.origin[1], grid.origin[2]);
     image->SetSpacing(grid.spacing[0], grid.spacing[1], grid.spacing[2]);
     vtkNew<vtkFloatArray> values;
     values->SetName(grid.name.c_str());
-    values->SetNumberOfComponents(1);
+    values->SetNumberOfComponents(grid.components);
     values->SetNumberOfTuples(static_cast<vtkIdType>(n));
     std::copy(grid.values.begin(), grid.values.end(), values->GetPointer(0));
-    image->GetPointData()->SetScalars(values);
+    if (grid.components == 3)
+        image->GetPointData()->SetVectors(values);
+    else
+        image->GetPointData()->SetScalars(values);
     writeFileAtomically(path, [&](const std::filesystem::path& tmp) {
         vtkNew<vtkXMLImageDataWriter> writer;
         writer->SetFileName(tmp.string().c_str());
@@ -71,9 +77,14 @@ DenseGrid readVti(const std::filesystem::path& path) {
         g.dims[i] = dims[i], g.origin[i] = o[i], g.spacing[i] = s[i];
     vtkDataArray* a = image->GetPointData()->GetArray(0);
     g.name = a->GetName() ? a->GetName() : "";
-    g.values.resize(static_cast<std::size_t>(a->GetNumberOfTuples()));
+    g.components = a->GetNumberOfComponents();
+    VEIL_CHECK(g.components == 1 || g.components == 3, "'{}': {} components per point",
+               path.string(), g.components);
+    g.values.resize(static_cast<std::size_t>(a->GetNumberOfTuples()) * g.components);
     for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i)
-        g.values[static_cast<std::size_t>(i)] = static_cast<float>(a->GetTuple1(i));
+        for (int c = 0; c < g.components; ++c)
+            g.values[static_cast<std::size_t>(i) * g.components + c] =
+                static_cast<float>(a->GetComponent(i, c));
     return g;
 }
 

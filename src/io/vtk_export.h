@@ -13,12 +13,14 @@ struct DenseGrid {
     std::array<int, 3> dims{0, 0, 0};
     std::array<double, 3> origin{0, 0, 0};  // world position of point (0, 0, 0)
     std::array<double, 3> spacing{1, 1, 1}; // world distance between points per axis
-    std::vector<float> values;              // x fastest, then y, then z
+    std::vector<float> values;              // x fastest, then y, then z; `components` per point
     std::string name = "density";
+    int components = 1; // 1 (scalars) or 3 (vectors)
 };
 
 void writeVti(const std::filesystem::path& path, const DenseGrid& grid);
-// Reads a .vti written by writeVti (first point-data array) back; throws veil::Error.
+// Reads a .vti written by writeVti (first point-data array, 1 or 3 components) back; throws
+// veil::Error.
 DenseGrid readVti(const std::filesystem::path& path);
 
 } // namespace veil::io

@@ -58,6 +58,15 @@ public:
     // False when the shadow technique's maps already hold the volumes' absorbance toward
     // every light: the marcher then skips its own self-shadowing volumes.
     void setSelfShadowing(bool on) { selfShadowing_ = on; }
+    // The march's results at 1/divisor() resolution (frame resource "fog.radiance"): rgb
+    // in-scattered radiance (a: its mean depth) and rgb transmittance (a: opaque view depth).
+    const gpu::Texture& radianceTexture() const { return radiance_; }
+    const gpu::Texture& transmittanceTexture() const { return transmittance_; }
+    // Volume i's light-space transmittance toward the primary light (R16F, 3D; frame resource
+    // "fog.light_transmittance"), or null when there is no such volume.
+    const gpu::Texture* lightTransmittanceTexture(std::size_t i) const {
+        return i < volumes_.size() && volumes_[i].light ? &volumes_[i].light : nullptr;
+    }
 
 private:
     void resize(int width, int height);

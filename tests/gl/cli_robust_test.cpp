@@ -60,10 +60,12 @@ std::vector<std::string> leftovers(const fs::path& dir, const std::vector<std::s
     return out;
 }
 
-// Runs `veil <args>`; expects exit 1 and one "veil: error:" line holding each of `needles`.
-std::string expectOneLineError(const std::string& args, const std::vector<std::string>& needles) {
+// Runs `veil <args>`; expects exit `status` (1 error, 2 usage error) and one "veil: error:"
+// line holding each of `needles`.
+std::string expectOneLineError(const std::string& args, const std::vector<std::string>& needles,
+                               int status = 1) {
     const CommandResult r = runCommand(veilExe() + " " + args);
-    EXPECT_EQ(r.exitCode, 1) << args << "\n" << r.output;
+    EXPECT_EQ(r.exitCode, status) << args << "\n" << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
     EXPECT_EQ(r.output.rfind("veil: error: ", 0), 0u) << r.output;
     EXPECT_EQ(r.output.find("wrote"), std::string::npos) << r.output;
@@ -239,24 +241,34 @@ TEST(CliRobustTest, SigtermDuringWriteLeavesNoTemporary) {
 
 // Before: a typo said "A subcommand is required" and usage errors exited 105, 106 or 109;
 // --device -7, --voxel-size -1 / 1e-9 (the last failed in OpenVDB) and --smooth nan were
-// accepted.
-TEST(CliRobustTest, UsageErrorsAreOneLineAndExitOne) {
+// accepted. Usage errors exit 2 (issue 12), errors while running 1.
+TEST(CliRobustTest, UsageErrorsAreOneLineAndExitTwo) {
     const fs::path dir = freshDir("usage");
     const fs::path scene = writeFile(dir / "scene.json", kScene);
     const std::string s = quoted(scene), out = quoted(dir / "o.png"), vdb = quoted(dir / "v.vdb");
-    expectOneLineError("rendr " + s, {"unknown command 'rendr'", "render"});
-    expectOneLineError("", {"subcommand"});
-    expectOneLineError("render", {"scene"});
-    expectOneLineError("render " + s, {"--output"});
-    expectOneLineError("render " + s + " -o " + out + " --width 0", {"--width"});
-    expectOneLineError("render " + s + " -o " + out + " --no-such-option", {"--no-such-option"});
-    expectOneLineError("render " + s + " -o " + out + " --device -7", {"--device"});
-    expectOneLineError("voxelize " + s + " -o " + vdb + " --device -7", {"--device"});
-    expectOneLineError("voxelize " + s + " -o " + vdb + " --voxel-size -1", {"--voxel-size"});
-    expectOneLineError("voxelize " + s + " -o " + vdb + " --voxel-size 1e-9", {"--voxel-size"});
+    const auto usage = [](const std::string& args, const std::vector<std::string>& needles) {
+        return expectOneLineError(args, needles, 2);
+    };
+    usage("rendr " + s, {"unknown command 'rendr'", "did you mean 'render'?", "render"});
+    usage("xyzzy " + s, {"unknown command 'xyzzy'"});
+    EXPECT_EQ(usage("xyzzy", {}).find("did you mean"), std::string::npos);
+    usage("", {"subcommand"});
+    usage("render", {"scene"});
+    usage("render " + s, {"--output"});
+    usage("render " + s + " -o " + out + " --width 0", {"--width"});
+    usage("render " + s + " -o " + out + " --no-such-option", {"--no-such-option"});
+    usage("render " + s + " -o " + out + " --widht 32", {"--widht", "did you mean '--width'?"});
+    usage("voxelize " + s + " -o " + vdb + " --slises 4", {"did you mean '--slices'?"});
+    usage("render " + s + " -o " + out + " --device -7", {"--device"});
+    usage("voxelize " + s + " -o " + vdb + " --device -7", {"--device"});
+    usage("voxelize " + s + " -o " + vdb + " --voxel-size -1", {"--voxel-size"});
+    usage("voxelize " + s + " -o " + vdb + " --voxel-size 1e-9", {"--voxel-size"});
     // NaN passed CLI::Range (every comparison with it is false).
-    expectOneLineError("voxelize " + s + " -o " + vdb + " --voxel-size nan", {"--voxel-size"});
-    expectOneLineError("voxelize " + s + " -o " + vdb + " --smooth nan", {"--smooth"});
+    usage("voxelize " + s + " -o " + vdb + " --voxel-size nan", {"--voxel-size"});
+    usage("voxelize " + s + " -o " + vdb + " --smooth nan", {"--smooth"});
+    // An error while running is status 1, not 2.
+    expectOneLineError("render " + quoted(dir / "missing.json") + " -o " + out, {"missing.json"},
+                       1);
     EXPECT_EQ(leftovers(dir, {"scene.json"}), std::vector<std::string>{});
     const CommandResult v = runCommand(veilExe() + " --version");
     EXPECT_EQ(v.exitCode, 0) << v.output;
@@ -264,6 +276,13 @@ TEST(CliRobustTest, UsageErrorsAreOneLineAndExitOne) {
     const CommandResult h = runCommand(veilExe() + " render --help");
     EXPECT_EQ(h.exitCode, 0) << h.output;
     EXPECT_NE(h.output.find("--report"), std::string::npos);
+    const CommandResult top = runCommand(veilExe() + " --help");
+    EXPECT_EQ(top.exitCode, 0) << top.output;
+    EXPECT_NE(top.output.find("2 usage error"), std::string::npos) << top.output;
+    const CommandResult view = runCommand(veilExe() + " view --help");
+    EXPECT_EQ(view.exitCode, 0) << view.output;
+    for (const char* key : {"Key bindings", "R ", "left drag", "wheel"})
+        EXPECT_NE(view.output.find(key), std::string::npos) << key << "\n" << view.output;
 }
 
 } // namespace veil::test

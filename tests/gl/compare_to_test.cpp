@@ -1,0 +1,136 @@
+// `veil render --compare-to FILE|cpu` (issue 12 item 2): a stored image, with errors that are
+// known in closed form, and the fog's CPU reference.
+#include "support/test_support.h"
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+
+namespace veil::test {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path dir() {
+    const fs::path d = outputDir() / "compare_to";
+    fs::create_directories(d);
+    return d;
+}
+
+// Single-quoted for the shell (appended: GCC 12 warns falsely on "'" + string + "'").
+std::string q(const fs::path& p) {
+    std::string s = "'";
+    s += p.string();
+    s += '\'';
+    return s;
+}
+
+const char* kPlane = R"({
+  "render": {"width": 80, "height": 60, "background": 0.7},
+  "cameras": [{"name": "low", "position": [0, 2, 4], "target": [0, 1, 0], "fov_y": 50}],
+  "lights": [{"type": "directional", "direction": [0, -1, 0]}],
+  "materials": {"m": {"base_color": 0.5}},
+  "objects": [{"shape": {"type": "plane", "size": [40, 40]}, "material": "m"}]
+})";
+
+nlohmann::json readJson(const fs::path& p) {
+    std::ifstream in(p);
+    return nlohmann::json::parse(in);
+}
+
+} // namespace
+
+TEST(CompareToTest, StoredImageGivesTheClosedFormError) {
+    const fs::path scene = dir() / "plane.json", stored = dir() / "stored.exr";
+    std::ofstream(scene) << kPlane;
+    CommandResult r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(stored));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+
+    // The same frame: identical.
+    const fs::path same = dir() / "same.exr", sameReport = dir() / "same.json";
+    r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(same) + " --compare-to " +
+                   q(stored) + " --report " + q(sameReport));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("stored.exr: RMSE 0,"), std::string::npos) << r.output;
+    EXPECT_EQ(readJson(sameReport)["compare"]["rmse"], 0.0);
+    EXPECT_TRUE(fs::exists(dir() / "same-error.png"));
+
+    // Background 0.7 -> 0.8 changes only the sky, by 0.1 in R, G and B: RMSE = 0.1 sqrt(f),
+    // f the sky's share of the pixels, counted from the stored Z channel (+inf = no surface).
+    auto in = OIIO::ImageInput::open(stored.string());
+    ASSERT_TRUE(in);
+    const OIIO::ImageSpec spec = in->spec();
+    const int z = spec.channelindex("Z");
+    ASSERT_GE(z, 0);
+    std::vector<float> zs(std::size_t(spec.width) * spec.height);
+    ASSERT_TRUE(in->read_image(0, 0, z, z + 1, OIIO::TypeDesc::FLOAT, zs.data()));
+    const double sky =
+        double(std::count_if(zs.begin(), zs.end(), [](float v) { return std::isinf(v); })) /
+        double(zs.size());
+    ASSERT_GT(sky, 0.1);
+    const fs::path brighter = dir() / "brighter.png", report = dir() / "brighter.json";
+    r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(brighter) +
+                   " --set render.background=0.8 --compare-to " + q(stored) + " --report " +
+                   q(report));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    // The GPU target is RGBA16F: 0.7 and 0.8 are each within 2^-12 of their half values.
+    EXPECT_NEAR(readJson(report)["compare"]["rmse"].get<double>(), 0.1 * std::sqrt(sky), 3e-4)
+        << r.output;
+    EXPECT_EQ(readJson(report)["compare"]["against"], stored.string());
+
+    // A different size is one clear error naming both sizes; nothing written.
+    const fs::path small = dir() / "small.exr";
+    fs::remove(small);
+    r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(small) +
+                   " --width 40 --height 30 --compare-to " + q(stored));
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("is 80x60, the render is 40x30"), std::string::npos) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_FALSE(fs::exists(small));
+    r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(small) + " --compare-to " +
+                   q(dir() / "missing.exr"));
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("missing.exr': no such image file"), std::string::npos) << r.output;
+    // The output may not replace the image it is compared with.
+    r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(stored) + " --compare-to " +
+                   q(stored));
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+}
+
+// A ball of fog (no lights, no ambient) over a white background: the frame is T per pixel and
+// the CPU reference L + T * background with L = 0. fog_test.cpp bounds |T_gpu - T_cpu| by
+// 2e-3 plus quadrature and half-float storage terms for such a ball; RMSE must stay below
+// 3e-3, while dropping the background term from the reference gives an RMSE of about 0.9.
+TEST(CompareToTest, CpuFogReference) {
+    const nlohmann::json doc = nlohmann::json::parse(R"({
+      "render": {"width": 64, "height": 64, "ambient": 0, "background": [1, 1, 1],
+                 "fog_steps": 256, "fog_jitter": false},
+      "cameras": [{"name": "c", "type": "orthographic", "position": [0, 0, 5],
+                   "target": [0, 0, 0], "ortho_height": 2, "near": 1, "far": 10}],
+      "volumes": [{"procedural": "sphere", "size": 1.0, "voxel_size": 0.02,
+                   "density_scale": 1.5}]
+    })");
+    const fs::path scene = dir() / "ball.json", out = dir() / "ball.exr",
+                   report = dir() / "ball.json.report.json";
+    std::ofstream(scene) << doc.dump();
+    CommandResult r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(out) +
+                                 " --compare-to cpu --report " + q(report));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("vs cpu: RMSE"), std::string::npos) << r.output;
+    const nlohmann::json j = readJson(report);
+    EXPECT_LT(j["compare"]["rmse"].get<double>(), 3e-3) << r.output;
+    EXPECT_EQ(j["compare"]["against"], "cpu");
+
+    // No volumes: refused before rendering.
+    std::ofstream(dir() / "plane.json") << kPlane;
+    r = runCommand(veilExe() + " render " + q(dir() / "plane.json") + " -o " +
+                   q(dir() / "plane-cpu.exr") + " --compare-to cpu");
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("has no volumes"), std::string::npos) << r.output;
+}
+
+} // namespace veil::test
