@@ -2,11 +2,15 @@
 
 #include "base/error.h"
 #include "shadows/opaque/opaque.h"
+#include "shadows/stochastic/stochastic.h"
 
 namespace veil::shadows {
 
 namespace {
-void registerBuiltinTechniques(Registry& registry) { registerOpaque(registry); }
+void registerBuiltinTechniques(Registry& registry) {
+    registerOpaque(registry);
+    registerStochastic(registry);
+}
 } // namespace
 
 PropertySchema commonProperties(int defaultSize) {
