@@ -5,7 +5,7 @@
 #include "../../common/bindings.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = VEIL_TEX_SHADOW1) uniform sampler2DMSArray stochasticMap;
+layout(binding = VEIL_TEX_SHADOW3) uniform sampler2DMSArray stochasticMap;
 layout(binding = VEIL_IMG_OUTPUT, rg32f) uniform writeonly image2DArray moments;
 
 uniform int samples;

@@ -10,7 +10,9 @@
 // bias in map units) absorbs the receiver's own depth and its slope within a texel.
 //
 // params[0]: opaque map (bias, PCF radius). params[1]: x = light-bleeding amount, y = layers
-// per view L (3: one map per channel, layer v L + c; 1: grey).
+// per view L (3: one map per channel, layer v L + c; 1: grey), z = 1 when fog samples read the
+// VSM too (property fog_reads_vsm; off by default: on llvmpipe the fog marcher's fetches of
+// this array return zeros in most invocations, seen 2026-12-01, so fog gets the opaque map).
 #include "../common/opaque_depth.glsl"
 
 layout(binding = VEIL_TEX_SHADOW1) uniform sampler2DArray vsmMap;
@@ -23,6 +25,24 @@ float vsmChebyshev(vec2 m, float z, float minVariance, float bleeding) {
     return clamp((p - bleeding) / (1.0 - bleeding), 0.0, 1.0); // linstep(bleeding, 1, p)
 }
 
+// Bilinear tap by four texelFetch (the same weights as GL_LINEAR).
+vec2 vsmMoments(int layer, vec2 uv) {
+    ivec2 size = ivec2(shadows.mapSize.x);
+    vec2 t = uv * shadows.mapSize.x - 0.5;
+    ivec2 i0 = ivec2(floor(t));
+    vec2 f = t - vec2(i0);
+    ivec2 a = clamp(i0, ivec2(0), size - 1), b = clamp(i0 + 1, ivec2(0), size - 1);
+    vec2 m00 = texelFetch(vsmMap, ivec3(a.x, a.y, layer), 0).rg;
+    vec2 m10 = texelFetch(vsmMap, ivec3(b.x, a.y, layer), 0).rg;
+    vec2 m01 = texelFetch(vsmMap, ivec3(a.x, b.y, layer), 0).rg;
+    vec2 m11 = texelFetch(vsmMap, ivec3(b.x, b.y, layer), 0).rg;
+    return mix(mix(m00, m10, f.x), mix(m01, m11, f.x), f.y);
+}
+
+float vsmChannel(int layer, vec2 uv, float z, float minVariance) {
+    return vsmChebyshev(vsmMoments(layer, uv), z, minVariance, shadows.params[1].x);
+}
+
 vec3 vsmVisibility(int i, vec3 P) {
     int v;
     vec2 uv;
@@ -30,11 +50,10 @@ vec3 vsmVisibility(int i, vec3 P) {
     if (!shadowLocate(i, P, v, uv, z)) return vec3(1.0);
     int L = int(shadows.params[1].y);
     float sigma = shadows.params[0].x / shadowViewDepthScale(v);
-    vec3 vis;
-    for (int c = 0; c < L; ++c)
-        vis[c] = vsmChebyshev(texture(vsmMap, vec3(uv, float(v * L + c))).rg, z, sigma * sigma,
-                              shadows.params[1].x);
-    return L == 1 ? vec3(vis.x) : vis;
+    float m = sigma * sigma;
+    if (L == 1) return vec3(vsmChannel(v, uv, z, m));
+    return vec3(vsmChannel(3 * v, uv, z, m), vsmChannel(3 * v + 1, uv, z, m),
+                vsmChannel(3 * v + 2, uv, z, m));
 }
 
 void lightAttenuate(int i, vec3 P, vec3 N, vec3 L, inout vec3 radiance) {
@@ -42,7 +61,9 @@ void lightAttenuate(int i, vec3 P, vec3 N, vec3 L, inout vec3 radiance) {
 }
 
 void lightAttenuateInMedium(int i, vec3 P, inout vec3 radiance) {
-    if (shadowLightHasMap(i)) radiance *= opaqueVisibilityFast(i, P) * vsmVisibility(i, P);
+    if (!shadowLightHasMap(i)) return;
+    radiance *= opaqueVisibilityFast(i, P);
+    if (shadows.params[1].z > 0.5) radiance *= vsmVisibility(i, P);
 }
 
 vec3 lightVisibility(int i, vec3 P, vec3 N, vec3 L) {

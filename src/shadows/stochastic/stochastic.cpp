@@ -50,6 +50,7 @@ public:
             caustics_ = p.getBool("caustics");
             blurRadius_ = p.getInt("blur_radius");
             lightBleeding_ = p.getFloat("light_bleeding");
+            fogReadsVsm_ = p.getBool("fog_reads_vsm");
             opaqueProgram_ =
                 programs.add(ProgramDesc::graphics("frame/mesh.vert", "shadows/common/depth.frag"));
             momentsProgram_ = programs.add(ProgramDesc::compute("shadows/stochastic/moments.comp"));
@@ -197,7 +198,7 @@ private:
         const gpu::Program& program = programs_.get(momentsProgram_);
         program.use();
         program.set("samples", samples_).set("firstLayer", view.layer * channels_);
-        msDepth_.bind(VEIL_TEX_SHADOW1);
+        msDepth_.bind(VEIL_TEX_SHADOW3);
         glBindImageTexture(VEIL_IMG_OUTPUT, moments_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RG32F);
         glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
         dispatch(channels_);
@@ -240,6 +241,7 @@ private:
     bool caustics_ = false;
     int blurRadius_ = 0;
     float lightBleeding_ = 0.0f;
+    bool fogReadsVsm_ = false;
     gpu::ProgramHandle casterProgram_, opaqueProgram_, momentsProgram_, blurProgram_;
     gpu::Texture msDepth_{gpu::NoCreate};
     gpu::Texture moments_{gpu::NoCreate}, blurTmp_{gpu::NoCreate}, vsm_{gpu::NoCreate};
@@ -279,7 +281,12 @@ void add(Registry& registry, const char* id, Mode mode, const char* description)
                      "000 sec. 4.3")
             .real("light_bleeding", 0.0, 0.0, 0.99,
                   "light-bleeding reduction: visibility = linstep(amount, 1, Chebyshev bound)",
-                  "000 sec. 4.3 (VSM, Donnelly and Lauritzen 2006)");
+                  "000 sec. 4.3 (VSM, Donnelly and Lauritzen 2006)")
+            .boolean("fog_reads_vsm", false,
+                     "fog samples (the compute marcher) also read the VSM; off: they get the "
+                     "opaque map only, because on llvmpipe (Mesa 23, LLVM 15) the marcher's "
+                     "fetches of the RG32F array return zeros in most invocations, which "
+                     "blacks out lit fog in vertical streaks (docs/shadows.md)");
     }
     registry.add({id, description, [](const gpu::ContextInfo& c) { return c.maxSamples >= 1; },
                   [mode](gpu::ProgramManager& programs, const Properties& p) {
