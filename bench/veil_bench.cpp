@@ -104,6 +104,8 @@ int main(int argc, char** argv) try {
     out["frames"] = frames;
     out["warmup"] = warmup;
     out["oit"] = renderer.oitName();
+    out["shadows"] = renderer.shadowTechnique().name();
+    out["shadow_properties"] = renderer.shadowTechnique().properties().values();
     out["renderer"] = context.info().renderer;
     out["gl_version"] = context.info().version;
     out["timer"] = renderer.timerMode() == veil::gpu::GpuTimer::Mode::Query ? "GL_TIME_ELAPSED"

@@ -53,9 +53,9 @@ def main():
             objects.append({"shape": {"type": "plane", "size": [size, size * 1.6]},
                             "material": mat, "transform": {"translate": pos, "rotate": rot}})
     scene = {
-        "render": {"width": 320, "height": 180, "camera": "main", "oit": "reference",
+        "render": {"shadows": {"size": 1024}, "width": 320, "height": 180, "camera": "main", "oit": "reference",
                    "ambient": [0.12, 0.13, 0.15], "background": [0.35, 0.5, 0.7],
-                   "exposure": 1.0, "tonemap": "aces", "shadow_map_size": 1024},
+                   "exposure": 1.0, "tonemap": "aces"},
         "cameras": [{"name": "main", "type": "perspective", "position": [0.0, 1.4, 4.5],
                      "target": [0.0, 1.0, -0.3], "fov_y": 45, "near": 0.1, "far": 40}],
         "lights": [{"name": "sun", "type": "directional", "direction": [-0.3, -1.0, -0.4],

@@ -15,6 +15,9 @@
 // A shadow-casting light has one view (directional, spot) or six (point: cube faces); the
 // views of all shadowed lights are the layers of the technique's texture arrays.
 #define VEIL_MAX_SHADOW_VIEWS 24
+// Shadow `reference`: per-texel fragment lists read by receivers (node pool, counter).
+#define VEIL_SSBO_SHADOW_NODES 5
+#define VEIL_SSBO_SHADOW_COUNTER 6
 #define VEIL_TEX_HDR 1
 #define VEIL_TEX_DEPTH 2
 #define VEIL_TEX_OIT0 4

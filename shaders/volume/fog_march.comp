@@ -39,16 +39,6 @@ float hash(uvec3 v) {
     return float(v.x & 0xFFFFFFu) / 16777216.0;
 }
 
-// Ray parameter interval [t0, t1] of the box [lo, hi] (index space of volume i).
-vec2 boxInterval(int i, vec3 ro, vec3 rd) {
-    vec3 o = (volumes[i].worldToIndex * vec4(ro, 1.0)).xyz;
-    vec3 d = mat3(volumes[i].worldToIndex) * rd;
-    vec3 inv = 1.0 / d;
-    vec3 a = (volumes[i].indexMin - o) * inv, b = (volumes[i].indexMax - o) * inv;
-    vec3 lo = min(a, b), hi = max(a, b);
-    return vec2(max(max(lo.x, lo.y), lo.z), min(min(hi.x, hi.y), hi.z));
-}
-
 // Distance along the ray to leave the 8^3 leaf containing world point P (index space of i).
 float leafExit(int i, vec3 P, vec3 rd) {
     vec3 p = (volumes[i].worldToIndex * vec4(P, 1.0)).xyz;
@@ -95,7 +85,7 @@ void main() {
         t1 = tEnd;
     }
     for (int i = 0; i < volumeCount; ++i) {
-        vec2 iv = boxInterval(i, ro, rd);
+        vec2 iv = volumeBoxInterval(i, ro, rd);
         if (iv.x < iv.y) {
             t0 = min(t0, iv.x);
             t1 = max(t1, iv.y);

@@ -12,16 +12,6 @@ uniform vec4 lightPositionType; // xyz position (or travel direction for directi
 uniform int steps;
 uniform float maxDistance; // world distance that covers all volumes
 
-float densityAt(vec3 w) {
-    float sigma = 0.0;
-    for (int i = 0; i < volumeCount; ++i) {
-        bool empty;
-        vec3 p = (volumes[i].worldToIndex * vec4(w, 1.0)).xyz;
-        sigma += volumes[i].densityScale * sampleVolumeIndex(i, p, empty);
-    }
-    return sigma;
-}
-
 void main() {
     ivec3 size = imageSize(lightTransmittance);
     ivec3 c = ivec3(gl_GlobalInvocationID);
@@ -39,6 +29,6 @@ void main() {
     }
     float dt = distance / float(steps);
     float tau = 0.0;
-    for (int s = 0; s < steps; ++s) tau += densityAt(P + L * ((float(s) + 0.5) * dt)) * dt;
+    for (int s = 0; s < steps; ++s) tau += volumeExtinction(P + L * ((float(s) + 0.5) * dt)) * dt;
     imageStore(lightTransmittance, c, vec4(exp(-tau)));
 }

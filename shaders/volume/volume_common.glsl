@@ -55,3 +55,25 @@ float henyeyGreenstein(float cosTheta, float g) {
     float d = 1.0 + g * g - 2.0 * g * cosTheta;
     return (1.0 - g * g) / (4.0 * PI * d * sqrt(d));
 }
+
+// Ray parameter interval [t0, t1] of volume i's index-space box [indexMin, indexMax] along the
+// world ray ro + t rd (empty when t0 >= t1).
+vec2 volumeBoxInterval(int i, vec3 ro, vec3 rd) {
+    vec3 o = (volumes[i].worldToIndex * vec4(ro, 1.0)).xyz;
+    vec3 d = mat3(volumes[i].worldToIndex) * rd;
+    vec3 inv = 1.0 / d;
+    vec3 a = (volumes[i].indexMin - o) * inv, b = (volumes[i].indexMax - o) * inv;
+    vec3 lo = min(a, b), hi = max(a, b);
+    return vec2(max(max(lo.x, lo.y), lo.z), min(min(hi.x, hi.y), hi.z));
+}
+
+// Extinction coefficient at world point w: the sum over the volumes of density_scale x density.
+float volumeExtinction(vec3 w) {
+    float sigma = 0.0;
+    for (int i = 0; i < volumeCount; ++i) {
+        bool empty;
+        vec3 p = (volumes[i].worldToIndex * vec4(w, 1.0)).xyz;
+        sigma += volumes[i].densityScale * sampleVolumeIndex(i, p, empty);
+    }
+    return sigma;
+}

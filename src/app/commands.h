@@ -13,5 +13,7 @@ void addInfoCommand(CLI::App& app);
 void addViewCommand(CLI::App& app);
 void addVoxelizeCommand(CLI::App& app);
 void addTechniquesCommand(CLI::App& app);
+void addCompareCommand(CLI::App& app); // compare_command.cpp
+void addRegressCommand(CLI::App& app); // regress_command.cpp
 
 } // namespace veil::app

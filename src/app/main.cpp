@@ -34,6 +34,8 @@ int main(int argc, char** argv) {
     veil::app::addViewCommand(app);
     veil::app::addVoxelizeCommand(app);
     veil::app::addTechniquesCommand(app);
+    veil::app::addCompareCommand(app);
+    veil::app::addRegressCommand(app);
     // CLI11 would call a misspelt command an unexpected argument, after "a subcommand is
     // required"; the user wants to hear which word was not understood.
     if (argc > 1 && argv[1][0] != '-') {

@@ -13,6 +13,7 @@
 #include "io/image_io.h"
 #include "oit/technique.h"
 #include "scene/scene.h"
+#include "shadows/technique.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -36,6 +37,7 @@ struct ViewArgs {
     std::string scene;
     std::string camera;
     std::string oit;
+    std::string shadows;
     std::string screenshot;
     int width = 0, height = 0;
     int frames = 0; // 0 = interactive
@@ -107,6 +109,17 @@ void runView(const ViewArgs& args) {
             .values();
     };
     nlohmann::json oitValues = valuesFor(oitName);
+    // The same for the shadow technique.
+    std::string shadowName = args.shadows.empty() ? scene.render.shadows : args.shadows;
+    const auto& shadowRegistry = shadows::Registry::instance();
+    auto shadowValuesFor = [&](const std::string& name) {
+        const bool own = name == scene.render.shadows;
+        return shadowRegistry
+            .resolve(name, own ? scene.render.shadowProperties : nullptr,
+                     own ? scene.render.shadowsWhere : "--shadows")
+            .values();
+    };
+    nlohmann::json shadowValues = shadowValuesFor(shadowName);
 
     std::unique_ptr<frame::Renderer> renderer;
     int rw = 0, rh = 0;
@@ -114,11 +127,15 @@ void runView(const ViewArgs& args) {
         window.framebufferSize(rw, rh);
         if (args.frames > 0) rw = width, rh = height; // scripted: exactly the asked size
         renderer = std::make_unique<frame::Renderer>(
-            scene, window.info(), frame::RendererOptions{rw, rh, camera.name, oitName, oitValues});
+            scene, window.info(),
+            frame::RendererOptions{rw, rh, camera.name, oitName, oitValues, shadowName,
+                                   shadowValues});
     };
     rebuild();
     std::string goodName = oitName;
     nlohmann::json goodValues = oitValues;
+    std::string goodShadowName = shadowName;
+    nlohmann::json goodShadowValues = shadowValues;
     gpu::Framebuffer blitSource;
     auto attachBlit = [&] { blitSource.attach(GL_COLOR_ATTACHMENT0, renderer->ldrTexture()); };
     attachBlit();
@@ -126,6 +143,7 @@ void runView(const ViewArgs& args) {
     std::unique_ptr<ImGuiSession> gui;
     if (args.frames == 0) gui = std::make_unique<ImGuiSession>(window.window());
     const std::vector<std::string> techniques = registry.names();
+    const std::vector<std::string> shadowTechniques = shadowRegistry.names();
     int frame = 0;
     std::string status;
     while (!window.shouldClose()) {
@@ -167,6 +185,21 @@ void runView(const ViewArgs& args) {
                 info && !info->properties.empty() &&
                 ImGui::TreeNodeEx("technique properties", ImGuiTreeNodeFlags_DefaultOpen)) {
                 changed = propertyWidgets(info->properties, oitValues) || changed;
+                ImGui::TreePop();
+            }
+            if (ImGui::BeginCombo("shadows", shadowName.c_str())) {
+                for (const auto& t : shadowTechniques)
+                    if (ImGui::Selectable(t.c_str(), t == shadowName) && t != shadowName) {
+                        shadowName = t;
+                        shadowValues = shadowValuesFor(t);
+                        changed = true;
+                    }
+                ImGui::EndCombo();
+            }
+            if (const shadows::TechniqueInfo* info = shadowRegistry.find(shadowName);
+                info && !info->properties.empty() &&
+                ImGui::TreeNodeEx("shadow properties", ImGuiTreeNodeFlags_DefaultOpen)) {
+                changed = propertyWidgets(info->properties, shadowValues) || changed;
                 ImGui::TreePop();
             }
             if (ImGui::CollapsingHeader("frame passes")) {
@@ -211,11 +244,15 @@ void runView(const ViewArgs& args) {
                 attachBlit();
                 goodName = oitName;
                 goodValues = oitValues;
+                goodShadowName = shadowName;
+                goodShadowValues = shadowValues;
             } catch (const Error& e) {
                 // Keep rendering (and showing) what last worked.
                 status = e.what();
                 oitName = goodName;
                 oitValues = goodValues;
+                shadowName = goodShadowName;
+                shadowValues = goodShadowValues;
             }
         }
         orbit.apply(camera);
@@ -253,6 +290,7 @@ void addViewCommand(CLI::App& app) {
         ->check(CLI::Range(1, 16384));
     cmd->add_option("--camera", args->camera, "Camera name");
     cmd->add_option("--oit", args->oit, "Transparency technique");
+    cmd->add_option("--shadows", args->shadows, "Shadow technique");
     cmd->add_option("--set", args->overrides, "Override a scene value: key=value");
     cmd->add_option("--frames", args->frames,
                     "Render this many frames without the GUI, then exit (for tests)");

@@ -77,6 +77,9 @@ class Reader {
 public:
     explicit Reader(const std::filesystem::path& path) : in_(path, std::ios::binary) {}
     bool ok() const { return bool(in_); }
+    // Bytes consumed so far (get, read and line).
+    std::uint64_t offset() const { return base_ + pos_; }
+    bool atEnd() { return !fill(); }
 
     int get() {
         if (!fill()) return -1;
@@ -93,24 +96,12 @@ public:
         }
         return true;
     }
-    // Next whitespace-separated token (at most 64 characters); false at the end of the file.
-    bool token(std::string& out) {
-        out.clear();
-        int c = get();
-        while (c == ' ' || c == '\t' || c == '\n' || c == '\r')
-            c = get();
-        while (c >= 0 && c != ' ' && c != '\t' && c != '\n' && c != '\r' && out.size() < 64) {
-            out.push_back(char(c));
-            c = get();
-        }
-        return !out.empty();
-    }
     // One header line without its line ending; false at the end of the file.
-    bool line(std::string& out) {
+    bool line(std::string& out, std::size_t limit = 4096) {
         out.clear();
         int c = get();
         if (c < 0) return false;
-        while (c >= 0 && c != '\n' && out.size() < 4096) {
+        while (c >= 0 && c != '\n' && out.size() < limit) {
             out.push_back(char(c));
             c = get();
         }
@@ -122,6 +113,7 @@ private:
     bool fill() {
         if (pos_ < end_) return true;
         if (!in_) return false;
+        base_ += end_;
         in_.read(buffer_.data(), std::streamsize(buffer_.size()));
         end_ = static_cast<std::size_t>(in_.gcount());
         pos_ = 0;
@@ -131,6 +123,7 @@ private:
     std::ifstream in_;
     std::vector<char> buffer_ = std::vector<char>(std::size_t(1) << 20);
     std::size_t pos_ = 0, end_ = 0;
+    std::uint64_t base_ = 0;
 };
 
 std::vector<std::string> words(const std::string& line) {
@@ -150,13 +143,42 @@ std::vector<std::string> words(const std::string& line) {
 
 class BodyChecker {
 public:
-    BodyChecker(Reader& reader, Format format, std::string file)
-        : reader_(reader), format_(format), file_(std::move(file)) {}
+    BodyChecker(Reader& reader, Format format, std::string file, std::uint64_t headerLines)
+        : reader_(reader), format_(format), file_(std::move(file)), lineNumber_(headerLines) {}
+
+    // ASCII: the next non-empty line holds instance `index` of `e`; false at the end of the
+    // file. assimp reads one instance per line, so the pre-check does too: a line with values
+    // left over or missing is what assimp would read differently from the header (a face
+    // list then ran into the next line's values and TriangulateProcess aborted).
+    bool beginInstance() {
+        if (format_ != Format::Ascii) return true;
+        std::string text;
+        do {
+            if (!reader_.line(text, kMaxLine + 1)) return false;
+            ++lineNumber_;
+            VEIL_CHECK(text.size() <= kMaxLine, "mesh file '{}': line {} is over {} characters",
+                       file_, lineNumber_, kMaxLine);
+            tokens_ = words(text);
+        } while (tokens_.empty());
+        next_ = 0;
+        return true;
+    }
+    void endInstance(const Element& e, std::uint64_t index) const {
+        VEIL_CHECK(format_ != Format::Ascii || next_ == tokens_.size(),
+                   "mesh file '{}': line {} ({} {}) has {} values, but the header's properties "
+                   "of '{}' give {}",
+                   file_, lineNumber_, e.name, index, tokens_.size(), e.name, next_);
+    }
 
     // One value of type `t`; false at the end of the file. Throws on a malformed ASCII value.
     bool value(Type t, double& out, const Element& e, std::uint64_t index) {
         if (format_ == Format::Ascii) {
-            if (!reader_.token(token_)) return false;
+            if (next_ == tokens_.size() && reader_.atEnd()) return false; // the file is cut
+            VEIL_CHECK(next_ < tokens_.size(),
+                       "mesh file '{}': line {} ({} {}) has {} values, fewer than the header's "
+                       "properties of '{}' give",
+                       file_, lineNumber_, e.name, index, tokens_.size(), e.name);
+            token_ = tokens_[next_++];
             char* end = nullptr;
             out = std::strtod(token_.c_str(), &end);
             VEIL_CHECK(end != token_.c_str() && *end == '\0' &&
@@ -203,7 +225,8 @@ public:
         // Strips use -1 as the restart marker; faces index vertices only.
         const bool faces = e.name == "face" || e.name == "tristrips";
         const double lowest = e.name == "tristrips" ? -1.0 : 0.0;
-        for (std::uint64_t i = 0; i < e.count; ++i)
+        for (std::uint64_t i = 0; i < e.count; ++i) {
+            if (!beginInstance()) truncated(e, i);
             for (const Property& p : e.properties) {
                 double v = 0.0;
                 if (!p.list) {
@@ -217,6 +240,9 @@ public:
                            e.name, i, n);
                 const bool indices =
                     faces && (p.name == "vertex_indices" || p.name == "vertex_index");
+                // assimp's TriangulateProcess aborts (ai_assert) on a face without indices.
+                VEIL_CHECK(!indices || n > 0 || e.name != "face",
+                           "mesh file '{}': face {} has no vertex indices", file_, i);
                 for (double k = 0; k < n; ++k) {
                     if (!value(p.type, v, e, i)) truncated(e, i);
                     VEIL_CHECK(!indices || v == lowest ||
@@ -226,6 +252,8 @@ public:
                                file_, e.name, i, v, vertexCount);
                 }
             }
+            endInstance(e, i);
+        }
     }
 
 private:
@@ -240,11 +268,57 @@ private:
                                 file_, e.name, i, e.count));
     }
 
+    static constexpr std::size_t kMaxLine = std::size_t(1) << 20;
+
     Reader& reader_;
     Format format_;
     std::string file_;
     std::string token_;
+    std::uint64_t lineNumber_;        // ASCII: the line of the current instance
+    std::vector<std::string> tokens_; // ASCII: its values
+    std::size_t next_ = 0;            // ASCII: the next one to read
 };
+
+// A keyword for an error message: printable, at most 40 characters.
+std::string boundedKeyword(const std::string& word) {
+    std::string out;
+    for (char c : word.substr(0, 40)) {
+        const auto u = static_cast<unsigned char>(c);
+        out.push_back(u < 0x20 || u >= 0x7f ? '?' : c);
+    }
+    return word.size() > 40 ? out + "..." : out;
+}
+
+// A binary body's size where the layout fixes it: every element without list properties
+// takes count x (sum of its property sizes) bytes, and a list takes at least its count's
+// size per instance. Refuses, before the body is walked, a file too short for that minimum
+// (a huge element count in a small file), with the sizes in the message.
+void checkBinarySize(const std::filesystem::path& path, const std::string& file,
+                     const std::vector<Element>& elements, std::uint64_t headerBytes) {
+    std::error_code ec;
+    const std::uint64_t fileSize = std::filesystem::file_size(path, ec);
+    if (ec) return; // the walk reports what cannot be read
+    const std::uint64_t body = fileSize >= headerBytes ? fileSize - headerBytes : 0;
+    // Fits in a long double without overflow for any 64-bit count.
+    long double minimum = 0.0L;
+    bool fixed = true;
+    for (const Element& e : elements) {
+        std::uint64_t perInstance = 0;
+        for (const Property& p : e.properties) {
+            perInstance += sizeOf(p.list ? p.countType : p.type);
+            fixed = fixed && !p.list;
+        }
+        minimum += static_cast<long double>(e.count) * static_cast<long double>(perInstance);
+    }
+    VEIL_CHECK(minimum <= static_cast<long double>(body),
+               "mesh file '{}' is truncated: its PLY header describes a binary body of {}{:.0f} "
+               "bytes, but the file has {} bytes after the header",
+               file, fixed ? "" : "at least ", double(minimum), body);
+    VEIL_CHECK(!fixed || minimum == static_cast<long double>(body),
+               "mesh file '{}': its PLY header describes a binary body of {:.0f} bytes, but the "
+               "file has {} bytes after the header (the header does not describe the body)",
+               file, double(minimum), body);
+}
 
 } // namespace
 
@@ -260,7 +334,9 @@ void checkPlyFile(const std::filesystem::path& path) {
     bool haveFormat = false, ended = false;
     Format format = Format::Ascii;
     std::vector<Element> elements;
+    std::uint64_t lineNumber = 1;
     while (reader.line(line)) {
+        ++lineNumber;
         const std::vector<std::string> w = words(line);
         if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
         if (w[0] == "end_header") {
@@ -297,17 +373,39 @@ void checkPlyFile(const std::filesystem::path& path) {
             }
             VEIL_CHECK(ok, "mesh file '{}': malformed PLY property line '{}'", file, line);
             elements.back().properties.push_back(p);
+        } else {
+            // assimp skips a line it does not know, so a misspelt `property` silently drops a
+            // property and shifts every later value: a binary file is then read at the wrong
+            // offsets and TriangulateProcess aborts on what it finds
+            // (tests/fuzz/regressions/mesh/ply-misspelt-property-triangulate-abort). The
+            // format has no vendor keywords besides comment and obj_info, so anything else
+            // is an error.
+            throw Error(fmt::format("mesh file '{}': line {} of the PLY header has the unknown "
+                                    "keyword '{}' (expected element, property, comment, "
+                                    "obj_info, format or end_header)",
+                                    file, lineNumber, boundedKeyword(w[0])));
         }
-        // Other header lines (vendor keywords) do not change the body's layout: ignored.
     }
     VEIL_CHECK(haveFormat && ended, "mesh file '{}': PLY header without {}", file,
                haveFormat ? "'end_header'" : "a 'format' line");
     std::uint64_t vertices = 0;
     for (const Element& e : elements)
         if (e.name == "vertex") vertices = e.count;
-    BodyChecker body(reader, format, file);
+    if (format != Format::Ascii) checkBinarySize(path, file, elements, reader.offset());
+    BodyChecker body(reader, format, file, lineNumber);
     for (const Element& e : elements)
         body.element(e, vertices);
+    // A binary body must end where its layout says: extra bytes mean that the header does
+    // not describe the body (a property missing or of the wrong type shifts everything).
+    if (format != Format::Ascii) {
+        std::uint64_t extra = 0;
+        while (reader.get() >= 0)
+            ++extra;
+        VEIL_CHECK(extra == 0,
+                   "mesh file '{}': {} bytes follow the last element of the binary PLY body (the "
+                   "header does not describe the body)",
+                   file, extra);
+    }
 }
 
 } // namespace veil::scene

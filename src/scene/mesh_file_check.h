@@ -10,9 +10,12 @@
 namespace veil::scene {
 
 // Walks a PLY file's body as its header describes it (ASCII, binary little or big endian):
-// every element instance must be complete and every face's vertex index in
-// [0, vertex count). Throws veil::Error naming the file, the element and the problem.
-// Costs one sequential read of the file.
+// every header line must start with a PLY keyword (assimp skips unknown lines, so a misspelt
+// `property` shifted the body and made it abort), a binary body must have exactly the size its
+// layout gives (checked against the file size before the walk where no list property makes it
+// variable), every element instance must be complete and every face's vertex index in
+// [0, vertex count). Throws veil::Error naming the file, the element or header line and the
+// problem. Costs one sequential read of the file.
 void checkPlyFile(const std::filesystem::path& path);
 
 } // namespace veil::scene

@@ -1,7 +1,9 @@
 #include "shadows/technique.h"
 
 #include "base/error.h"
+#include "shadows/moment/moment.h"
 #include "shadows/opaque/opaque.h"
+#include "shadows/reference/reference.h"
 #include "shadows/stochastic/stochastic.h"
 
 namespace veil::shadows {
@@ -9,6 +11,8 @@ namespace veil::shadows {
 namespace {
 void registerBuiltinTechniques(Registry& registry) {
     registerOpaque(registry);
+    registerMoment(registry);
+    registerReference(registry);
     registerStochastic(registry);
 }
 } // namespace

@@ -5,22 +5,27 @@
 // or dereferences garbage inside its reader, which no try/catch can contain. Of 450 damaged
 // copies of torus01/sphere/grids.vdb (single bit flips and 64-byte random overwrites), 6 killed
 // an eager in-process read (SIGSEGV, glibc "corrupted top size" / "double free" aborts); with
-// delayed loading 5 of 24 byte flips of torus01.vdb did. So the file is first read in a forked
-// child process (trial read) that decodes everything and walks every value; a crash, a kill or
-// a timeout there becomes an error here. Only then does this process read the file itself.
-// Reading is deterministic, so a file the child read completely is read the same way here.
-// Validating the tree after an in-process read would come too late: the crash happens while
-// reading. Measured on smoke.vdb (2.5 MB, 1.05 M voxels, 2 cores under load): the trial
-// read takes 25-40 ms (fork, decode, value walk) against 7-12 ms for the read itself.
+// delayed loading 5 of 24 byte flips of torus01.vdb did. So the file is read in a forked child
+// process (trial read) that decodes everything; a crash, a kill or a timeout there becomes an
+// error here. Validating the tree after an in-process read would come too late: the crash
+// happens while reading. Not every corruption crashes, though: a blosc block claiming more
+// bytes than its buffer overflowed the heap silently. So this process never parses the file's
+// bytes with OpenVDB: the child sends the grids it read back re-encoded by io::Stream (plain
+// values, no decompressor) and only that is decoded here (vdb_file.cpp says why).
+// Before the child, the header's string lengths, counts and grid offsets are checked against
+// the file size, so a corrupt length is refused at once instead of allocating gigabytes; the
+// child checks each grid's descriptor and header again where it reads them, and that each
+// grid ends where its descriptor says.
 //
-// Both reads are eager (no delayed loading), so OpenVDB's "Expected to decompress N bytes"
-// cannot surface later without a file name, and go through io::Stream, which reports a file
+// The child's read is eager (no delayed loading), so OpenVDB's "Expected to decompress N bytes"
+// cannot surface later without a file name, and goes through io::Stream, which reports a file
 // that ends early (io::File's eager path silently reads zeros there).
 #pragma once
 
 #include <openvdb/openvdb.h>
 
 #include <filesystem>
+#include <functional>
 #include <string>
 
 namespace veil::volume {
@@ -29,6 +34,10 @@ namespace veil::volume {
 // not a regular file, or a truncated or corrupt file (naming the file and, where the header
 // could be read, its grids; OpenVDB's own text is cut to a bounded length).
 openvdb::GridPtrVecPtr readVdbFile(const std::filesystem::path& path);
+
+// Called in this process after the child's reply arrived and before it is decoded (tests:
+// replacing the file there shows that this process does not read it again). Empty: none.
+void setAfterTrialReadHookForTesting(std::function<void()> hook);
 
 // `text` on one line (control bytes replaced) and at most `limit` characters.
 std::string boundedText(const std::string& text, std::size_t limit = 300);

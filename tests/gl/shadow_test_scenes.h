@@ -55,15 +55,42 @@ inline void addPane(nlohmann::json& doc, const std::string& name, double y, doub
 // and z and `thickness` high, its bottom at height `bottom`, over the origin. The light
 // crosses it along a path sqrt(2) x thickness long: optical depth tau = sigma sqrt(2) thickness.
 inline void addFogSlab(nlohmann::json& doc, double sigma, double thickness, double bottom = 1.0,
-                       double voxelSize = 0.05) {
+                       double voxelSize = 0.05, double albedo = 0.0) {
     doc["volumes"].push_back({{"name", "slab"},
                               {"procedural", "box"},
                               {"size", {2.0, thickness, 2.0}},
                               {"voxel_size", voxelSize},
                               {"density_scale", sigma},
-                              {"albedo", 0.0},
+                              {"albedo", albedo},
                               {"transform", {{"translate", {0, bottom + 0.5 * thickness, 0}}}}});
 }
+
+// Stained glass over fog, seen from the side: a large red-tinted pane (6x6 at height 2.6)
+// covers everything the light reaches below it, and a scattering slab (albedo 0.8, 2 wide, from
+// height 1 to 2) under it is seen by an orthographic camera looking along -z at height 1.5, so
+// the pixel at the image centre sees only in-scattered light that came through the pane (plus
+// the slab's own grey self-shadowing): its colour ratios must be the pane's, T_r / T_g.
+inline nlohmann::json stainedGlassOverFog(const nlohmann::json& shadows) {
+    nlohmann::json doc = base(shadows);
+    doc["cameras"] = nlohmann::json::parse(
+        R"([{"name": "side", "type": "orthographic", "position": [0, 1.5, 10],
+             "target": [0, 1.5, 0], "ortho_height": 4, "near": 1, "far": 30}])");
+    doc["render"]["background"] = 0.0;
+    doc["render"]["ambient"] = 0.0;
+    doc["render"]["fog_jitter"] = false;
+    doc["objects"] = nlohmann::json::array();
+    doc["materials"]["red glass"] = {{"base_color", 0.0},
+                                     {"roughness", 0.5},
+                                     {"alpha", 1.0},
+                                     {"transmission", {0.9, 0.3, 0.15}}};
+    doc["objects"].push_back({{"name", "pane"},
+                              {"shape", {{"type", "plane"}, {"size", {6, 6}}}},
+                              {"material", "red glass"},
+                              {"transform", {{"translate", {0, 2.6, 0}}}}});
+    addFogSlab(doc, 0.5, 1.0, 1.0, 0.05, 0.8);
+    return doc;
+}
+inline constexpr double kShaftT[3] = {0.9, 0.3, 0.15};
 
 // Pixel of world x (or z) on the 128 px floor image, and the world coordinate of its centre.
 inline int px(double x) { return static_cast<int>(std::floor((x + 4.0) / 8.0 * 128.0)); }

@@ -75,7 +75,8 @@ TEST(VoxelizeCliTest, ThirdPartyTeapotToVdbAndVtiReadBack) {
     ASSERT_TRUE(fs::exists(teapot)) << teapot;
     const fs::path sc = dir() / "teapot.json";
     std::ofstream(sc) << R"({"cameras": [{"position": [0, 1, 3], "target": [0, 0, 0]}],
-      "objects": [{"mesh": ")" << teapot.string() << R"("}]})";
+      "objects": [{"mesh": ")"
+                      << teapot.string() << R"("}]})";
     const fs::path vdb = dir() / "teapot.vdb", vti = dir() / "teapot.vti";
     fs::remove(vdb);
     fs::remove(vti);

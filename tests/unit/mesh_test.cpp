@@ -377,6 +377,110 @@ TEST(MeshTest, TruncatedPlyIsAnError) {
     }
 }
 
+// assimp skips unknown header lines, so a misspelt `property` shifts the binary body and
+// TriangulateProcess aborts the process (tests/fuzz/regressions/mesh/ply-misspelt-*); in ASCII
+// it leaked on assimp's error path (regressions/mesh/ply-error-leak). The pre-check refuses
+// the keyword, naming the line.
+TEST(MeshTest, PlyUnknownHeaderKeywordIsRefusedNamingTheLine) {
+    for (bool binary : {false, true}) {
+        std::string bytes = tetraPly(binary, {1, 2, 3});
+        bytes.replace(bytes.find("property float y"), 8, "prnperty");
+        const fs::path p = outputDir() / fmt::format("misspelt_{}.ply", binary ? "bin" : "ascii");
+        writeBytes(p, bytes);
+        const std::string msg = errorOf(p);
+        EXPECT_NE(msg.find(p.filename().string()), std::string::npos) << msg;
+        EXPECT_NE(msg.find("line 5"), std::string::npos) << msg;
+        EXPECT_NE(msg.find("unknown keyword 'prnperty'"), std::string::npos) << msg;
+    }
+    // The leak finding: assimp reported an error and leaked 1380 bytes; now the pre-check
+    // refuses it before assimp runs (its first byte is the fuzz target's extension choice).
+    std::ifstream in(fs::path(VEIL_SOURCE_DIR) / "tests/fuzz/regressions/mesh/ply-error-leak",
+                     std::ios::binary);
+    const std::string leak((std::istreambuf_iterator<char>(in)), {});
+    ASSERT_GT(leak.size(), 1u);
+    const fs::path p = outputDir() / "ply-error-leak.ply";
+    writeBytes(p, leak.substr(1));
+    const std::string msg = errorOf(p);
+    EXPECT_NE(msg.find("line 6 of the PLY header has the unknown keyword 'propertyz'"),
+              std::string::npos)
+        << msg;
+}
+
+// A binary body must have the size its header gives it: bytes left over or missing mean
+// values read at the wrong offsets.
+TEST(MeshTest, BinaryPlyBodyMustMatchItsHeaderSize) {
+    const std::string tetra = tetraPly(true, {1, 2, 3});
+    const fs::path extra = outputDir() / "tetra_extra_bytes.ply";
+    writeBytes(extra, tetra + "junk");
+    std::string msg = errorOf(extra);
+    EXPECT_NE(msg.find("tetra_extra_bytes.ply"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("4 bytes follow the last element"), std::string::npos) << msg;
+
+    // Points only (no list): the size is fixed by the header, checked before the walk.
+    std::string points = "ply\nformat binary_little_endian 1.0\nelement vertex 3\n"
+                         "property float x\nproperty float y\nproperty float z\nend_header\n";
+    points.append(36, '\0');
+    const fs::path shortBody = outputDir() / "points_short.ply";
+    writeBytes(shortBody, points.substr(0, points.size() - 4));
+    msg = errorOf(shortBody);
+    EXPECT_NE(msg.find("points_short.ply"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("binary body of 36 bytes, but the file has 32"), std::string::npos) << msg;
+    const fs::path longBody = outputDir() / "points_long.ply";
+    writeBytes(longBody, points + std::string(8, '\0'));
+    msg = errorOf(longBody);
+    EXPECT_NE(msg.find("binary body of 36 bytes, but the file has 44"), std::string::npos) << msg;
+
+    // A count of billions in a file of bytes is refused at once, not walked.
+    std::string huge = tetra;
+    huge.replace(huge.find("element vertex 4"), 16, "element vertex 4000000000");
+    const fs::path hugePath = outputDir() / "tetra_huge_count.ply";
+    writeBytes(hugePath, huge);
+    msg = errorOf(hugePath);
+    EXPECT_NE(msg.find("tetra_huge_count.ply"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("at least 48000000004 bytes"), std::string::npos) << msg;
+}
+
+// Two ways to give assimp a face without indices, which aborts the process in
+// TriangulateProcess (ai_assert): a list count of 0, and an ASCII vertex count smaller than the
+// vertex lines, which assimp reads one instance per line, so that faces start on vertex lines
+// (the fuzz finding tests/fuzz/regressions/mesh/ply-ascii-vertex-count-short-*).
+TEST(MeshTest, PlyFacesAssimpWouldReadWithoutIndicesAreRefused) {
+    std::string bin = tetraPly(true, {1, 2, 3});
+    bin.resize(bin.size() - 13); // the last face: count 3 and three ints
+    bin.push_back('\0');
+    const fs::path empty = outputDir() / "face_without_indices.ply";
+    writeBytes(empty, bin);
+    std::string msg = errorOf(empty);
+    EXPECT_NE(msg.find("face_without_indices.ply"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("face 3 has no vertex indices"), std::string::npos) << msg;
+
+    std::string ascii = tetraPly(false, {1, 2, 3});
+    ascii.replace(ascii.find("element vertex 4"), 16, "element vertex 2");
+    const fs::path shifted = outputDir() / "vertex_count_short.ply";
+    writeBytes(shifted, ascii);
+    msg = errorOf(shifted);
+    EXPECT_NE(msg.find("vertex_count_short.ply"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("face 0 has no vertex indices"), std::string::npos) << msg; // "0 1 0"
+
+    std::string fewer = tetraPly(false, {1, 2, 3});
+    fewer.replace(fewer.find("\n3 0 2 1\n"), 9, "\n3 0 2\n");
+    const fs::path shorter = outputDir() / "face_line_short.ply";
+    writeBytes(shorter, fewer);
+    msg = errorOf(shorter);
+    EXPECT_NE(msg.find("face_line_short.ply"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("line 14 (face 0) has 3 values, fewer than"), std::string::npos) << msg;
+
+    std::string extra = tetraPly(false, {1, 2, 3});
+    extra.replace(extra.find("\n3 0 2 1\n"), 9, "\n3 0 2 1 7\n");
+    const fs::path longer = outputDir() / "face_line_too_long.ply";
+    writeBytes(longer, extra);
+    msg = errorOf(longer);
+    EXPECT_NE(msg.find("face_line_too_long.ply"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("has 5 values, but the header's properties of 'face' give 4"),
+              std::string::npos)
+        << msg;
+}
+
 TEST(MeshTest, ObjWithNanOrInfiniteVerticesIsRefused) {
     for (const char* bad : {"nan", "inf", "-inf"}) {
         const fs::path p = outputDir() / fmt::format("nonfinite_{}.obj", bad);

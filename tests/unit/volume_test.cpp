@@ -5,9 +5,11 @@
 #include "support/test_support.h"
 #include "volume/cpu_reference.h"
 #include "volume/density_grid.h"
+#include "volume/vdb_file.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <openvdb/io/Stream.h>
 
 #include <chrono>
 #include <cmath>
@@ -124,6 +126,139 @@ TEST(VolumeTest, DamagedVdbFilesLoadOrFailNamingTheFile) {
     }
     std::printf("damaged torus01.vdb copies: %d loaded, %d refused\n", loaded, refused);
     EXPECT_GT(refused, 0);
+}
+
+namespace {
+std::string readBytes(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+void putU32(std::string& bytes, std::size_t at, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i)
+        bytes[at + std::size_t(i)] = char((v >> (8 * i)) & 0xFF);
+}
+} // namespace
+
+// A header length or count beyond the file is refused before OpenVDB allocates for it: a grid
+// type name of 4 GB in a 28 KB file took 14-34 s and gigabytes (the fuzz finding
+// tests/fuzz/regressions/volume/grid-type-length-4g-timeout.vdb).
+TEST(VolumeTest, HeaderLengthsPastTheFileAreRefusedAtOnce) {
+    const std::string small = readBytes(sourceDir() / "tests/fuzz/corpus/volume/veil-small.vdb");
+    ASSERT_GT(small.size(), 0x60u);
+    std::vector<std::pair<std::string, std::string>> cases = {
+        {"grid-type-4g.vdb",
+         readBytes(sourceDir() / "tests/fuzz/regressions/volume/grid-type-length-4g-timeout.vdb")}};
+    std::string c = small;
+    putU32(c, 0x4C, 0xFFFFFFF0u); // the first grid's type name length
+    cases.emplace_back("first-type-4g.vdb", c);
+    c = small;
+    putU32(c, 0x3D, 0x7FFFFFFFu); // the grid count
+    cases.emplace_back("grid-count-2g.vdb", c);
+    c = small;
+    putU32(c, 0x84, 0xFFFFFF00u); // the first grid's first metadata name
+    cases.emplace_back("grid-meta-name-4g.vdb", c);
+    for (const auto& [name, contents] : cases) {
+        const fs::path p = dir() / name;
+        std::ofstream(p, std::ios::binary) << contents;
+        const auto t0 = std::chrono::steady_clock::now();
+        const std::string msg = errorOf([&] { volume::listGrids(p); });
+        const double s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        EXPECT_NE(msg.find(name), std::string::npos) << msg;
+        EXPECT_NE(msg.find("past the end of the file"), std::string::npos) << msg;
+        EXPECT_LT(msg.size(), 1000u) << name;
+        EXPECT_LT(s, 0.5) << name;
+    }
+}
+
+// io::Stream reads each descriptor where the previous grid's data ended: two bytes changed
+// inside grid data (a fuzz finding, tests/fuzz/regressions/volume/grid-data-shifts-next-*)
+// made it read a "type name" of gigabytes from voxel data (58 s, 11 GB). The child's read
+// checks each grid against its descriptor's end offset and each descriptor where it is read.
+TEST(VolumeTest, GridEndingAwayFromItsDescriptorIsRefusedAtOnce) {
+    const fs::path p = dir() / "grid-data-shifts-next-descriptor.vdb";
+    fs::copy_file(sourceDir() /
+                      "tests/fuzz/regressions/volume/grid-data-shifts-next-descriptor.vdb",
+                  p, fs::copy_options::overwrite_existing);
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::string msg = errorOf([&] { volume::listGrids(p); });
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_NE(msg.find("grid-data-shifts-next-descriptor.vdb"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("grid 3 of 5 ('ls') ends at byte 35382, but its descriptor says 35158"),
+              std::string::npos)
+        << msg;
+    EXPECT_LT(s, 1.0);
+}
+
+// This process decodes only the grids the trial-read child re-encoded, never the file's bytes:
+// a blosc block that overflowed the heap silently let the child "succeed" and then overflowed
+// this process's heap on the second read (tests/fuzz/regressions/volume/blosc-heap-overflow.vdb).
+// Replacing the file after the child's read shows which bytes this process decodes.
+TEST(VolumeTest, ProcessDecodesOnlyTheTrialReadsReencoding) {
+    const fs::path p = dir() / "replaced-after-trial-read.vdb";
+    fs::copy_file(third("vdb-torus-fog/torus01.vdb"), p, fs::copy_options::overwrite_existing);
+    int calls = 0;
+    volume::setAfterTrialReadHookForTesting([&] {
+        ++calls;
+        std::ofstream(p, std::ios::binary | std::ios::trunc) << "not a vdb any more";
+    });
+    openvdb::FloatGrid::Ptr g;
+    const std::string msg = errorOf([&] { g = volume::loadDensityGrid(p, "voxel_fog_density"); });
+    volume::setAfterTrialReadHookForTesting({});
+    EXPECT_EQ(calls, 1);
+    ASSERT_EQ(msg, "");
+    ASSERT_TRUE(g);
+    EXPECT_EQ(g->activeVoxelCount(),
+              volume::loadDensityGrid(third("vdb-torus-fog/torus01.vdb"), "voxel_fog_density")
+                  ->activeVoxelCount());
+}
+
+// The re-encoding keeps every grid: names, classes, transforms, half-float values and active
+// states the same as OpenVDB reading the file directly.
+TEST(VolumeTest, ReencodedGridsMatchADirectRead) {
+    openvdb::initialize();
+    // Also a file written by io::Stream: no grid offsets, so the header check stops after the
+    // first grid's metadata.
+    const fs::path streamed = dir() / "stream-written.vdb";
+    {
+        std::ifstream in(third("vdb-three-density-grids/grids.vdb"), std::ios::binary);
+        const openvdb::GridPtrVecPtr grids = openvdb::io::Stream(in, false).getGrids();
+        std::ofstream out(streamed, std::ios::binary);
+        openvdb::io::Stream(out).write(*grids);
+    }
+    for (const fs::path& p : {sourceDir() / "tests/fuzz/corpus/volume/veil-small.vdb",
+                              third("vdb-sphere-fog/sphere.vdb"),
+                              third("vdb-three-density-grids/grids.vdb"), streamed}) {
+        // io::Stream keeps the file's order (io::File sorts by name).
+        std::ifstream in(p, std::ios::binary);
+        const openvdb::GridPtrVecPtr direct = openvdb::io::Stream(in, false).getGrids();
+        const openvdb::GridPtrVecPtr ours = volume::readVdbFile(p);
+        ASSERT_EQ(ours->size(), direct->size()) << p;
+        for (std::size_t i = 0; i < direct->size(); ++i) {
+            const auto& a = *(*direct)[i];
+            const auto& b = *(*ours)[i];
+            SCOPED_TRACE(p.string() + " grid " + a.getName());
+            EXPECT_EQ(b.getName(), a.getName());
+            EXPECT_EQ(b.type(), a.type());
+            EXPECT_EQ(b.getGridClass(), a.getGridClass());
+            EXPECT_EQ(b.saveFloatAsHalf(), a.saveFloatAsHalf());
+            EXPECT_EQ(b.transform(), a.transform());
+            EXPECT_EQ(b.activeVoxelCount(), a.activeVoxelCount());
+            const auto fa = openvdb::gridConstPtrCast<openvdb::FloatGrid>((*direct)[i]);
+            const auto fb = openvdb::gridConstPtrCast<openvdb::FloatGrid>((*ours)[i]);
+            if (!fa) continue;
+            ASSERT_TRUE(fb);
+            EXPECT_EQ(fb->background(), fa->background());
+            auto acc = fb->getConstAccessor();
+            std::size_t differ = 0;
+            for (auto it = fa->cbeginValueOn(); it; ++it) {
+                const float v = acc.getValue(it.getCoord());
+                const bool same = v == *it || (std::isnan(v) && std::isnan(*it)); // "half": a NaN
+                if (!acc.isValueOn(it.getCoord()) || !same) ++differ;
+            }
+            EXPECT_EQ(differ, 0u);
+        }
+    }
 }
 
 TEST(VolumeTest, VectorAndEmptyGridsAreRefused) {

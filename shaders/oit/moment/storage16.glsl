@@ -11,19 +11,7 @@
 #error "16-bit power moments: only 4 moments have a quantization transform here"
 #endif
 
-// MOMENTS-NOTES.md: odd (b1, b3) and even (b2, b4) 2x2 transforms; see cpu::quantizePower4.
-vec4 momentQuantize4(vec4 n) { // n = (b1, b2, b3, b4) / b0
-    const float s3 = 1.7320508075688772;
-    return vec4(1.5 * n.x - 2.0 * n.z + 0.5, 0.5 * s3 * n.x - 2.0 * s3 / 9.0 * n.z + 0.5,
-                4.0 * n.y - 4.0 * n.w, 0.5 * n.y + 0.5 * n.w);
-}
-vec4 momentDequantize4(vec4 q) {
-    const float s3 = 1.7320508075688772;
-    const float detOdd = 1.5 * (-2.0 * s3 / 9.0) + 2.0 * (0.5 * s3);
-    float o0 = q.x - 0.5, o1 = q.y - 0.5;
-    return vec4(((-2.0 * s3 / 9.0) * o0 + 2.0 * o1) / detOdd, (0.5 * q.z + 4.0 * q.w) / 4.0,
-                (-(0.5 * s3) * o0 + 1.5 * o1) / detOdd, (-0.5 * q.z + 4.0 * q.w) / 4.0);
-}
+#include "../../common/moment_quantize.glsl"
 
 // Stored texels -> normalized moments n[0..MOMENT_STORED-1] = b_k / b_0.
 void momentDecode16(vec4 t1, vec4 t2, out float n[8]) {

@@ -1,0 +1,242 @@
+#include "shadows/moment/moment.h"
+
+#include "shadows/common/depth_maps.h"
+#include "shadows/opaque/opaque.h"
+
+#include <fmt/format.h>
+
+namespace veil::shadows {
+
+namespace {
+
+gpu::Texture makeArray(GLenum format, int size, int layers) {
+    gpu::Texture t(GL_TEXTURE_2D_ARRAY);
+    t.storage3D(1, format, size, size, layers)
+        .parameter(GL_TEXTURE_MIN_FILTER, GL_LINEAR)
+        .parameter(GL_TEXTURE_MAG_FILTER, GL_LINEAR)
+        .parameter(GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE)
+        .parameter(GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return t;
+}
+
+class MomentTechnique final : public Technique {
+public:
+    MomentTechnique(gpu::ProgramManager& programs, const Properties& p)
+        : programs_(programs), depth_(programs), bias_(p.getFloat("bias")),
+          pcfRadius_(p.getInt("pcf_radius")), momentBias_(p.getFloat("moment_bias")),
+          overestimation_(p.getFloat("overestimation")),
+          quantized_(p.getString("storage") == "quantized16"), blurRadius_(p.getInt("blur_radius")),
+          mediaSteps_(p.getInt("media_steps")), receiverOffset_(p.getFloat("receiver_offset")) {
+        using gpu::ProgramDesc;
+        caster_ =
+            programs.add(ProgramDesc::graphics("frame/mesh.vert", "shadows/moment/caster.frag"));
+        mediaProgram_ = programs.add(ProgramDesc::compute("shadows/moment/media.comp"));
+        blur_ = programs.add(ProgramDesc::compute("shadows/moment/blur.comp"));
+        quantize_ = programs.add(ProgramDesc::compute("shadows/moment/quantize.comp"));
+    }
+
+    std::string name() const override { return "moment"; }
+    std::filesystem::path visibilityInclude() const override {
+        return "shadows/moment/visibility.glsl";
+    }
+
+    void resize(int mapSize, int viewCount) override {
+        depth_.resize(mapSize, viewCount);
+        if (mapSize == size_ && viewCount == layers_) return;
+        size_ = mapSize;
+        layers_ = viewCount;
+        absorbance_ = makeArray(GL_RGBA32F, size_, layers_);
+        moments_ = makeArray(GL_RGBA32F, size_, layers_);
+        media_ = makeArray(GL_RGBA32F, size_, layers_);
+        temp_ = makeArray(GL_RGBA32F, size_, layers_);
+        if (quantized_) {
+            absorbance16_ = makeArray(GL_RGBA16F, size_, layers_);
+            moments16_ = makeArray(GL_RGBA16, size_, layers_);
+            media16_ = makeArray(GL_RGBA16, size_, layers_);
+        }
+        framebuffer_ = gpu::Framebuffer();
+    }
+
+    std::vector<ShadowPass> passes() override {
+        std::vector<ShadowPass> p;
+        p.push_back({"", {}, {"shadow.depth"}, [this](const ShadowFrame& f) { depth_.render(f); }});
+        p.push_back({"transparent", {}, {"shadow.moments"}, [this](const ShadowFrame& f) {
+                         renderCasters(f);
+                     }});
+        p.push_back({"media", {"shadow.moments"}, {"shadow.moments"}, [this](const ShadowFrame& f) {
+                         renderMedia(f);
+                     }});
+        if (blurRadius_ > 0)
+            p.push_back(
+                {"filter", {"shadow.moments"}, {"shadow.moments"}, [this](const ShadowFrame& f) {
+                     filter(f);
+                 }});
+        if (quantized_)
+            p.push_back({"quantize",
+                         {"shadow.moments"},
+                         {"shadow.moments16"},
+                         [this](const ShadowFrame& f) { quantize(f); }});
+        return p;
+    }
+    std::vector<std::string> receiverResources() const override {
+        return {"shadow.depth", quantized_ ? "shadow.moments16" : "shadow.moments"};
+    }
+    void bindForReceivers() const override {
+        depth_.bind();
+        (quantized_ ? absorbance16_ : absorbance_).bind(VEIL_TEX_SHADOW1);
+        (quantized_ ? moments16_ : moments_).bind(VEIL_TEX_SHADOW2);
+        (quantized_ ? media16_ : media_).bind(VEIL_TEX_SHADOW3);
+    }
+    void fillParams(ShadowsBlock& block) const override {
+        block.params[0] = glm::vec4(bias_, static_cast<float>(pcfRadius_), 0.0f, 0.0f);
+        block.params[1] =
+            glm::vec4(momentBias_, overestimation_, quantized_ ? 1.0f : 0.0f, receiverOffset_);
+    }
+    bool attenuatesMedia() const override { return true; }
+    const gpu::Texture* resourceTexture(const std::string& name) const override {
+        if (name == "shadow.depth") return &depth_.texture();
+        if (name == "shadow.moments") return &moments_;
+        if (name == "shadow.moments16" && quantized_) return &moments16_;
+        return nullptr;
+    }
+    std::size_t gpuBytes() const override {
+        const std::size_t texels = std::size_t(size_) * size_ * layers_;
+        return depth_.gpuBytes() + texels * (4 * 16 + (quantized_ ? 3 * 8 : 0));
+    }
+    nlohmann::json stats() const override {
+        return {{"bytes_per_texel_read", quantized_ ? 24 : 48}, {"media_marched", mediaMarched_}};
+    }
+
+private:
+    static void dispatchLayers(int size, int layers) {
+        glDispatchCompute(static_cast<GLuint>((size + 7) / 8), static_cast<GLuint>((size + 7) / 8),
+                          static_cast<GLuint>(layers));
+    }
+
+    void renderCasters(const ShadowFrame& f) {
+        const gpu::Program& program = programs_.get(caster_);
+        gpu::PipelineState s;
+        s.view(size_, size_);
+        s.depthTest = false; // 002 sec. 6: no depth test against the opaque casters
+        s.depthWrite = false;
+        s.blendAll(gpu::BlendState::func(GL_ONE, GL_ONE));
+        const glm::vec4 zero(0.0f);
+        for (const LightView& view : *f.views) {
+            framebuffer_.attachLayer(GL_COLOR_ATTACHMENT0, absorbance_, view.layer)
+                .attachLayer(GL_COLOR_ATTACHMENT1, moments_, view.layer)
+                .attachLayer(GL_COLOR_ATTACHMENT2, media_, view.layer)
+                .drawBuffers({GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2});
+            framebuffer_.bind();
+            f.state->apply(s); // before the clears: they obey the colour masks
+            glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 0, &zero.x);
+            glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 1, &zero.x);
+            glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 2, &zero.x);
+            program.use();
+            setCasterView(program, view);
+            program.set("shadowView", view.layer);
+            f.drawCasters(program, CasterSet::Transparent);
+        }
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
+
+    void renderMedia(const ShadowFrame& f) {
+        mediaMarched_ = static_cast<bool>(f.bindMedia);
+        if (!f.bindMedia) return;
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+        const gpu::Program& program = programs_.get(mediaProgram_);
+        f.bindMedia(program);
+        for (const LightView& view : *f.views)
+            program.set(fmt::format("clipToWorld[{}]", view.layer).c_str(),
+                        glm::inverse(view.viewProjection));
+        program.set("firstLayer", 0).set("steps", mediaSteps_);
+        program.use();
+        glBindImageTexture(1, absorbance_.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32F);
+        glBindImageTexture(2, media_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        dispatchLayers(size_, layers_);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    }
+
+    void filter(const ShadowFrame&) {
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+        const gpu::Program& program = programs_.get(blur_);
+        program.use();
+        program.set("radius", blurRadius_);
+        for (gpu::Texture* t : {&absorbance_, &moments_, &media_}) {
+            // Horizontal into temp, vertical back.
+            for (int pass = 0; pass < 2; ++pass) {
+                const gpu::Texture& source = pass == 0 ? *t : temp_;
+                const gpu::Texture& target = pass == 0 ? temp_ : *t;
+                program.set("direction", pass == 0 ? glm::ivec2(1, 0) : glm::ivec2(0, 1));
+                source.bind(VEIL_TEX_SHADOW1);
+                glBindImageTexture(1, target.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+                dispatchLayers(size_, layers_);
+                glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            }
+        }
+    }
+
+    void quantize(const ShadowFrame&) {
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+        const gpu::Program& program = programs_.get(quantize_);
+        program.use();
+        absorbance_.bind(VEIL_TEX_SHADOW1);
+        moments_.bind(VEIL_TEX_SHADOW2);
+        media_.bind(VEIL_TEX_SHADOW3);
+        glBindImageTexture(1, absorbance16_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+        glBindImageTexture(2, moments16_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16);
+        glBindImageTexture(3, media16_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16);
+        dispatchLayers(size_, layers_);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    }
+
+    gpu::ProgramManager& programs_;
+    DepthMaps depth_;
+    float bias_;
+    int pcfRadius_;
+    float momentBias_, overestimation_;
+    bool quantized_;
+    int blurRadius_, mediaSteps_;
+    float receiverOffset_;
+    gpu::ProgramHandle caster_, mediaProgram_, blur_, quantize_;
+    int size_ = 0, layers_ = 0;
+    // absorbance_: surfaces' b0 per channel, media b0 in alpha; moments_: the surfaces' mean
+    // absorbance moments; media_: the media's moments.
+    gpu::Texture absorbance_{gpu::NoCreate}, moments_{gpu::NoCreate}, media_{gpu::NoCreate};
+    gpu::Texture temp_{gpu::NoCreate};
+    gpu::Texture absorbance16_{gpu::NoCreate}, moments16_{gpu::NoCreate}, media16_{gpu::NoCreate};
+    gpu::Framebuffer framebuffer_{gpu::NoCreate};
+    bool mediaMarched_ = false;
+};
+
+} // namespace
+
+void registerMoment(Registry& registry) {
+    PropertySchema schema = commonProperties();
+    addOpaqueMapProperties(schema);
+    schema
+        .real("moment_bias", 6e-5, 0.0, 0.1,
+              "bias alpha toward the power-4 bias vector (MOMENTS-NOTES.md)", "002 sec. 3.2")
+        .real("overestimation", 0.0, 0.0, 1.0,
+              "overestimation weight beta; 0 for shadows (002 sec. 7.2)", "002 Alg. 2")
+        .choice("storage", "float32", {"float32", "quantized16"},
+                "moment storage the receivers read: float32, or 16-bit quantized after "
+                "filtering (half-float b0, UNORM16 normalized moments)",
+                "002 sec. 4.1, 6")
+        .integer("blur_radius", 4, 0, 32,
+                 "separable Gaussian taps each side (sigma = r/2); 4 = 002's 9x9", "002 sec. 6")
+        .integer("media_steps", 64, 1, 4096,
+                 "steps per texel ray through the volumes' bounds (density absorbance)")
+        .real("receiver_offset", 0.02, 0.0, 1e6,
+              "world distance toward the light at which receivers read the moments (a "
+              "transparent receiver does not shadow itself)");
+    registry.add({"moment",
+                  "absorbance moment shadow maps of transparent casters and density volumes "
+                  "(4 power moments, colour by per-channel b0), opaque casters by PCF",
+                  nullptr,
+                  [](gpu::ProgramManager& programs, const Properties& p) {
+                      return std::make_unique<MomentTechnique>(programs, p);
+                  },
+                  std::move(schema)});
+}
+
+} // namespace veil::shadows
