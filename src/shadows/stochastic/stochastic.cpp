@@ -262,7 +262,7 @@ PropertySchema& addStochasticProperties(PropertySchema& s) {
 }
 
 void add(Registry& registry, const char* id, Mode mode, const char* description) {
-    PropertySchema schema = commonProperties(1024);
+    PropertySchema schema = commonProperties(); // 2048: the opaque map shares the size
     addOpaqueMapProperties(schema);
     addStochasticProperties(schema);
     if (mode == Mode::Stochastic) {
