@@ -5,6 +5,7 @@
 #include "shadows/opaque/opaque.h"
 #include "shadows/reference/reference.h"
 #include "shadows/transmittance_slicemap/transmittance_slicemap.h"
+#include "shadows/stochastic/stochastic.h"
 
 namespace veil::shadows {
 
@@ -14,6 +15,7 @@ void registerBuiltinTechniques(Registry& registry) {
     registerMoment(registry);
     registerReference(registry);
     registerTransmittanceSlicemap(registry);
+    registerStochastic(registry);
 }
 } // namespace
 

@@ -33,7 +33,91 @@ struct TechniqueCase {
 
 std::ostream& operator<<(std::ostream& os, const TechniqueCase& c) { return os << c.name; }
 
+// Tolerances of the stochastic techniques (src/shadows/stochastic), derived from the methods.
+// Per texel the fraction of the S samples left unoccluded estimates the transmittance p with a
+// standard deviation of at most the binomial sqrt(p (1 - p) / S) (stratified R-subsets are
+// negatively associated within a texel, 004 sec. 3.1); texels are hashed independently, so a
+// filter averaging `texels` of them (equal weights: PCF; 1 / sum w^2 effective texels for the
+// VSM's tent) divides the variance by that many. The bound is 4 standard errors of the worst
+// channel relative to its expected value, plus 3e-3 of float and half-float rounding.
+double stochasticNoise(const std::vector<double>& expected, int samples, double texels) {
+    double worst = 0.0;
+    for (double p : expected)
+        worst = std::max(worst,
+                         4.0 * std::sqrt(p * (1.0 - p) / (samples * texels)) / std::max(p, 0.05));
+    return worst + 3e-3;
+}
+
+// The fog shaft's colour ratios c / red for `stochastic`: each fog sample reads one texel, so
+// the pixel averages `texels` independent estimates per channel; the ratio's relative error is
+// at most the sum of the two channels' (4 SE each).
+double shaftNoise(const std::vector<double>& t, int samples, double texels) {
+    double worst = 0.0;
+    for (std::size_t c = 1; c < t.size(); ++c)
+        worst = std::max(worst, stochasticNoise({t[c]}, samples, texels) +
+                                    stochasticNoise({t[0]}, samples, texels));
+    return worst;
+}
+
+// Effective number of texels of the VSM's separable tent blur of radius r (weights r + 1 - |i|):
+// 1 / sum w_i^2 per dimension, squared.
+double tentTexels(int r) {
+    double sum = 0.0, sum2 = 0.0;
+    for (int i = -r; i <= r; ++i) {
+        const double w = r + 1 - std::abs(i);
+        sum += w;
+        sum2 += w * w;
+    }
+    return std::pow(sum * sum / sum2, 2.0);
+}
+
+// Chebyshev's one-sided bound (000 sec. 4.3, Donnelly and Lauritzen 2006) for a receiver at
+// height 0 under planes at `heights` (nearest the light first) of densities `rho`, in double:
+// the samples of a texel take the depth of the first plane that covers them (weight rho_j
+// prod_{i<j} (1 - rho_i)) or the receiver's. The depth along the light is proportional to the
+// height, and the bound is scale-invariant, so heights are depths.
+double chebyshevPlanes(const std::vector<double>& heights, const std::vector<double>& rho) {
+    double through = 1.0, m1 = 0.0, m2 = 0.0;
+    for (std::size_t i = 0; i < heights.size(); ++i) {
+        const double w = through * rho[i];
+        m1 += w * heights[i];
+        m2 += w * heights[i] * heights[i];
+        through *= 1.0 - rho[i];
+    }
+    // receiver depth 0 is "behind" all planes: with depth d = -height, mu = -m1
+    const double variance = m2 - m1 * m1;
+    return m1 <= 0.0 ? 1.0 : variance / (variance + m1 * m1);
+}
+
+// The VSM case's relative tolerance: the deviation of the bound from the exact product per
+// channel (zero for one plane) plus the noise of the blurred texels; `channelRho` holds the
+// planes' densities rho = alpha (1 - t) per channel.
+double vsmTolerance(const std::vector<std::vector<double>>& channelRho,
+                    const std::vector<double>& heights) {
+    double worst = 0.0;
+    std::vector<double> values;
+    for (const std::vector<double>& rho : channelRho) {
+        double exact = 1.0;
+        for (double r : rho)
+            exact *= 1.0 - r;
+        const double bound = chebyshevPlanes(heights, rho);
+        worst = std::max(worst, std::abs(bound - exact) / std::max(exact, 0.05));
+        values.push_back(bound);
+    }
+    // size 1024, blur_radius 10 (of a 2048 map) -> 5 texels; S = 4
+    return worst + stochasticNoise(values, 4, tentTexels(5));
+}
+
 std::vector<TechniqueCase> cases() {
+    // S = 4 everywhere (llvmpipe's limit; 8 where the driver has them would halve the
+    // variance), PCF radius 4 (81 texels) for `stochastic`.
+    const nlohmann::json stochastic = {{"samples", 4}, {"filter_radius", 4}};
+    const double pcfTexels = 81.0;
+    // VSM: no caustics (they change rho by design, tests/gl/shadow_stochastic_test.cpp), no
+    // light-bleeding remap (it changes the bound by design, tested there), a 5-texel tent.
+    const nlohmann::json vsm = {
+        {"samples", 4}, {"caustics", false}, {"light_bleeding", 0.0}, {"blur_radius", 10}};
+    const std::vector<double> layerHeights = {1.24, 1.16, 1.08, 1.0};
     return {
         {"opaque",
          {},
@@ -86,6 +170,25 @@ std::vector<TechniqueCase> cases() {
          "optical depth with 4 midpoint samples per slice, a density edge is off by at most "
          "sigma x slice / 4 = 0.707 x 0.089 / 4 = 0.016 in tau, i.e. 1.6% of T (measured "
          "1.2e-4: the box's trilinear ramp is smooth)"},
+        {"stochastic", stochastic, stochasticNoise({0.8, 0.5, 0.2}, 4, pcfTexels),
+         stochasticNoise({0.48, 0.36, 0.54}, 4, pcfTexels),
+         stochasticNoise({std::pow(0.7, 4)}, 4, pcfTexels), -1,
+         "004 stochastic map, S = 4, PCF over 81 texels: 4 binomial standard errors "
+         "sqrt(p (1 - p) / (S 81)) of the worst channel (unbiased: E[R] = rho S); rasterized "
+         "casters only, so the fog slab (a density grid) casts nothing; the shaft: fog samples "
+         "read one texel (S samples) each, independent over the 128 march steps across the "
+         "slab (about 115 effective under its transmittance): 4 SE of each channel over red, "
+         "summed",
+         shaftNoise({0.9, 0.3, 0.15}, 4, 115.0)},
+        {"stochastic-vsm", vsm, vsmTolerance({{0.2}, {0.5}, {0.8}}, {1.0}),
+         vsmTolerance({{0.2, 0.4}, {0.4, 0.4}, {0.1, 0.4}}, {1.4, 1.0}),
+         vsmTolerance({{0.3, 0.3, 0.3, 0.3}}, layerHeights), -1,
+         "000 stochastic VSM, S = 4, tent radius 5: Chebyshev's bound is exact for one plane "
+         "and deviates from the product for several by what chebyshevPlanes() computes in "
+         "double, plus 4 binomial standard errors over the tent's effective texels; the fog "
+         "slab casts nothing; fog samples read the opaque map only (fog_reads_vsm off: "
+         "llvmpipe), so the shaft keeps the light's colour",
+         -1},
     };
 }
 
