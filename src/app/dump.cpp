@@ -54,8 +54,11 @@ std::string unitsOf(const std::string& resource) {
     if (resource == "depth")
         return "window depth in [0, 1] of the nearest opaque surface (nonlinear; 1 = nothing "
                "drawn); the render EXR's Z is it as view depth";
+    if (resource == "shadow.depth")
+        return "per light view (layer): linear depth along the view axis of the nearest opaque "
+               "caster, normalized to the view's [near, far] (1 = none)";
     if (resource.rfind("shadow.", 0) == 0)
-        return "light-space window depth in [0, 1] of the nearest shadow caster (1 = none)";
+        return "the shadow technique's maps, one layer per light view (docs/shadows.md)";
     if (resource == "fog.radiance")
         return "RGB radiance in-scattered by the fog toward the camera, A = mean fog depth "
                "(view units); at 1/render.fog_resolution of the frame size";
@@ -156,11 +159,51 @@ nlohmann::json dumpFrame(const frame::Renderer& renderer, const fs::path& dir) {
             e["channels"] = exr.channels;
             e["type"] = "float32 OpenEXR";
             e["dumpable"] = true;
+        } else if (t->target() == GL_TEXTURE_2D_ARRAY && f != GL_R32UI && f != GL_RGBA32UI) {
+            // One EXR per layer (a shadow technique's maps: one layer per light view).
+            const int layers = std::max(1, t->depth());
+            std::vector<float> all;
+            int channels = 4;
+            if (isDepth(f) || isSingleChannel(f)) {
+                channels = 1;
+                all = readRed(*t, isDepth(f) ? GL_DEPTH_COMPONENT : GL_RED);
+            } else {
+                all.resize(std::size_t(t->width()) * t->height() * layers * 4);
+                glPixelStorei(GL_PACK_ALIGNMENT, 1);
+                glGetTextureImage(t->id(), 0, GL_RGBA, GL_FLOAT,
+                                  static_cast<GLsizei>(all.size() * sizeof(float)), all.data());
+            }
+            const std::size_t row = std::size_t(t->width()) * channels;
+            const std::size_t layerSize = row * t->height();
+            nlohmann::json files = nlohmann::json::array();
+            for (int k = 0; k < layers; ++k) {
+                io::ExrImage exr;
+                exr.width = t->width();
+                exr.height = t->height();
+                exr.channels = channels == 1 ? std::vector<std::string>{isDepth(f) ? "Z" : "Y"}
+                                             : std::vector<std::string>{"R", "G", "B", "A"};
+                exr.pixels.resize(layerSize);
+                for (int y = 0; y < t->height(); ++y) // row 0 = top
+                    std::copy_n(all.begin() + k * layerSize + (t->height() - 1 - y) * row, row,
+                                exr.pixels.begin() + y * row);
+                exr.strings = {{"veil:resource", name},
+                               {"veil:layer", std::to_string(k)},
+                               {"veil:format", formatName(f)},
+                               {"veil:units", unitsOf(name)}};
+                const std::string file = fmt::format("{}.layer{}.exr", fileStem(name), k);
+                io::writeExr(dir / file, exr);
+                files.push_back(file);
+            }
+            e["layers"] = layers;
+            e["files"] = files;
+            e["type"] = "float32 OpenEXR, one file per layer (light view)";
+            e["dumpable"] = true;
         } else {
             e["dumpable"] = false;
-            e["reason"] = fmt::format("texture target 0x{:04x} (e.g. multisample) cannot be read "
-                                      "back",
-                                      t->target());
+            e["reason"] = fmt::format(
+                "texture target 0x{:04x} (e.g. multisample, integer lists) cannot be read "
+                "back",
+                t->target());
         }
         entries.push_back(e);
     }
