@@ -20,7 +20,10 @@ CompareTarget parseCompareTarget(const std::string& text) {
         t.kind = CompareTarget::Kind::None;
     else if (text == "cpu")
         t.kind = CompareTarget::Kind::Cpu;
-    else if (text.find_first_of("/.") != std::string::npos)
+    else if (text.rfind("shadows:", 0) == 0) {
+        t.kind = CompareTarget::Kind::Shadows;
+        t.shadows = text.substr(8);
+    } else if (text.find_first_of("/.") != std::string::npos)
         t.kind = CompareTarget::Kind::File; // technique ids have neither
     else
         t.kind = CompareTarget::Kind::Technique;

@@ -1,7 +1,8 @@
 // What `veil render --compare-to X` compares the frame with: another OIT technique of the
-// same frame (a technique id), a stored image (a path: anything with '/' or '.', e.g.
-// ref.exr), or `cpu`: the fog's double-precision CPU reference (src/volume/cpu_reference.h)
-// composited over the scene's background, for scenes with volumes.
+// same frame (a technique id), the same frame with another shadow technique (`shadows:ID`,
+// e.g. shadows:reference, at the frame's map size), a stored image (a path: anything with '/' or
+// '.', e.g. ref.exr), or `cpu`: the fog's double-precision CPU reference
+// (src/volume/cpu_reference.h) composited over the scene's background, for scenes with volumes.
 #pragma once
 
 #include "base/image.h"
@@ -12,9 +13,10 @@
 namespace veil::app {
 
 struct CompareTarget {
-    enum class Kind { None, Technique, File, Cpu };
+    enum class Kind { None, Technique, Shadows, File, Cpu };
     Kind kind = Kind::None;
     std::string text;
+    std::string shadows; // Kind::Shadows: the shadow technique id
 };
 
 CompareTarget parseCompareTarget(const std::string& text);

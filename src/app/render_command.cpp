@@ -17,6 +17,7 @@
 #include "io/image_io.h"
 #include "oit/technique.h"
 #include "scene/scene.h"
+#include "shadows/technique.h"
 
 #include <nlohmann/json.hpp>
 
@@ -68,22 +69,29 @@ struct Rendered {
     nlohmann::json oitStats;      // technique-specific counters (reference: fragments, pool)
     nlohmann::json oitProperties; // effective values of the technique's properties
     std::string shadows;
-    nlohmann::json shadowStats, shadowProperties; // the same for the shadow technique
+    nlohmann::json shadowStats, shadowProperties;          // the same for the shadow technique
     nlohmann::json shadowLights = nlohmann::json::array(); // scene light indices with maps
-    nlohmann::json framePasses = nlohmann::json::array(); // the frame's passes and resources
+    nlohmann::json framePasses = nlohmann::json::array();  // the frame's passes and resources
     nlohmann::json volumes = nlohmann::json::array();
     FrameExtras extras;          // Z, AOVs and camera matrices (app/exr_output.h)
     nlohmann::json dumpManifest; // --dump
 };
 
+// `shadows` / `shadowProperties` replace --shadows (the --compare-to shadows:ID frame).
 Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, const RenderArgs& args,
-                    const std::string& oit, bool dump = false) {
+                    const std::string& oit, bool dump = false, const std::string& shadows = {},
+                    const nlohmann::json& shadowProperties = {}) {
     std::optional<frame::Renderer> frameRenderer;
     {
         ProgressTicker ticker("rendering with " + oit, progressWanted(args.progress));
         frameRenderer.emplace(scene, info,
-                              frame::RendererOptions{args.width, args.height, args.camera, oit, {},
-                                                     args.shadows});
+                              frame::RendererOptions{args.width,
+                                                     args.height,
+                                                     args.camera,
+                                                     oit,
+                                                     {},
+                                                     shadows.empty() ? args.shadows : shadows,
+                                                     shadowProperties});
         frameRenderer->render();
         glFinish(); // the ticker measures the frame, not its submission
     }
@@ -208,6 +216,8 @@ void runRender(const RenderArgs& args) {
                          "every technique with reference)");
         if (compareTarget.kind == CompareTarget::Kind::Technique)
             checkKnown(args.compareTo, "--compare-to");
+        if (compareTarget.kind == CompareTarget::Kind::Shadows)
+            shadows::Registry::instance().get(compareTarget.shadows, "--compare-to");
         checkCompareTarget(compareTarget, scene);
     }
     gpu::HeadlessContext context({args.device, args.glDebug});
@@ -236,6 +246,13 @@ void runRender(const RenderArgs& args) {
         const Rendered& f = frames.front();
         if (compareTarget.kind == CompareTarget::Kind::Technique)
             referenceHdr = renderWith(scene, context.info(), args, args.compareTo).hdr;
+        else if (compareTarget.kind == CompareTarget::Kind::Shadows)
+            // The same frame and OIT technique with the other shadow technique at the same
+            // map size (its other properties at their defaults).
+            referenceHdr =
+                renderWith(scene, context.info(), args, oitName, false, compareTarget.shadows,
+                           {{"size", f.shadowProperties.at("size")}})
+                    .hdr;
         else if (compareTarget.kind == CompareTarget::Kind::File)
             referenceHdr = loadReferenceImage(compareTarget, f.width, f.height);
         else if (compareTarget.kind == CompareTarget::Kind::Cpu) {
@@ -383,11 +400,13 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--shadows", args->shadows,
                     "Shadow technique (default: the scene's render.shadows); see `veil "
                     "techniques`");
-    cmd->add_option("--compare-to", args->compareTo,
-                    "Compare the output (linear HDR RGB) with: a technique (e.g. reference, "
-                    "rendered too), an image file (e.g. ref.exr, same size), or cpu (the fog's "
-                    "CPU reference over the background; scenes with volumes). Prints RMSE/PSNR, "
-                    "writes <output stem>-error.png (|error| x 4)");
+    cmd->add_option(
+        "--compare-to", args->compareTo,
+        "Compare the output (linear HDR RGB) with: a technique (e.g. reference, "
+        "rendered too), shadows:ID (the same frame with that shadow technique, e.g. "
+        "shadows:reference), an image file (e.g. ref.exr, same size), or cpu (the fog's "
+        "CPU reference over the background; scenes with volumes). Prints RMSE/PSNR, "
+        "writes <output stem>-error.png (|error| x 4)");
     cmd->add_option("--set", args->overrides,
                     "Override a scene value: key=value, e.g. render.exposure=2 or "
                     "lights.0.intensity=5 (repeatable)");
