@@ -84,14 +84,4 @@ void lightAttenuateInMedium(int i, vec3 P, inout vec3 radiance) {
     if (shadowLightHasMap(i)) radiance *= slmVisibilityInMedium(i, P);
 }
 
-vec3 lightVisibility(int i, vec3 P, vec3 N, vec3 L) {
-    vec3 v = vec3(1.0);
-    lightAttenuate(i, P, N, L, v);
-    return v;
-}
-
-vec3 lightVisibilityInMedium(int i, vec3 P) {
-    vec3 v = vec3(1.0);
-    lightAttenuateInMedium(i, P, v);
-    return v;
-}
+#include "../common/visibility_values.glsl"
