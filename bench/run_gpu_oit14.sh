@@ -10,6 +10,7 @@
 # There:
 #   bash bench/run_gpu_oit14.sh check   image error of the moment storages against `reference`
 #                                       (the fragment-interlock paths run only there)
+#   bash bench/run_gpu_oit14.sh all     both, with fewer variants (one short call)
 #   bash bench/run_gpu_oit14.sh bench   before/after: oit-bench-1m transparent+resolve per
 #                                       technique (ratio to blend), fog.json whole frame per
 #                                       technique, 1920x1080, after ~20 s of GPU warm-up
@@ -26,11 +27,18 @@ run() { # build scene oit tag W H frames warmup [extra...]
     --height $h --frames $frames --warmup $warm "$@" --json "$R/$tag.json" > /dev/null \
     2>> "$R/log.txt" || echo "failed: $build $scene $oit" >> "$R/log.txt"
 }
-if [ "$MODE" = check ]; then
-  for scene in oit-bench-1m default fog; do
-    for t in moment-p4 moment-p6 moment-p8 moment-t3 moment-t4 moment-p4-16 moment-p6-16 \
-             moment-p8-16 moment-t3-16 moment-t4-16 moment-p4-half moment-p6-half \
-             moment-p8-half moment-t3-half moment-t4-half; do
+# "all": the check (fewer variants) then the benchmark (fewer techniques), for one short call.
+CHECK_SETS="moment-p4 moment-p6 moment-p8 moment-t3 moment-t4 moment-p4-16 moment-p6-16 \
+  moment-p8-16 moment-t3-16 moment-t4-16 moment-p4-half moment-p6-half moment-p8-half \
+  moment-t3-half moment-t4-half"
+CHECK_SCENES="oit-bench-1m default fog"
+if [ "$MODE" = all ]; then
+  CHECK_SETS="moment-p6 moment-p8 moment-p6-16 moment-p8-16 moment-p6-half moment-p8-half"
+  CHECK_SCENES="default oit-bench-1m"
+fi
+if [ "$MODE" = check ] || [ "$MODE" = all ]; then
+  for scene in $CHECK_SCENES; do
+    for t in $CHECK_SETS; do
       run after $scene $t "check~$scene~$t" 640 360 2 1 --error-vs reference
     done
   done
@@ -50,7 +58,7 @@ for (scene, t), e in sorted(rows.items()):
     print(f"{scene:14s} {t:16s} {e['rmse']:18.5f} {e['max']:8.3f} {e['non_finite']:10d} {ratio:10.2f}")
 PY
   tail -5 "$R/log.txt" 2>/dev/null
-  exit 0
+  [ "$MODE" = check ] && exit 0
 fi
 # Clocks ramp up during the first seconds of a call: ~20 s of throwaway frames first.
 end=$((SECONDS + 20))
@@ -59,21 +67,29 @@ while [ $SECONDS -lt $end ]; do
     --frames 300 --warmup 0 > /dev/null 2>&1
 done
 AFTER_ONLY="moment-p6-16 moment-p8-16 moment-p4-half moment-p6-half moment-p8-half moment-t3-half"
-for t in blend wboit phenomenological-nodiff phenomenological moment-p4 moment-p6 moment-p8 \
-         moment-t3 moment-p4-16 moment-t3-16 stochastic-depth reference $AFTER_ONLY; do
-  case " $AFTER_ONLY " in *" $t "*) ;; *) run before oit-bench-1m $t "oit~$t~before" 1920 1080 30 8 ;; esac
-  run after oit-bench-1m $t "oit~$t~after" 1920 1080 30 8
+OIT_LIST="blend wboit phenomenological-nodiff phenomenological moment-p4 moment-p6 moment-p8 \
+  moment-t3 moment-p4-16 moment-t3-16 stochastic-depth reference $AFTER_ONLY"
+FOG_LIST="blend wboit phenomenological moment-p6 moment-p6-16 moment-t3 stochastic-depth reference \
+  moment-p6-half"
+OF="30 8"; FF="40 10" # frames, warm-up frames
+if [ "$MODE" = all ]; then
+  OF="20 5"; FF="30 8"
+  OIT_LIST="blend phenomenological-nodiff moment-p6 moment-p6-16 stochastic-depth moment-p6-half"
+  FOG_LIST="blend wboit phenomenological moment-p6 moment-p6-16 stochastic-depth reference moment-p6-half"
+fi
+for t in $OIT_LIST; do
+  case " $AFTER_ONLY " in *" $t "*) ;; *) run before oit-bench-1m $t "oit~$t~before" 1920 1080 $OF ;; esac
+  run after oit-bench-1m $t "oit~$t~after" 1920 1080 $OF
 done
-for t in blend wboit phenomenological moment-p6 moment-p6-16 moment-t3 stochastic-depth reference \
-         moment-p6-half; do
-  [ $t = moment-p6-half ] || run before fog $t "fog~$t~before" 1920 1080 40 10
-  run after fog $t "fog~$t~after" 1920 1080 40 10
+for t in $FOG_LIST; do
+  [ $t = moment-p6-half ] || run before fog $t "fog~$t~before" 1920 1080 $FF
+  run after fog $t "fog~$t~after" 1920 1080 $FF
 done
 # The fog's share of the transparent pass: the same scene without its volumes (difference).
 python3 -c "import json; d = json.load(open('datasets/scenes/fog.json')); d.pop('volumes', None); json.dump(d, open('datasets/scenes/nofog-tmp.json', 'w'))"
 for t in blend moment-p6 moment-p6-16 moment-p6-half; do
-  [ $t = moment-p6-half ] || run before nofog-tmp $t "nofog~$t~before" 1920 1080 40 10
-  run after nofog-tmp $t "nofog~$t~after" 1920 1080 40 10
+  [ $t = moment-p6-half ] || run before nofog-tmp $t "nofog~$t~before" 1920 1080 $FF
+  run after nofog-tmp $t "nofog~$t~after" 1920 1080 $FF
 done
 rm -f datasets/scenes/nofog-tmp.json
 python3 - "$R" <<'PY'

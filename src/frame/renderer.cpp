@@ -8,6 +8,10 @@
 
 #include <cmath>
 
+// The OIT targets of the fog's compute emission (three at most) must fit the 8 image units
+// that GL 4.5 guarantees (NVIDIA has exactly 8).
+static_assert(VEIL_IMG_OIT_TARGET0 + 2 < 8, "OIT per-pixel emission images beyond unit 7");
+
 namespace veil::frame {
 
 namespace {

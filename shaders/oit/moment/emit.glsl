@@ -5,7 +5,7 @@
 // the targets are written as images from compute, OIT_COMPUTE).
 //
 // Pass 0 (002 section 3.1): accumulate absorbance moments (16-bit variants: storage16.glsl).
-//   target 0 RGBA32F / RGBA16F: (b_0, b_0 red, b_0 green, b_0 blue)
+//   target 0 RGBA32F: (b_0, b_0 red, b_0 green, b_0 blue)
 //   target 1 RGBA32F / RGBA16F: moments 1..4 (power b_1..b_4; trig re b_1, im b_1, re b_2,
 //            im b_2)
 //   target 2 RGBA32F / RGBA16F or RG16F where 6 are stored: moments 5..8 (only when

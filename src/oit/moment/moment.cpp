@@ -38,14 +38,17 @@ namespace {
 //   Quantized  b_0 in RGBA16F, normalized moments in 16 bits through the quantization
 //              transforms (MOMENTS-NOTES.md), a read-modify-write under
 //              GL_ARB_fragment_shader_interlock (storage16.glsl)
-//   Half       unnormalized moments and b_0 in RGBA16F / RG16F, additive blending only, so
+//   Half       unnormalized moments in RGBA16F / RG16F and b_0 (with the per-channel b_0) in
+//              RGBA32F (b_0 in half doubled t4's error, tests/gl/oit_moment_test.cpp),
+//              the accumulation of pass 1 in RGBA16F, additive blending only, so
 //              drivers without interlock get half the bandwidth too; rounding errors then
 //              accumulate with the fragment count, which the paper counters with a stronger
 //              bias, "not ... increased by more than one order of magnitude" (002 section 4.1)
 enum class Storage { Float32, Quantized, Half };
 // Half storage: the 16-bit column of MOMENTS-NOTES.md (bias and bias vector) times this
-// factor (002 section 4.1 allows up to 10; chosen by tests/gl/oit_moment_test.cpp,
-// HalfStorageErrorWithinFloat32).
+// factor (002 section 4.1 allows up to 10). Measured in tests/gl/oit_moment_test.cpp
+// (HalfStorageErrorWithinFloat32): 5 made every power set worse (p6 2.06x float32's error on
+// one scene instead of 1.68x), so the 16-bit values are kept.
 constexpr double kHalfBiasFactor = 1.0;
 
 struct Variant {
@@ -258,7 +261,7 @@ private:
         case Storage::Float32:
             return GL_RGBA32F;
         case Storage::Half:
-            return target > 0 && two ? GL_RG16F : GL_RGBA16F;
+            return target == 0 ? GL_RGBA32F : two ? GL_RG16F : GL_RGBA16F;
         case Storage::Quantized:
             if (target == 0) return GL_RGBA16F;
             if (variant_.basis == cpu::MomentBasis::Trigonometric) return GL_RGBA16_SNORM;
