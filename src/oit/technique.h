@@ -4,9 +4,9 @@
 // which surface shaders call per fragment, and the fog once per pixel with what the marcher
 // accumulated: from a compute shader (volume/fog_emit.comp) where the technique writes its
 // targets through OIT_TARGET / OIT_WRITE (perPixelEmit() == Compute), otherwise as a
-// full-screen fragment (volume/fog_emit.frag). `radiance` is premultiplied by coverage alpha; the
-// background behind the contribution is modulated by (1 - alpha + alpha * transmission) (000 Eq.
-// 2).
+// full-screen fragment (volume/fog_emit.frag). `radiance` is premultiplied by coverage
+// alpha; the background behind the contribution is modulated by
+// (1 - alpha + alpha * transmission) (000 Eq. 2).
 #pragma once
 
 #include "base/named_registry.h"
