@@ -7,13 +7,17 @@
 #   rm -rf /tmp/vb/shaders-before && cp -r <main>/shaders /tmp/vb/shaders-before
 #   <workplace shared>/tools/gpu-bundle build/release/bench/veil-bench /tmp/vb/veil-bench-before \
 #       /tmp/vb/shaders-before
+#   (From a worktree: gpu-bundle needs .git to be a folder, and the device copies the
+#   session's main checkout; on 2026-12-01 the bundle, shaders/ and this script were copied
+#   into an ignored folder of the main checkout, carried, and run from there with a
+#   `datasets` link to the checkout's.)
 # There:
 #   bash bench/run_gpu_oit14.sh check   image error of the moment storages against `reference`
 #                                       (the fragment-interlock paths run only there)
 #   bash bench/run_gpu_oit14.sh all     both, with fewer variants (one short call)
 #   bash bench/run_gpu_oit14.sh bench   before/after: oit-bench-1m transparent+resolve per
 #                                       technique (ratio to blend), fog.json whole frame per
-#                                       technique, 1920x1080, after ~20 s of GPU warm-up
+#                                       technique, 1920x1080, after .20 s of GPU warm-up
 set -uo pipefail
 source .gpu/env.sh
 R=$OUT
@@ -39,7 +43,7 @@ fi
 if [ "$MODE" = check ] || [ "$MODE" = all ]; then
   for scene in $CHECK_SCENES; do
     for t in $CHECK_SETS; do
-      run after $scene $t "check~$scene~$t" 640 360 2 1 --error-vs reference
+      run after $scene $t "check.$scene.$t" 640 360 2 1 --error-vs reference
     done
   done
   python3 - "$R" <<'PY'
@@ -47,8 +51,8 @@ import json, glob, os, sys
 R = sys.argv[1]
 print(open(os.path.join(R, "gpu.txt")).read().strip())
 rows = {}
-for f in glob.glob(os.path.join(R, "check~*.json")):
-    _, scene, t = os.path.basename(f)[:-5].split("~")
+for f in glob.glob(os.path.join(R, "check.*.json")):
+    _, scene, t = os.path.basename(f)[:-5].split(".")
     rows[(scene, t)] = json.load(open(f))["error_vs"]
 print(f"{'scene':14s} {'technique':16s} {'rmse vs reference':>18s} {'max':>8s} {'non-finite':>10s} {'vs float32':>10s}")
 for (scene, t), e in sorted(rows.items()):
@@ -60,7 +64,7 @@ PY
   tail -5 "$R/log.txt" 2>/dev/null
   [ "$MODE" = check ] && exit 0
 fi
-# Clocks ramp up during the first seconds of a call: ~20 s of throwaway frames first.
+# Clocks ramp up during the first seconds of a call: .20 s of throwaway frames first.
 end=$((SECONDS + 20))
 while [ $SECONDS -lt $end ]; do
   VEIL_SHADER_DIR=$PWD/shaders veil-bench datasets/scenes/default.json --width 1920 --height 1080 \
@@ -78,18 +82,18 @@ if [ "$MODE" = all ]; then
   FOG_LIST="blend wboit phenomenological moment-p6 moment-p6-16 stochastic-depth reference moment-p6-half"
 fi
 for t in $OIT_LIST; do
-  case " $AFTER_ONLY " in *" $t "*) ;; *) run before oit-bench-1m $t "oit~$t~before" 1920 1080 $OF ;; esac
-  run after oit-bench-1m $t "oit~$t~after" 1920 1080 $OF
+  case " $AFTER_ONLY " in *" $t "*) ;; *) run before oit-bench-1m $t "oit.$t.before" 1920 1080 $OF ;; esac
+  run after oit-bench-1m $t "oit.$t.after" 1920 1080 $OF
 done
 for t in $FOG_LIST; do
-  [ $t = moment-p6-half ] || run before fog $t "fog~$t~before" 1920 1080 $FF
-  run after fog $t "fog~$t~after" 1920 1080 $FF
+  [ $t = moment-p6-half ] || run before fog $t "fog.$t.before" 1920 1080 $FF
+  run after fog $t "fog.$t.after" 1920 1080 $FF
 done
 # The fog's share of the transparent pass: the same scene without its volumes (difference).
 python3 -c "import json; d = json.load(open('datasets/scenes/fog.json')); d.pop('volumes', None); json.dump(d, open('datasets/scenes/nofog-tmp.json', 'w'))"
 for t in blend moment-p6 moment-p6-16 moment-p6-half; do
-  [ $t = moment-p6-half ] || run before nofog-tmp $t "nofog~$t~before" 1920 1080 $FF
-  run after nofog-tmp $t "nofog~$t~after" 1920 1080 $FF
+  [ $t = moment-p6-half ] || run before nofog-tmp $t "nofog.$t.before" 1920 1080 $FF
+  run after nofog-tmp $t "nofog.$t.after" 1920 1080 $FF
 done
 rm -f datasets/scenes/nofog-tmp.json
 python3 - "$R" <<'PY'
@@ -97,8 +101,8 @@ import json, glob, os, sys
 R = sys.argv[1]
 print(open(os.path.join(R, "gpu.txt")).read().strip())
 d = {}
-for f in glob.glob(os.path.join(R, "*~*~*.json")):
-    kind, t, build = os.path.basename(f)[:-5].split("~")
+for f in glob.glob(os.path.join(R, "*.*.*.json")):
+    kind, t, build = os.path.basename(f)[:-5].split(".")
     j = json.load(open(f))
     p = {x["name"]: x["median_ms"] for x in j["passes"]}
     d[(kind, t, build)] = (p, j["total_median_ms"])
