@@ -8,6 +8,10 @@
 
 #include <cmath>
 
+// The OIT targets of the fog's compute emission (three at most) must fit the 8 image units
+// that GL 4.5 guarantees (NVIDIA has exactly 8).
+static_assert(VEIL_IMG_OIT_TARGET0 + 2 < 8, "OIT per-pixel emission images beyond unit 7");
+
 namespace veil::frame {
 
 namespace {
@@ -102,12 +106,24 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
         // A technique whose maps hold the volumes' absorbance replaces the fog's own
         // self-shadowing volumes (one answer for every receiver, counted once).
         fog_->setSelfShadowing(!(shadows_->attenuatesMedia() && shadowSet_.viewCount > 0));
+        // The fog's one contribution per pixel: from compute where the technique's emit file
+        // writes its targets as images (oit::PerPixelEmit, issue 14), else as a full-screen
+        // fragment; both through the technique's one oitEmit().
         for (int pass = 0; pass < oit_->geometryPasses(); ++pass) {
+            const oit::PerPixelEmit mode = oit_->perPixelEmit(pass);
             std::vector<std::string> defines = oit_->defines(pass);
             defines.push_back(fmt::format("OIT_PASS {}", pass));
-            fogEmitPrograms_.push_back(programs_.add(ProgramDesc::graphics(
-                "volume/fullscreen.vert", "volume/fog_emit.frag", std::move(defines),
-                {{"veil:oit_emit", oit_->emitInclude()}})));
+            const gpu::IncludeAliases emit{{"veil:oit_emit", oit_->emitInclude()}};
+            if (mode == oit::PerPixelEmit::Compute) {
+                defines.insert(defines.begin(), "OIT_COMPUTE 1"); // before the technique's
+                fogEmitPrograms_.push_back(programs_.add(
+                    ProgramDesc::compute("volume/fog_emit.comp", std::move(defines), emit)));
+            } else if (mode == oit::PerPixelEmit::Fragments) {
+                fogEmitPrograms_.push_back(programs_.add(ProgramDesc::graphics(
+                    "volume/fullscreen.vert", "volume/fog_emit.frag", std::move(defines), emit)));
+            } else {
+                fogEmitPrograms_.emplace_back();
+            }
         }
     }
 
@@ -326,13 +342,23 @@ void Renderer::buildPasses() {
                          if (shadowSet_.viewCount > 0)
                              shadows_->prepareReceiver(program, shadowFrame_);
                          oit_->beginAccumulate(pass, targets_, program);
-                         if (fog_) {
+                         const oit::PerPixelEmit fogMode = oit_->perPixelEmit(pass);
+                         if (fog_ && fogMode != oit::PerPixelEmit::None) {
                              // Fog first: one contribution per pixel through the same oitEmit().
                              const gpu::Program& fogProgram = programs_.get(fogEmitPrograms_[pass]);
                              oit_->prepareProgram(pass, fogProgram);
                              fog_->bindForEmit(fogProgram, fogTargets_);
                              fogProgram.use();
-                             fog_->drawEmit();
+                             if (fogMode == oit::PerPixelEmit::Compute) {
+                                 oit_->bindPerPixelEmit(pass, targets_);
+                                 glDispatchCompute((width_ + 7) / 8, (height_ + 7) / 8, 1);
+                                 // The pass's blending, texel fetches and image loads see it.
+                                 glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT |
+                                                 GL_TEXTURE_FETCH_BARRIER_BIT |
+                                                 GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+                             } else {
+                                 fog_->drawEmit();
+                             }
                          }
                          drawObjects(program, Subset::Transparent);
                          oit_->endAccumulate(pass);
