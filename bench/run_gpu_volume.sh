@@ -5,7 +5,7 @@
 # Scene datasets/scenes/shadow-volumes-city.json (216 boxes, 112 spheres, the teapot, a floor:
 # ~1.04 M triangles, one directional light) at 1920x1080. Per setting (none, culling = caster
 # + receiver culling, clamping, both): the shadow passes' GPU time (GL_TIME_ELAPSED, median of
-# 60 frames after 20 warm-up frames, `measure` off so that nothing else runs) and the stencil
+# 50 frames after 15 warm-up frames, `measure` off so that nothing else runs) and the stencil
 # fill and volume triangles of one frame (`measure` on); `opaque` (2048^2 map) in the same run.
 set -uo pipefail
 source .gpu/env.sh
@@ -21,21 +21,21 @@ run() { # tag frames measure caster receiver clamp
   timeout 100 veil-bench $S --width $W --height $H --set render.shadows.type=volume \
     --set render.shadows.measure=$3 --set render.shadows.caster_culling=$4 \
     --set render.shadows.receiver_culling=$5 --set render.shadows.clamping=$6 \
-    --frames $2 --warmup 20 --json "$R/volume-$1.json" > /dev/null 2>> "$R/log.txt" ||
+    --frames $2 --warmup 15 --json "$R/volume-$1.json" > /dev/null 2>> "$R/log.txt" ||
     echo "failed: $1" >> "$R/log.txt"
 }
-for rep in a b; do
-  run none-time-$rep 60 false false false false
-  run culling-time-$rep 60 false true true false
-  run clamping-time-$rep 60 false false false true
-  run both-time-$rep 60 false true true true
-  timeout 100 veil-bench $S --width $W --height $H --set render.shadows.type=opaque \
-    --frames 60 --warmup 20 --json "$R/volume-opaque-time-$rep.json" > /dev/null 2>> "$R/log.txt"
-done
 run none-fill 2 true false false false
 run culling-fill 2 true true true false
 run clamping-fill 2 true false false true
 run both-fill 2 true true true true
+for rep in a b; do
+  run none-time-$rep 50 false false false false
+  run culling-time-$rep 50 false true true false
+  run clamping-time-$rep 50 false false false true
+  run both-time-$rep 50 false true true true
+  timeout 100 veil-bench $S --width $W --height $H --set render.shadows.type=opaque \
+    --frames 50 --warmup 15 --json "$R/volume-opaque-time-$rep.json" > /dev/null 2>> "$R/log.txt"
+done
 cat "$R/log.txt" 2>/dev/null | tail -5
 python3 - "$R" <<'PY'
 import json, os, sys

@@ -285,14 +285,15 @@ TEST_F(ShadowVolumeTest, CameraInsideAShadowVolume) {
 }
 
 TEST_F(ShadowVolumeTest, OpenMeshCastsItsTrianglesShadow) {
-    // A floating open quad (a plane: 4 boundary edges) and a box missing no face: the quad's
-    // volume is extruded per triangle (a warning names it) and still matches the ray cast.
+    // A floating open quad (a plane: 4 boundary edges), turned over so that it faces away from
+    // the light: its volume is extruded per triangle (a warning names it), wound the other
+    // way, and still matches the ray cast.
     nlohmann::json doc = scene(spot(), volumeShadows(false));
     doc["objects"].push_back(
         {{"name", "card"},
          {"shape", {{"type", "plane"}, {"size", {1.2, 0.8}}}},
          {"material", "grey"},
-         {"transform", {{"translate", {1.5, 2.5, -1.5}}, {"rotate", {20, 0, 10}}}}});
+         {"transform", {{"translate", {1.5, 2.5, -1.5}}, {"rotate", {200, 0, 10}}}}});
     expectMatchesRayCast(doc, info(), "open quad caster");
 }
 
