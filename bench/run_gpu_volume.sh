@@ -8,7 +8,7 @@
 # 50 frames after 15 warm-up frames, `measure` off so that nothing else runs) and the stencil
 # fill and volume triangles of one frame (`measure` on); `opaque` (2048^2 map) in the same run.
 set -uo pipefail
-source .gpu/env.sh
+[ -n "${GPU_FILES:-}" ] || source .gpu/env.sh # (already sourced when run from a bundle)
 export VEIL_SHADER_DIR=$PWD/shaders
 R=$OUT
 S=datasets/scenes/shadow-volumes-city.json

@@ -11,6 +11,8 @@
 // casterClamp[caster * slots + slot]: < 0 culled, 0 infinite, > 0 clamp depth (normalized).
 #include "grid.glsl"
 
+// One workgroup per caster and light: the footprint's columns are shared among its 64
+// invocations (a floor's footprint is the whole grid), reduced with shared atomics.
 layout(local_size_x = 64) in;
 layout(std430, binding = VEIL_SSBO_SHADOW_VOLUME_RECEIVERS) readonly buffer Receivers {
     uint unbounded[VEIL_MAX_LIGHTS];
@@ -29,22 +31,30 @@ uniform int casterCount;
 uniform int slotCount;
 uniform bvec3 uEnable; // caster culling, receiver culling, clamping
 
-int highestBit(uint w) { return findMSB(w); }
+shared uint sFarBits; // the farthest occluder depth (non-negative float bits order as uints)
+shared int sLast;     // the farthest receiver slice at or behind the caster
 
 void main() {
-    int i = int(gl_GlobalInvocationID.x);
+    int i = int(gl_WorkGroupID.x);
+    uint t = gl_LocalInvocationIndex;
     if (i >= casterCount * slotCount) return;
     int caster = i / slotCount, slot = i % slotCount;
     int v = uSlotView[slot];
-    casterClamp[i] = 0.0;
-    if (v < 0) return;
+    if (t == 0u) {
+        sFarBits = 0u;
+        sLast = -1;
+    }
+    barrier();
+    // Everything up to the column loops is uniform over the workgroup.
+    float result = 0.0;
+    bool decided = v < 0;
     vec3 lo = casterBounds[2 * caster].xyz, hi = casterBounds[2 * caster + 1].xyz;
     vec2 uvLo = vec2(1e30), uvHi = vec2(-1e30);
     float dLo = 1e30, dHi = -1e30;
-    for (int k = 0; k < 8; ++k) {
+    for (int k = 0; k < 8 && !decided; ++k) {
         vec3 P = mix(lo, hi, vec3(k & 1, (k >> 1) & 1, (k >> 2) & 1));
         vec4 c = shadows.views[v].worldToTexture * vec4(P, 1.0);
-        if (c.w <= 1e-6) return; // reaches behind the light: drawn, unclamped
+        if (c.w <= 1e-6) decided = true; // reaches behind the light: drawn, unclamped
         uvLo = min(uvLo, c.xy / c.w);
         uvHi = max(uvHi, c.xy / c.w);
         float d = shadowViewDepth(v, P);
@@ -52,43 +62,48 @@ void main() {
         dHi = max(dHi, d);
     }
     ivec2 c0 = ivec2(floor(uvLo * float(uGrid))) - 1, c1 = ivec2(floor(uvHi * float(uGrid))) + 1;
-    if (any(lessThan(c1, ivec2(0))) || any(greaterThanEqual(c0, ivec2(uGrid)))) {
+    if (!decided && (any(lessThan(c1, ivec2(0))) || any(greaterThanEqual(c0, ivec2(uGrid))))) {
         // Outside the light's view: the light reaches no receiver behind it.
-        if (uEnable.y && unbounded[slot] == 0u) casterClamp[i] = -1.0;
-        return;
+        if (uEnable.y && unbounded[slot] == 0u) result = -1.0;
+        decided = true;
     }
     c0 = max(c0, ivec2(0));
     c1 = min(c1, ivec2(uGrid - 1));
-    if (uEnable.x) {
-        float farthest = 0.0;
-        for (int y = c0.y; y <= c1.y; ++y)
-            for (int x = c0.x; x <= c1.x; ++x)
-                farthest = max(farthest, occluderFar[gridColumn(slot, ivec2(x, y))]);
-        if (farthest < dLo) {
-            casterClamp[i] = -1.0;
-            return;
-        }
-    }
-    if (unbounded[slot] != 0u || !(uEnable.y || uEnable.z)) return;
+    ivec2 span = c1 - c0 + 1;
+    int columns = decided ? 0 : span.x * span.y;
+    bool receivers = !decided && unbounded[slot] == 0u && (uEnable.y || uEnable.z);
     int s0 = clamp(int(floor(dLo * float(uSlices))), 0, uSlices - 1);
-    int words = gridWords(), last = -1;
-    for (int y = c0.y; y <= c1.y; ++y)
-        for (int x = c0.x; x <= c1.x; ++x) {
-            int base = gridColumn(slot, ivec2(x, y)) * words;
-            for (int w = words - 1; w >= s0 / 32 && w * 32 + 31 > last; --w) {
-                uint bits = receiverWords[base + w];
-                if (w == s0 / 32) bits &= ~0u << uint(s0 % 32);
-                if (bits != 0u) {
-                    last = max(last, w * 32 + highestBit(bits));
-                    break;
-                }
+    int words = gridWords();
+    for (int n = int(t); n < columns; n += 64) {
+        ivec2 col = c0 + ivec2(n % span.x, n / span.x);
+        int g = gridColumn(slot, col);
+        if (uEnable.x) atomicMax(sFarBits, floatBitsToUint(max(occluderFar[g], 0.0)));
+        if (!receivers) continue;
+        for (int w = words - 1; w >= s0 / 32; --w) {
+            uint bits = receiverWords[g * words + w];
+            if (w == s0 / 32) bits &= ~0u << uint(s0 % 32);
+            if (bits != 0u) {
+                atomicMax(sLast, w * 32 + findMSB(bits));
+                break;
             }
         }
-    if (last < 0) {
-        if (uEnable.y) casterClamp[i] = -1.0;
-        return;
     }
-    // Past the receivers' slice with one slice of margin (the receivers were placed from the
-    // depth buffer), and never before the caster's own far side (the extrusion must not fold).
-    if (uEnable.z) casterClamp[i] = max(dHi, float(last + 2) / float(uSlices)) + 1e-4;
+    barrier();
+    if (t != 0u) return;
+    if (!decided) {
+        if (uEnable.x && uintBitsToFloat(sFarBits) < dLo) {
+            result = -1.0; // in the shadow of other casters
+        } else if (receivers) {
+            int last = sLast;
+            if (last < 0) {
+                if (uEnable.y) result = -1.0;
+            } else if (uEnable.z) {
+                // Past the receivers' slice with one slice of margin (the receivers were placed
+                // from the depth buffer), and never before the caster's own far side (the
+                // extrusion must not fold).
+                result = max(dHi, float(last + 2) / float(uSlices)) + 1e-4;
+            }
+        }
+    }
+    casterClamp[i] = result;
 }

@@ -42,6 +42,8 @@ void main() {
         }
         ivec2 c = clamp(ivec2(uv * float(uGrid)), ivec2(0), ivec2(uGrid - 1));
         int s = clamp(int(d * float(uSlices)), 0, uSlices - 1);
-        atomicOr(receiverWords[gridColumn(slot, c) * gridWords() + s / 32], 1u << uint(s % 32));
+        // Most pixels of a column land in a slice that is already set: read before the atomic.
+        uint word = uint(gridColumn(slot, c) * gridWords() + s / 32), bit = 1u << uint(s % 32);
+        if ((receiverWords[word] & bit) == 0u) atomicOr(receiverWords[word], bit);
     }
 }

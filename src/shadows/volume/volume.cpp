@@ -300,7 +300,7 @@ void VolumeTechnique::classify(const ShadowFrame& frame, const std::vector<int>&
         .set("casterCount", static_cast<int>(casters.size()))
         .set("slotCount", slots_);
     glUniform3i(p.uniformLocation("uEnable"), casterCulling_, receiverCulling_, clamping_);
-    glDispatchCompute(static_cast<GLuint>((casters.size() * slots_ + 63) / 64), 1, 1);
+    glDispatchCompute(static_cast<GLuint>(casters.size() * slots_), 1, 1); // a group each
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     glBindSampler(VEIL_TEX_SHADOW3, 0);
 }
