@@ -67,7 +67,7 @@ fi
 # Clocks ramp up during the first seconds of a call: .20 s of throwaway frames first.
 end=$((SECONDS + 20))
 while [ $SECONDS -lt $end ]; do
-  VEIL_SHADER_DIR=$PWD/shaders veil-bench datasets/scenes/default.json --width 1920 --height 1080 \
+  VEIL_SHADER_DIR=$PWD/shaders veil-bench datasets/scenes/room.json --width 1920 --height 1080 \
     --frames 300 --warmup 0 > /dev/null 2>&1
 done
 AFTER_ONLY="moment-p6-16 moment-p8-16 moment-p4-half moment-p6-half moment-p8-half moment-t3-half"

@@ -112,6 +112,7 @@ int main(int argc, char** argv) try {
     out["oit"] = renderer.oitName();
     out["shadows"] = renderer.shadowTechnique().name();
     out["shadow_properties"] = renderer.shadowTechnique().properties().values();
+    out["shadow_stats"] = renderer.shadowTechnique().stats(); // of the last frame
     out["renderer"] = context.info().renderer;
     out["gl_version"] = context.info().version;
     out["timer"] = renderer.timerMode() == veil::gpu::GpuTimer::Mode::Query ? "GL_TIME_ELAPSED"

@@ -63,6 +63,12 @@
 #define VEIL_MAX_LIGHTS 8
 
 #define VEIL_SSBO_SHADOW_SLICES 12 // transmittance-slicemap: light-space slice-map words
+// Shadow `volume`: per caster and light clamp depth or culled flag; the camera's receivers
+// voxelized into each light's slice map; the opaque map's farthest depth per column.
+#define VEIL_SSBO_SHADOW_VOLUME_CASTERS 13
+#define VEIL_SSBO_SHADOW_VOLUME_RECEIVERS 14
+#define VEIL_SSBO_SHADOW_VOLUME_OCCLUDERS 15
+#define VEIL_SSBO_SHADOW_VOLUME_BOUNDS 16
 
 // Voxelization (src/voxelize, shaders/voxelize): slice-map words, per-column local-slicing
 // ranges (near, far pairs), triangle soup, per-axis maps of three-axis voxelization.

@@ -214,6 +214,8 @@ void runView(const ViewArgs& args) {
             }
             if (const nlohmann::json stats = renderer->technique().stats(); !stats.empty())
                 ImGui::TextWrapped("stats: %s", stats.dump().c_str());
+            if (const nlohmann::json stats = renderer->shadowTechnique().stats(); !stats.empty())
+                ImGui::TextWrapped("shadow stats: %s", stats.dump().c_str());
             ImGui::SliderFloat("exposure", &scene.render.exposure, 0.05f, 8.0f, "%.2f",
                                ImGuiSliderFlags_Logarithmic);
             ImGui::ColorEdit3("ambient", &scene.render.ambient.x, ImGuiColorEditFlags_Float);

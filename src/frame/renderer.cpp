@@ -140,6 +140,8 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
     shadowFrame_.views = &shadowViews_;
     shadowFrame_.scene = &scene_;
     shadowFrame_.seed = scene.render.seed;
+    shadowFrame_.width = width_;
+    shadowFrame_.height = height_;
     shadowFrame_.drawCasters = [this](const gpu::Program& program, shadows::CasterSet set) {
         drawObjects(program, set == shadows::CasterSet::Opaque ? Subset::OpaqueCasters
                                                                : Subset::TransparentCasters);
@@ -274,6 +276,8 @@ void Renderer::render() {
     fogTargets_.viewProjection = camera_.projection(aspect) * camera_.view();
     fogTargets_.projection = camera_.projection(aspect);
     fogTargets_.seed = scene_.render.seed;
+    shadowFrame_.cameraViewProjection = fogTargets_.viewProjection;
+    shadowFrame_.orthographicCamera = camera_.type == scene::CameraType::Orthographic;
     if (shadowSet_.viewCount > 0)
         fogTargets_.prepareReceiver = [this](const gpu::Program& program) {
             shadows_->prepareReceiver(program, shadowFrame_);
