@@ -35,10 +35,10 @@ run() { # build scene oit tag W H frames warmup [extra...]
 CHECK_SETS="moment-p4 moment-p6 moment-p8 moment-t3 moment-t4 moment-p4-16 moment-p6-16 \
   moment-p8-16 moment-t3-16 moment-t4-16 moment-p4-half moment-p6-half moment-p8-half \
   moment-t3-half moment-t4-half"
-CHECK_SCENES="oit-bench-1m default fog"
+CHECK_SCENES="oit-bench-1m room fog"
 if [ "$MODE" = all ]; then
   CHECK_SETS="moment-p6 moment-p8 moment-p6-16 moment-p8-16 moment-p6-half moment-p8-half"
-  CHECK_SCENES="default oit-bench-1m"
+  CHECK_SCENES="room oit-bench-1m"
 fi
 if [ "$MODE" = check ] || [ "$MODE" = all ]; then
   for scene in $CHECK_SCENES; do
