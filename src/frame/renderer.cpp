@@ -102,7 +102,14 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
         // A technique whose maps hold the volumes' absorbance replaces the fog's own
         // self-shadowing volumes (one answer for every receiver, counted once).
         fog_->setSelfShadowing(!(shadows_->attenuatesMedia() && shadowSet_.viewCount > 0));
-        for (int pass = 0; pass < oit_->geometryPasses(); ++pass) {
+        if (oit_->fogSegments()) {
+            // The fog between the technique's sorted surfaces, piecewise (fog_segments.comp).
+            const int last = oit_->geometryPasses() - 1;
+            std::vector<std::string> defines = oit_->defines(last);
+            defines.push_back(fmt::format("OIT_PASS {}", last));
+            fog_->enableSegments(std::move(defines), oit_->emitInclude());
+        }
+        for (int pass = 0; pass < oit_->geometryPasses() && !fog_->segmented(); ++pass) {
             std::vector<std::string> defines = oit_->defines(pass);
             defines.push_back(fmt::format("OIT_PASS {}", pass));
             fogEmitPrograms_.push_back(programs_.add(ProgramDesc::graphics(
@@ -326,7 +333,7 @@ void Renderer::buildPasses() {
                          if (shadowSet_.viewCount > 0)
                              shadows_->prepareReceiver(program, shadowFrame_);
                          oit_->beginAccumulate(pass, targets_, program);
-                         if (fog_) {
+                         if (fog_ && !fog_->segmented()) {
                              // Fog first: one contribution per pixel through the same oitEmit().
                              const gpu::Program& fogProgram = programs_.get(fogEmitPrograms_[pass]);
                              oit_->prepareProgram(pass, fogProgram);
@@ -335,6 +342,11 @@ void Renderer::buildPasses() {
                              fog_->drawEmit();
                          }
                          drawObjects(program, Subset::Transparent);
+                         if (fog_ && fog_->segmented() && pass + 1 == oit_->geometryPasses())
+                             // After every surface is stored: the fog between them, per segment.
+                             fog_->marchSegments(fogTargets_, [this, pass](const gpu::Program& p) {
+                                 oit_->prepareProgram(pass, p);
+                             });
                          oit_->endAccumulate(pass);
                          if (pass + 1 == oit_->geometryPasses() && oit_->repeatAccumulation())
                              pass = -1;

@@ -80,6 +80,14 @@ public:
     // again (e.g. the `reference` node pool overflowed and was grown). A technique must not
     // ask for endless repeats.
     virtual bool repeatAccumulation() { return false; }
+    // True when the technique keeps every surface of a pixel with its depth and can take the
+    // fog piecewise (`reference`): the frame then marches the fog after the surfaces of the
+    // last geometry pass, one contribution per segment between consecutive surfaces
+    // (shaders/volume/fog_march.comp with FOG_SEGMENTS), instead of one contribution at a
+    // representative depth. Its emit include then also defines, under OIT_FOG_SEGMENTS,
+    //     int oitSurfaceDepths(ivec2 p, out float depths[OIT_SURFACE_DEPTHS_MAX]);
+    // (the pixel's surface view depths so far, nearest first; returns their count).
+    virtual bool fogSegments() const { return false; }
     // Composites the accumulation over targets.hdrColor.
     virtual void resolve(const OitFrameTargets& targets) = 0;
     // Bytes of technique-owned storage per pixel (memory reports, benchmarks).

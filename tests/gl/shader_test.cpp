@@ -216,9 +216,10 @@ ProjectPrograms projectPrograms(const gpu::ContextInfo& info, gpu::ProgramManage
           "oit/phenomenological/thickness.comp", "oit/phenomenological/downsample_depth.comp",
           "oit/phenomenological/upsample.comp"})
         P.push_back(ProgramDesc::compute(comp));
-    P.push_back(ProgramDesc::compute(
-        "oit/reference/resolve.comp",
-        {fmt::format("OIT_REF_MAX_FRAGMENTS {}", oit::ReferenceTechnique::kMaxFragmentsPerPixel)}));
+    P.push_back(
+        ProgramDesc::compute("oit/reference/resolve.comp",
+                             {fmt::format("OIT_REF_MAX_FRAGMENTS {}",
+                                          oit::ReferenceTechnique::kDefaultMaxFragmentsPerPixel)}));
     P.push_back(
         ProgramDesc::graphics("oit/stochastic/copy_depth.vert", "oit/stochastic/copy_depth.frag"));
 
