@@ -37,10 +37,13 @@ export LP_NUM_THREADS=$cpus # llvmpipe's rasterizer/compute threads (ignored by 
 vdb_times=()
 for i in $(seq "$reps"); do
   # wall: vdb_render's own "ray-tracing density ...completed in X sec"; cpu: user + sys of
-  # the whole process (GNU time; includes reading the 7 MB file, ~0.04 s of one core)
-  /usr/bin/time -f "cpu %U %S" -o "$out/time.txt" "$vdbr" "$vdb" "$out/vdb_render.ppm" \
+  # the whole process (getrusage; includes reading the 7 MB file, ~0.04 s of one core)
+  python3 -c 'import resource, subprocess, sys
+subprocess.run(sys.argv[2:], stdout=open(sys.argv[1], "w"), stderr=subprocess.STDOUT, check=True)
+r = resource.getrusage(resource.RUSAGE_CHILDREN)
+print("cpu", r.ru_utime, r.ru_stime)' "$out/vdb.log" "$vdbr" "$vdb" "$out/vdb_render.ppm" \
     -camera ortho -frame 110 -res 256x256 -translate -7.4,40.4,200 -lookat -7.4,40.4,0 \
-    -light 0.3,0.3,0 -step 1 -shadowstep 3 -cpus "$cpus" -v > "$out/vdb.log" 2>&1
+    -light 0.3,0.3,0 -step 1 -shadowstep 3 -cpus "$cpus" -v > "$out/time.txt"
   wall=$(grep -A1 "ray-tracing" "$out/vdb.log" | sed -n 's/.*completed in \([0-9.e+-]*\) sec.*/\1/p')
   cpu=$(awk '/^cpu/ {print $2 + $3}' "$out/time.txt")
   vdb_times+=("$wall:$cpu")
