@@ -16,7 +16,7 @@ VEIL_BENCH=$(command -v veil-bench) VDB_RENDER=$(command -v vdb_render) OUTDIR=$
   REPS=3 FRAMES=30 timeout 120 bash bench/vdb_compare.sh 16
 rm -f "$OUT"/vdb/*.ppm "$OUT"/vdb/*.log "$OUT"/vdb/time.txt "$OUT"/vdb/unlit.json
 for s in default fog; do
-  for limit in 128 512 2048; do
+  for limit in 128 256 512; do
     timeout 60 veil-bench datasets/scenes/$s.json --set render.oit.type=reference \
       --set render.oit.max_fragments_per_pixel=$limit --width 1920 --height 1080 \
       --frames 20 --warmup 5 --json "$OUT/ref-$s-$limit.json" > /dev/null 2>> "$OUT/log.txt" ||
@@ -28,7 +28,7 @@ import json, sys, os
 print("| scene | max_fragments_per_pixel | fragments | pool nodes | deepest list | dropped | fog ms | transparent ms | resolve ms | frame ms |")
 print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
 for s in ["default", "fog"]:
-    for limit in [128, 512, 2048]:
+    for limit in [128, 256, 512]:
         f = os.path.join(sys.argv[1], f"ref-{s}-{limit}.json")
         if not os.path.exists(f):
             print(f"| {s} | {limit} | failed |"); continue

@@ -47,9 +47,8 @@ void main() {
     if (fogPixel.x >= targetSize.x || fogPixel.y >= targetSize.y) return;
     FogRay r = fogRay(fogPixel);
     if (!(r.t0 < r.t1)) return;
-    float surfaces[OIT_SURFACE_DEPTHS_MAX];
-    int n = oitSurfaceDepths(fogPixel, surfaces);
-    int k = 0; // next surface along the ray
+    uint list = oitSurfaceList(fogPixel);
+    float nextSurface = oitNextSurfaceDepth(list, -1e30); // view depth, 1e30: none left
     segFrontDepth = r.startDepth;
 
     float dt = (r.t1 - r.t0) / float(steps);
@@ -67,17 +66,17 @@ void main() {
         if (sigma <= 0.0 && all(equal(source, vec3(0.0)))) continue;
         // The step covers [ta, ta + dt]; surfaces inside it split it.
         float ta = r.t0 + float(s) * dt, tb = ta + dt, a = ta;
-        while (k < n) {
-            float tk = (surfaces[k] - r.startDepth) / r.axial;
+        while (nextSurface < 1e30) {
+            float tk = (nextSurface - r.startDepth) / r.axial;
             if (tk >= tb) break;
             float b = max(tk, a);
             addPiece(sigma, source, b - a);
-            flushSegment(surfaces[k]);
+            flushSegment(nextSurface);
             a = b;
-            ++k;
+            nextSurface = oitNextSurfaceDepth(list, nextSurface);
         }
         addPiece(sigma, source, tb - a);
         if (rayT < 1e-4) break; // the rest is invisible whatever lies behind
     }
-    flushSegment(k < n ? surfaces[k] : r.opaqueViewDepth);
+    flushSegment(nextSurface < 1e30 ? nextSurface : r.opaqueViewDepth);
 }

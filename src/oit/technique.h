@@ -85,8 +85,8 @@ public:
     // last geometry pass, one contribution per segment between consecutive surfaces
     // (shaders/volume/fog_march.comp with FOG_SEGMENTS), instead of one contribution at a
     // representative depth. Its emit include then also defines, under OIT_FOG_SEGMENTS,
-    //     int oitSurfaceDepths(ivec2 p, out float depths[OIT_SURFACE_DEPTHS_MAX]);
-    // (the pixel's surface view depths so far, nearest first; returns their count).
+    //     uint oitSurfaceList(ivec2 p);   // handle to the pixel's surfaces stored so far
+    //     float oitNextSurfaceDepth(uint list, float after); // nearest depth > after, or 1e30
     virtual bool fogSegments() const { return false; }
     // Composites the accumulation over targets.hdrColor.
     virtual void resolve(const OitFrameTargets& targets) = 0;

@@ -39,11 +39,6 @@ ReferenceTechnique::ReferenceTechnique(gpu::ProgramManager& programs, const Refe
     counters_.setStorage(4 * sizeof(GLuint), nullptr);
 }
 
-std::vector<std::string> ReferenceTechnique::defines(int) const {
-    // The fog marcher's oitSurfaceDepths() gathers into an array of the resolve's size.
-    return {fmt::format("OIT_REF_MAX_FRAGMENTS {}", limits_.maxFragmentsPerPixel)};
-}
-
 void ReferenceTechnique::allocatePool(std::uint64_t nodes) {
     nodes_ = gpu::Buffer();
     nodes_.setStorage(nodes * kNodeBytes, nullptr);
