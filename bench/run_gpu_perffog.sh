@@ -23,6 +23,14 @@ for s in default fog; do
       echo "failed: ref $s $limit" >> "$OUT/log.txt"
   done
 done
+timeout 60 veil-bench datasets/scenes/fog.json --set render.oit.type=blend --width 1920 \
+  --height 1080 --frames 20 --warmup 5 --json "$OUT/blend-fog.json" > /dev/null 2>> "$OUT/log.txt"
+python3 - "$OUT/blend-fog.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1])); p = {x["name"]: x["median_ms"] for x in d["passes"]}
+print(f"fog.json blend (baseline, same call): fog {p['fog']:.3f} transparent {p['transparent']:.3f} "
+      f"resolve {p['resolve']:.3f} frame {d['total_median_ms']:.3f} ms")
+PY
 python3 - "$OUT" <<'PY'
 import json, sys, os
 print("| scene | max_fragments_per_pixel | fragments | pool nodes | deepest list | dropped | fog ms | transparent ms | resolve ms | frame ms |")
