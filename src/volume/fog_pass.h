@@ -1,6 +1,9 @@
 // The fog pass of the frame: density volumes of the scene on the GPU, the light-space
 // transmittance volumes for self-shadowing, and the compute marcher whose per-pixel result the
-// frame hands to the OIT technique through fog_emit.frag.
+// frame hands to the OIT technique through fog_emit.frag; for a technique with fogSegments()
+// (`reference`) also the piecewise marcher (fog_segments.comp) run after its surfaces.
+// The programs' sampler arrays have exactly the scene's grid volumes (VEIL_VOLUME_SLOTS,
+// shaders/volume/volume_common.glsl): constant indices, which llvmpipe needs to be fast.
 //
 // Parameters (scene "render" block): fog_steps (steps per ray through the volumes' bounds,
 // default 128), fog_resolution (1, 2 or 4: marching resolution divisor; upsampled with a joint
