@@ -201,6 +201,11 @@ ProjectPrograms projectPrograms(const gpu::ContextInfo& info, gpu::ProgramManage
                                               {emit[0], visibility[0]}));
             P.push_back(ProgramDesc::graphics("volume/fullscreen.vert", "volume/fog_emit.frag",
                                               defines, emit));
+            // The piecewise fog marcher (src/volume/fog_pass.cpp), with every shadow technique.
+            if (technique->fogSegments() && pass + 1 == technique->geometryPasses())
+                for (const auto& v : visibilities)
+                    P.push_back(
+                        ProgramDesc::compute("volume/fog_segments.comp", defines, {v[0], emit[0]}));
         }
     }
     // The technique template (src/oit/_template), not registered by default.
