@@ -32,7 +32,8 @@ void usage() {
               "                                   precision, all cores) on the same view at W x H\n"
               "                  [--error-vs NAME] also render the last frame with OIT technique\n"
               "                                   NAME (e.g. reference) and report the HDR\n"
-              "                                   difference (rgb rmse, max) as error_vs");
+              "                                   difference (rgb rmse, max) as error_vs\n"
+              "                  [--relight]      recompute the fog's light volumes every frame");
 }
 
 double median(std::vector<double> v) {
@@ -46,6 +47,7 @@ double median(std::vector<double> v) {
 int main(int argc, char** argv) try {
     std::string scenePath, jsonPath, oit, errorVs;
     int width = 1920, height = 1080, frames = 100, warmup = 20, cpuFogW = 0, cpuFogH = 0;
+    bool relight = false;
     std::vector<std::string> overrides;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -65,6 +67,8 @@ int main(int argc, char** argv) try {
             oit = next();
         else if (a == "--set")
             overrides.push_back(next());
+        else if (a == "--relight")
+            relight = true;
         else if (a == "--json")
             jsonPath = next();
         else if (a == "--error-vs")
@@ -88,17 +92,21 @@ int main(int argc, char** argv) try {
     const veil::scene::Scene scene = veil::scene::loadScene(scenePath, overrides);
     veil::gpu::HeadlessContext context;
     veil::frame::Renderer renderer(scene, context.info(), {width, height, {}, oit});
-    for (int i = 0; i < warmup; ++i)
+    for (int i = 0; i < warmup; ++i) {
+        if (relight) renderer.invalidateFogLightVolumes();
         renderer.render();
-    std::map<std::string, std::vector<double>> samples;
+    }
+    std::map<std::string, std::vector<double>> samples, cpuSamples;
     std::vector<std::string> order;
     std::vector<double> totals;
     for (int i = 0; i < frames; ++i) {
+        if (relight) renderer.invalidateFogLightVolumes();
         renderer.render();
         double total = 0.0;
         for (const auto& p : renderer.passTimes()) {
             if (!samples.count(p.name)) order.push_back(p.name);
             samples[p.name].push_back(p.milliseconds);
+            if (p.cpuMilliseconds >= 0.0) cpuSamples[p.name].push_back(p.cpuMilliseconds);
             total += p.milliseconds;
         }
         totals.push_back(total);
@@ -109,6 +117,7 @@ int main(int argc, char** argv) try {
     out["height"] = height;
     out["frames"] = frames;
     out["warmup"] = warmup;
+    out["relight"] = relight;
     out["oit"] = renderer.oitName();
     out["shadows"] = renderer.shadowTechnique().name();
     out["shadow_properties"] = renderer.shadowTechnique().properties().values();
@@ -128,9 +137,12 @@ int main(int argc, char** argv) try {
                           {"median_ms", median(v)},
                           {"min_ms", *std::min_element(v.begin(), v.end())},
                           {"max_ms", *std::max_element(v.begin(), v.end())}});
+        // llvmpipe: the process's CPU time over the pass (all driver threads).
+        if (!cpuSamples[name].empty()) passes.back()["cpu_median_ms"] = median(cpuSamples[name]);
     }
     out["passes"] = passes;
     out["total_median_ms"] = median(totals);
+    out["oit_stats"] = renderer.technique().stats();
     if (cpuFogW > 0 && cpuFogH > 0) {
         // The CPU reference of the fog on the same camera (src/volume/cpu_reference.h).
         std::vector<openvdb::FloatGrid::ConstPtr> grids;

@@ -28,7 +28,26 @@ void main() {
         L = d / max(length(d), 1e-6);
     }
     float dt = distance / float(steps);
+    // Midpoint rule with `steps` samples over [0, distance]. Samples outside every volume's box
+    // and in empty leaves are zero, so only the steps inside the union of the boxes are taken
+    // and empty leaves are jumped over: the same sum as visiting every step, at a fraction of
+    // the cost (issue 14 item 4: this pass was most of the lit fog's time on llvmpipe).
+    float tIn = 1e30, tOut = -1e30;
+    for (int i = 0; i < VEIL_VOLUME_SLOTS; ++i)
+        if (i < volumeCount) {
+            vec2 iv = volumeBoxInterval(i, P, L);
+            tIn = min(tIn, iv.x);
+            tOut = max(tOut, iv.y);
+        }
+    // One step of margin on each side: the box test and the sampler's bounds test round apart.
+    int first = max(int(floor(tIn / dt - 0.5)) - 1, 0);
+    int last = min(int(ceil(tOut / dt - 0.5)) + 1, steps - 1);
     float tau = 0.0;
-    for (int s = 0; s < steps; ++s) tau += volumeExtinction(P + L * ((float(s) + 0.5) * dt)) * dt;
+    for (int s = first; s <= last; ++s) {
+        float t = (float(s) + 0.5) * dt;
+        bool empty;
+        tau += volumeExtinctionOrEmpty(P + L * t, empty) * dt;
+        if (empty) s = max(s, int(ceil((t + volumesLeafExit(P + L * t, L)) / dt - 0.5)) - 1);
+    }
     imageStore(lightTransmittance, c, vec4(exp(-tau)));
 }

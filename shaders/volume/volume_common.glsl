@@ -18,8 +18,17 @@ struct VolumeInfo {
 uniform VolumeInfo volumes[VEIL_MAX_VOLUMES];
 uniform int volumeCount;
 
-layout(binding = VEIL_TEX_VOLUME_DATA) uniform sampler3D volumeData[VEIL_MAX_VOLUMES];
-layout(binding = VEIL_TEX_VOLUME_TABLE) uniform usampler3D volumeTable[VEIL_MAX_VOLUMES];
+// Sampler slots per array. The fog's programs define it to the scene's number of grid volumes
+// (src/volume/fog_pass.cpp) and loop `for (i < VEIL_VOLUME_SLOTS) if (i < volumeCount)`, so
+// the loops unroll and every texture is indexed by a constant: on llvmpipe a sampler array
+// indexed by a non-constant runs the whole texture fetch once per SIMD lane (issue 14 item
+// 4), and fewer declared samplers keep the program under its per-stage sampler limits.
+#ifndef VEIL_VOLUME_SLOTS
+#define VEIL_VOLUME_SLOTS VEIL_MAX_VOLUMES
+#endif
+
+layout(binding = VEIL_TEX_VOLUME_DATA) uniform sampler3D volumeData[VEIL_VOLUME_SLOTS];
+layout(binding = VEIL_TEX_VOLUME_TABLE) uniform usampler3D volumeTable[VEIL_VOLUME_SLOTS];
 
 const int kLeafSize = 8;
 const int kBrickSize = 10;
@@ -57,23 +66,70 @@ float henyeyGreenstein(float cosTheta, float g) {
 }
 
 // Ray parameter interval [t0, t1] of volume i's index-space box [indexMin, indexMax] along the
-// world ray ro + t rd (empty when t0 >= t1).
+// world ray ro + t rd (empty when t0 >= t1). An axis the ray runs parallel to is tested
+// directly (no 0 * inf = NaN when the origin lies on a face).
 vec2 volumeBoxInterval(int i, vec3 ro, vec3 rd) {
     vec3 o = (volumes[i].worldToIndex * vec4(ro, 1.0)).xyz;
     vec3 d = mat3(volumes[i].worldToIndex) * rd;
-    vec3 inv = 1.0 / d;
-    vec3 a = (volumes[i].indexMin - o) * inv, b = (volumes[i].indexMax - o) * inv;
-    vec3 lo = min(a, b), hi = max(a, b);
-    return vec2(max(max(lo.x, lo.y), lo.z), min(min(hi.x, hi.y), hi.z));
+    float t0 = -1e30, t1 = 1e30;
+    for (int k = 0; k < 3; ++k) {
+        if (abs(d[k]) < 1e-20) {
+            if (o[k] < volumes[i].indexMin[k] || o[k] > volumes[i].indexMax[k])
+                return vec2(1e30, -1e30);
+        } else {
+            float a = (volumes[i].indexMin[k] - o[k]) / d[k];
+            float b = (volumes[i].indexMax[k] - o[k]) / d[k];
+            t0 = max(t0, min(a, b));
+            t1 = min(t1, max(a, b));
+        }
+    }
+    return vec2(t0, t1);
 }
 
 // Extinction coefficient at world point w: the sum over the volumes of density_scale x density.
 float volumeExtinction(vec3 w) {
     float sigma = 0.0;
-    for (int i = 0; i < volumeCount; ++i) {
-        bool empty;
-        vec3 p = (volumes[i].worldToIndex * vec4(w, 1.0)).xyz;
-        sigma += volumes[i].densityScale * sampleVolumeIndex(i, p, empty);
-    }
+    for (int i = 0; i < VEIL_VOLUME_SLOTS; ++i)
+        if (i < volumeCount) {
+            bool empty;
+            vec3 p = (volumes[i].worldToIndex * vec4(w, 1.0)).xyz;
+            sigma += volumes[i].densityScale * sampleVolumeIndex(i, p, empty);
+        }
+    return sigma;
+}
+
+// Distance along the ray to leave the 8^3 leaf containing world point P (index space of i).
+float leafExit(int i, vec3 P, vec3 rd) {
+    vec3 p = (volumes[i].worldToIndex * vec4(P, 1.0)).xyz;
+    vec3 d = mat3(volumes[i].worldToIndex) * rd;
+    vec3 leafLo = floor(p / float(kLeafSize)) * float(kLeafSize);
+    vec3 bound = mix(leafLo, leafLo + float(kLeafSize), greaterThan(d, vec3(0.0)));
+    float tMin = 1e30;
+    for (int k = 0; k < 3; ++k)
+        if (abs(d[k]) > 1e-12) tMin = min(tMin, (bound[k] - p[k]) / d[k]);
+    return max(tMin, 0.0);
+}
+
+// Distance along the ray to leave the current leaf of the nearest-exiting volume (where every
+// volume's leaf is empty, nothing is sampled before it).
+float volumesLeafExit(vec3 P, vec3 rd) {
+    float exitT = 1e30;
+    for (int i = 0; i < VEIL_VOLUME_SLOTS; ++i)
+        if (i < volumeCount) exitT = min(exitT, leafExit(i, P, rd));
+    return exitT;
+}
+
+// Extinction at w as volumeExtinction(); allEmpty is set where every volume's leaf is empty
+// (or w is outside every volume), i.e. the extinction is 0 up to volumesLeafExit().
+float volumeExtinctionOrEmpty(vec3 w, out bool allEmpty) {
+    float sigma = 0.0;
+    allEmpty = true;
+    for (int i = 0; i < VEIL_VOLUME_SLOTS; ++i)
+        if (i < volumeCount) {
+            bool empty;
+            vec3 p = (volumes[i].worldToIndex * vec4(w, 1.0)).xyz;
+            sigma += volumes[i].densityScale * sampleVolumeIndex(i, p, empty);
+            allEmpty = allEmpty && empty;
+        }
     return sigma;
 }

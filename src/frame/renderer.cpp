@@ -106,11 +106,19 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
         // A technique whose maps hold the volumes' absorbance replaces the fog's own
         // self-shadowing volumes (one answer for every receiver, counted once).
         fog_->setSelfShadowing(!(shadows_->attenuatesMedia() && shadowSet_.viewCount > 0));
-        // The fog's one contribution per pixel: from compute where the technique's emit file
-        // writes its targets as images (oit::PerPixelEmit, issue 14), else as a full-screen
-        // fragment; both through the technique's one oitEmit().
+        if (oit_->fogSegments()) {
+            // The fog between the technique's sorted surfaces, piecewise (fog_segments.comp).
+            const int last = oit_->geometryPasses() - 1;
+            std::vector<std::string> defines = oit_->defines(last);
+            defines.push_back(fmt::format("OIT_PASS {}", last));
+            fog_->enableSegments(std::move(defines), oit_->emitInclude());
+        }
+        // Otherwise the fog's one contribution per pixel: from compute where the technique's
+        // emit file writes its targets as images (oit::PerPixelEmit, issue 14), else as a
+        // full-screen fragment; both through the technique's one oitEmit().
         for (int pass = 0; pass < oit_->geometryPasses(); ++pass) {
-            const oit::PerPixelEmit mode = oit_->perPixelEmit(pass);
+            const oit::PerPixelEmit mode =
+                fog_->segmented() ? oit::PerPixelEmit::None : oit_->perPixelEmit(pass);
             std::vector<std::string> defines = oit_->defines(pass);
             defines.push_back(fmt::format("OIT_PASS {}", pass));
             const gpu::IncludeAliases emit{{"veil:oit_emit", oit_->emitInclude()}};
@@ -346,8 +354,10 @@ void Renderer::buildPasses() {
                          if (shadowSet_.viewCount > 0)
                              shadows_->prepareReceiver(program, shadowFrame_);
                          oit_->beginAccumulate(pass, targets_, program);
-                         const oit::PerPixelEmit fogMode = oit_->perPixelEmit(pass);
-                         if (fog_ && fogMode != oit::PerPixelEmit::None) {
+                         const oit::PerPixelEmit fogMode = fog_ && !fog_->segmented()
+                                                               ? oit_->perPixelEmit(pass)
+                                                               : oit::PerPixelEmit::None;
+                         if (fogMode != oit::PerPixelEmit::None) {
                              // Fog first: one contribution per pixel through the same oitEmit().
                              const gpu::Program& fogProgram = programs_.get(fogEmitPrograms_[pass]);
                              oit_->prepareProgram(pass, fogProgram);
@@ -365,6 +375,11 @@ void Renderer::buildPasses() {
                              }
                          }
                          drawObjects(program, Subset::Transparent);
+                         if (fog_ && fog_->segmented() && pass + 1 == oit_->geometryPasses())
+                             // After every surface is stored: the fog between them, per segment.
+                             fog_->marchSegments(fogTargets_, [this, pass](const gpu::Program& p) {
+                                 oit_->prepareProgram(pass, p);
+                             });
                          oit_->endAccumulate(pass);
                          if (pass + 1 == oit_->geometryPasses() && oit_->repeatAccumulation())
                              pass = -1;

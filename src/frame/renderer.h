@@ -78,6 +78,10 @@ public:
     std::size_t gpuBytes() const;
     // The fog pass (density volumes); null when the scene has no volumes.
     const volume::FogPass* fog() const { return fog_.get(); }
+    // The next frame recomputes the fog's light transmittance volumes (veil-bench --relight).
+    void invalidateFogLightVolumes() {
+        if (fog_) fog_->invalidateLightVolumes();
+    }
     // The frame's passes in order, with the resources each reads and writes.
     const PassList& passes() const { return passes_; }
     // The texture behind a frame resource (depth, hdr, ldr, shadow.* of the shadow technique:

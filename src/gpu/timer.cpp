@@ -2,7 +2,17 @@
 
 #include "base/error.h"
 
+#include <ctime>
+
 namespace veil::gpu {
+
+namespace {
+double processCpuMs() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
+} // namespace
 
 void GpuTimer::begin(const std::string& name) {
     VEIL_CHECK(!open_, "GPU timer scope '{}' opened inside another", name);
@@ -15,6 +25,7 @@ void GpuTimer::begin(const std::string& name) {
     } else {
         glFinish();
         scope.start = std::chrono::steady_clock::now();
+        scope.processStartMs = processCpuMs();
     }
     scopes_.push_back(std::move(scope));
 }
@@ -30,6 +41,7 @@ void GpuTimer::end() {
         scope.cpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
                                                                 scope.start)
                           .count();
+        scope.processMs = processCpuMs() - scope.processStartMs;
     }
 }
 
@@ -39,7 +51,7 @@ std::vector<PassTime> GpuTimer::collect() {
     times.reserve(scopes_.size());
     for (const Scope& scope : scopes_) {
         const double ms = mode_ == Mode::Query ? scope.query.result() * 1e-6 : scope.cpuMs;
-        times.push_back({scope.name, ms});
+        times.push_back({scope.name, ms, scope.processMs});
     }
     scopes_.clear();
     return times;

@@ -1,6 +1,8 @@
 // Per-pass GPU times. GL_TIME_ELAPSED queries where the driver has a working timer; on
 // software renderers (llvmpipe reads zero) each scope is bracketed by glFinish and timed on
-// the CPU clock instead, which is what a pass costs there.
+// the CPU clock instead, which is what a pass costs there; the process's CPU time (all of
+// the driver's threads) is recorded too, a measure that other processes on the same cores do
+// not inflate (bench/vdb_compare.sh).
 #pragma once
 
 #include "gpu/objects.h"
@@ -14,6 +16,7 @@ namespace veil::gpu {
 struct PassTime {
     std::string name;
     double milliseconds = 0.0;
+    double cpuMilliseconds = -1.0; // process CPU time over the scope (CpuFinish mode; else -1)
 };
 
 class GpuTimer {
@@ -34,6 +37,7 @@ private:
         Query query{NoCreate};
         std::chrono::steady_clock::time_point start;
         double cpuMs = 0.0;
+        double processStartMs = 0.0, processMs = -1.0;
     };
     Mode mode_;
     std::vector<Scope> scopes_;

@@ -103,6 +103,14 @@ public:
     // again (e.g. the `reference` node pool overflowed and was grown). A technique must not
     // ask for endless repeats.
     virtual bool repeatAccumulation() { return false; }
+    // True when the technique keeps every surface of a pixel with its depth and can take the
+    // fog piecewise (`reference`): the frame then marches the fog after the surfaces of the
+    // last geometry pass, one contribution per segment between consecutive surfaces
+    // (shaders/volume/fog_march.comp with FOG_SEGMENTS), instead of one contribution at a
+    // representative depth. Its emit include then also defines, under OIT_FOG_SEGMENTS,
+    //     uint oitSurfaceList(ivec2 p);   // handle to the pixel's surfaces stored so far
+    //     float oitNextSurfaceDepth(uint list, float after); // nearest depth > after, or 1e30
+    virtual bool fogSegments() const { return false; }
     // Composites the accumulation over targets.hdrColor.
     virtual void resolve(const OitFrameTargets& targets) = 0;
     // Bytes of technique-owned storage per pixel (memory reports, benchmarks).

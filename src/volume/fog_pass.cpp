@@ -14,7 +14,7 @@ namespace veil::volume {
 
 FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
                  const gpu::IncludeAliases& lightVisibility)
-    : scene_(scene), programs_(programs) {
+    : scene_(scene), programs_(programs), lightVisibility_(lightVisibility) {
     divisor_ = scene.render.fogResolution;
     GpuVolumeOptions options;
     options.budgetBytes = std::size_t(scene.render.volumeBudgetMiB) << 20;
@@ -51,9 +51,10 @@ FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
             break;
         }
     if (primaryLight_ < 0 && !scene.lights.empty()) primaryLight_ = 0;
-    marchProgram_ =
-        programs_.add(gpu::ProgramDesc::compute("volume/fog_march.comp", {}, lightVisibility));
-    lightProgram_ = programs_.add(gpu::ProgramDesc::compute("volume/light_transmittance.comp"));
+    marchProgram_ = programs_.add(
+        gpu::ProgramDesc::compute("volume/fog_march.comp", {slotsDefine()}, lightVisibility));
+    lightProgram_ = programs_.add(
+        gpu::ProgramDesc::compute("volume/light_transmittance.comp", {slotsDefine()}));
     // Light transmittance volumes: about 2 voxels per texel, at most 128 per axis.
     for (auto& e : volumes_) {
         glm::vec3 lo, hi;
@@ -160,9 +161,25 @@ void FogPass::march(const FogTargets& targets) {
     }
     // 2. March.
     const gpu::Program& mp = programs_.get(marchProgram_);
-    setVolumeUniforms(mp);
-    mp.set("invViewProjection", glm::inverse(targets.viewProjection))
-        .set("resolutionDivisor", divisor_)
+    setMarchUniforms(mp, targets);
+    mp.set("resolutionDivisor", divisor_);
+    mp.use();
+    glBindImageTexture(VEIL_IMG_FOG_RADIANCE, radiance_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                       GL_RGBA16F);
+    glBindImageTexture(VEIL_IMG_FOG_TRANSMITTANCE, transmittance_.id(), 0, GL_FALSE, 0,
+                       GL_WRITE_ONLY, GL_RGBA16F);
+    glDispatchCompute((width_ + 7) / 8, (height_ + 7) / 8, 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+}
+
+std::string FogPass::slotsDefine() const {
+    // Sampler arrays of exactly the scene's grid volumes (volume_common.glsl).
+    return fmt::format("VEIL_VOLUME_SLOTS {}", std::max<std::size_t>(1, volumes_.size()));
+}
+
+void FogPass::setMarchUniforms(const gpu::Program& program, const FogTargets& targets) const {
+    setVolumeUniforms(program);
+    program.set("invViewProjection", glm::inverse(targets.viewProjection))
         .set("steps", scene_.render.fogSteps)
         .set("seed", targets.seed)
         .set("jitter", scene_.render.fogJitter ? 1 : 0)
@@ -170,15 +187,32 @@ void FogPass::march(const FogTargets& targets) {
         .set("globalDensity", globalDensity_)
         .set("globalAlbedo", globalAlbedo_)
         .set("globalAnisotropy", globalAnisotropy_);
-    if (targets.prepareReceiver) targets.prepareReceiver(mp);
-    mp.use();
+    if (targets.prepareReceiver) targets.prepareReceiver(program);
     targets.depth->bind(VEIL_TEX_DEPTH);
-    glBindImageTexture(VEIL_IMG_FOG_RADIANCE, radiance_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
-                       GL_RGBA16F);
-    glBindImageTexture(VEIL_IMG_FOG_TRANSMITTANCE, transmittance_.id(), 0, GL_FALSE, 0,
-                       GL_WRITE_ONLY, GL_RGBA16F);
-    glDispatchCompute((width_ + 7) / 8, (height_ + 7) / 8, 1);
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+}
+
+void FogPass::enableSegments(std::vector<std::string> oitDefines,
+                             const std::filesystem::path& oitEmitInclude) {
+    gpu::IncludeAliases aliases = lightVisibility_;
+    aliases.push_back({"veil:oit_emit", oitEmitInclude});
+    oitDefines.push_back(slotsDefine());
+    segmentsProgram_ = programs_.add(
+        gpu::ProgramDesc::compute("volume/fog_segments.comp", std::move(oitDefines), aliases));
+    segmentsEnabled_ = true;
+}
+
+void FogPass::marchSegments(const FogTargets& targets,
+                            const std::function<void(const gpu::Program&)>& prepareOit) {
+    if (!active() || !segmentsEnabled_) return;
+    // The surfaces were stored by fragment shaders; the marcher reads their lists.
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    const gpu::Program& program = programs_.get(segmentsProgram_);
+    setMarchUniforms(program, targets);
+    program.set("targetSize", glm::ivec2(targets.width, targets.height));
+    prepareOit(program);
+    program.use();
+    glDispatchCompute((targets.width + 7) / 8, (targets.height + 7) / 8, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 }
 
 void FogPass::bindForEmit(const gpu::Program& program, const FogTargets& targets) const {

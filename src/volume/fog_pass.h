@@ -1,6 +1,9 @@
 // The fog pass of the frame: density volumes of the scene on the GPU, the light-space
 // transmittance volumes for self-shadowing, and the compute marcher whose per-pixel result the
-// frame hands to the OIT technique through fog_emit.frag.
+// frame hands to the OIT technique through fog_emit.frag; for a technique with fogSegments()
+// (`reference`) also the piecewise marcher (fog_segments.comp) run after its surfaces.
+// The programs' sampler arrays have exactly the scene's grid volumes (VEIL_VOLUME_SLOTS,
+// shaders/volume/volume_common.glsl): constant indices, which llvmpipe needs to be fast.
 //
 // Parameters (scene "render" block): fog_steps (steps per ray through the volumes' bounds,
 // default 128), fog_resolution (1, 2 or 4: marching resolution divisor; upsampled with a joint
@@ -14,8 +17,10 @@
 #include "scene/scene.h"
 #include "volume/gpu_volume.h"
 
+#include <filesystem>
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace veil::volume {
@@ -51,6 +56,17 @@ public:
     void bindForEmit(const gpu::Program& program, const FogTargets& targets) const;
     // Draws the full-screen triangle (the emit program must be in use).
     void drawEmit() const;
+    // For an OIT technique with fogSegments() (`reference`): builds the piecewise marcher
+    // (fog_segments.comp) with the technique's emit include and defines. The frame then calls
+    // marchSegments() after the surfaces of the last geometry pass instead of drawEmit().
+    void enableSegments(std::vector<std::string> oitDefines,
+                        const std::filesystem::path& oitEmitInclude);
+    bool segmented() const { return segmentsEnabled_; }
+    // Marches every full-resolution pixel piecewise between the surfaces the technique has
+    // stored and emits one contribution per segment; `prepareOit` sets the technique's
+    // uniforms on the program (Technique::prepareProgram). After march() in the same frame.
+    void marchSegments(const FogTargets& targets,
+                       const std::function<void(const gpu::Program&)>& prepareOit);
     // Binds the grid volumes and sets the volume uniforms of shaders/volume/volume_common.glsl
     // on `program` (for other passes that sample the density: shadow techniques).
     void bindVolumes(const gpu::Program& program) const { setVolumeUniforms(program); }
@@ -58,6 +74,9 @@ public:
     // False when the shadow technique's maps already hold the volumes' absorbance toward
     // every light: the marcher then skips its own self-shadowing volumes.
     void setSelfShadowing(bool on) { selfShadowing_ = on; }
+    // The next march() recomputes the light transmittance volumes even if the light did not
+    // move (benchmarks that compare with renderers shadowing every frame: veil-bench --relight).
+    void invalidateLightVolumes() { lightValid_ = false; }
     // The march's results at 1/divisor() resolution (frame resource "fog.radiance"): rgb
     // in-scattered radiance (a: its mean depth) and rgb transmittance (a: opaque view depth).
     const gpu::Texture& radianceTexture() const { return radiance_; }
@@ -71,10 +90,14 @@ public:
 private:
     void resize(int width, int height);
     void setVolumeUniforms(const gpu::Program& program) const;
+    void setMarchUniforms(const gpu::Program& program, const FogTargets& targets) const;
+    std::string slotsDefine() const;
 
     const scene::Scene& scene_;
     gpu::ProgramManager& programs_;
-    gpu::ProgramHandle marchProgram_, lightProgram_;
+    gpu::ProgramHandle marchProgram_, lightProgram_, segmentsProgram_;
+    gpu::IncludeAliases lightVisibility_;
+    bool segmentsEnabled_ = false;
     struct Entry {
         const scene::VolumeRef* ref;
         std::unique_ptr<GpuVolume> gpu;

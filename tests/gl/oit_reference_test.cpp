@@ -175,8 +175,9 @@ TEST_F(OitReferenceGLTest, NodePoolCapIsAClearError) {
 }
 
 TEST_F(OitReferenceGLTest, PerPixelArrayOverflowIsCountedAndKeepsNearest) {
-    // 130 layers > 128-entry local array: the 2 farthest per pixel are dropped and counted.
-    const int size = 8, layers = oit::ReferenceTechnique::kMaxFragmentsPerPixel + 2;
+    // 18 layers > a 16-entry local array (max_fragments_per_pixel = 16): the 2 farthest per
+    // pixel are dropped and counted, and the deepest list (18) is reported.
+    const int size = 8, limit = 16, layers = limit + 2;
     std::vector<TestPlane> planes;
     std::vector<oit::cpu::Fragment> nearest;
     for (int i = 0; i < layers; ++i) {
@@ -187,10 +188,12 @@ TEST_F(OitReferenceGLTest, PerPixelArrayOverflowIsCountedAndKeepsNearest) {
     }
     const scene::Scene sc =
         scene::parseScene(planeScene(planes, {1, 1, 1}, size, size), sourceDir());
-    frame::Renderer renderer(sc, info(), {size, size, "", "reference"});
+    frame::Renderer renderer(sc, info(),
+                             {size, size, "", "reference", {{"max_fragments_per_pixel", limit}}});
     renderer.render();
     const oit::ReferenceStats stats = referenceStats(renderer);
     EXPECT_EQ(stats.pixelOverflowFragments, std::uint64_t(2) * size * size);
+    EXPECT_EQ(renderer.technique().stats().at("max_list_length").get<int>(), layers);
     EXPECT_EQ(stats.fragments, std::uint64_t(layers) * size * size);
     const ImageF img = renderer.readHdr();
     const glm::dvec3 expected = oit::cpu::compositeSorted(nearest, {1, 1, 1});

@@ -207,9 +207,14 @@ ProjectPrograms projectPrograms(const gpu::ContextInfo& info, gpu::ProgramManage
                 compute.insert(compute.begin(), "OIT_COMPUTE 1");
                 P.push_back(ProgramDesc::compute("volume/fog_emit.comp", compute, emit));
             } else if (mode == oit::PerPixelEmit::Fragments) {
-                P.push_back(ProgramDesc::graphics("volume/fullscreen.vert",
-                                                  "volume/fog_emit.frag", defines, emit));
+                P.push_back(ProgramDesc::graphics("volume/fullscreen.vert", "volume/fog_emit.frag",
+                                                  defines, emit));
             }
+            // The piecewise fog marcher (src/volume/fog_pass.cpp), with every shadow technique.
+            if (technique->fogSegments() && pass + 1 == technique->geometryPasses())
+                for (const auto& v : visibilities)
+                    P.push_back(
+                        ProgramDesc::compute("volume/fog_segments.comp", defines, {v[0], emit[0]}));
         }
     }
     // The technique template (src/oit/_template), not registered by default.
@@ -225,9 +230,10 @@ ProjectPrograms projectPrograms(const gpu::ContextInfo& info, gpu::ProgramManage
           "oit/phenomenological/thickness.comp", "oit/phenomenological/downsample_depth.comp",
           "oit/phenomenological/upsample.comp"})
         P.push_back(ProgramDesc::compute(comp));
-    P.push_back(ProgramDesc::compute(
-        "oit/reference/resolve.comp",
-        {fmt::format("OIT_REF_MAX_FRAGMENTS {}", oit::ReferenceTechnique::kMaxFragmentsPerPixel)}));
+    P.push_back(
+        ProgramDesc::compute("oit/reference/resolve.comp",
+                             {fmt::format("OIT_REF_MAX_FRAGMENTS {}",
+                                          oit::ReferenceTechnique::kDefaultMaxFragmentsPerPixel)}));
     P.push_back(
         ProgramDesc::graphics("oit/stochastic/copy_depth.vert", "oit/stochastic/copy_depth.frag"));
 

@@ -7,9 +7,10 @@
 // The counter keeps counting past the pool's capacity; the host reads it back and, when it
 // exceeds the pool, grows the pool and re-renders (reference.h).
 //
-// Fog marcher: a compute shader can call this same oitEmit() once per segment between
-// surfaces if it #defines OIT_PIXEL_COORD (its ivec2 pixel) before including this file; the
-// segment then takes part in the sort like any surface fragment.
+// Fog marcher: a compute shader calls this same oitEmit() once per segment between surfaces:
+// it #defines OIT_PIXEL_COORD (its ivec2 pixel) and OIT_FOG_SEGMENTS before including this
+// file, walks the pixel's surfaces with oitNextSurfaceDepth() and emits one node per
+// segment, which then takes part in the sort like any surface fragment.
 #include "../fragment.glsl"
 
 #include "../../common/bindings.h"
@@ -27,7 +28,11 @@ struct OitRefNode {
     vec3 modulation;
     uint next;
 };
+#ifdef OIT_FOG_SEGMENTS
+layout(std430, binding = VEIL_SSBO_OIT_REF_NODES) restrict buffer OitRefNodes {
+#else
 layout(std430, binding = VEIL_SSBO_OIT_REF_NODES) restrict writeonly buffer OitRefNodes {
+#endif
     OitRefNode oitRefNodes[];
 };
 layout(std430, binding = VEIL_SSBO_OIT_REF_COUNTERS) restrict buffer OitRefCounters {
@@ -50,3 +55,24 @@ void oitEmit(OitFragment f) {
     oitRefNodes[node].modulation = vec3(1.0 - alpha) + alpha * transmission;
     oitRefNodes[node].next = next;
 }
+
+#ifdef OIT_FOG_SEGMENTS
+// The surfaces stored so far at pixel p, as a handle for oitNextSurfaceDepth(): the head of its
+// list, taken before the fog appends its own nodes (which go in front of it, unseen by walks
+// from this handle).
+uint oitSurfaceList(ivec2 p) { return imageLoad(oitRefHeads, p).r; }
+
+// The nearest view depth greater than `after` among the surfaces of `list` (1e30: none).
+// Surfaces of equal depth are returned once (the segment between them is empty). A walk of the
+// list per surface: no local array (a 128-entry one made the marcher 5x slower on the H200),
+// quadratic only in the depth of pixels that have fog.
+float oitNextSurfaceDepth(uint list, float after) {
+    float next = 1e30;
+    for (uint guard = 0u; list < oitRefCapacity && guard < oitRefCapacity; ++guard) {
+        float d = oitRefNodes[list].depth;
+        if (d > after) next = min(next, d);
+        list = oitRefNodes[list].next;
+    }
+    return next;
+}
+#endif

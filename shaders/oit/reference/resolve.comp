@@ -3,7 +3,8 @@
 // OIT_REF_MAX_FRAGMENTS nearest fragments (insertion sort by view depth while gathering),
 // then composite front to back over the opaque image (004 Eq. 2 with colored modulation):
 //     C = sum_i (prod_{j<i} m_j) c_i + (prod_j m_j) * background.
-// Fragments beyond the nearest OIT_REF_MAX_FRAGMENTS are counted in oitRefDropped.
+// Fragments beyond the nearest OIT_REF_MAX_FRAGMENTS are counted in oitRefDropped, and the
+// deepest list of the frame in oitRefMaxLength (what max_fragments_per_pixel must reach).
 #include "../../common/bindings.h"
 
 #ifndef OIT_REF_MAX_FRAGMENTS
@@ -24,6 +25,7 @@ layout(std430, binding = VEIL_SSBO_OIT_REF_NODES) restrict readonly buffer OitRe
 layout(std430, binding = VEIL_SSBO_OIT_REF_COUNTERS) restrict buffer OitRefCounters {
     uint oitRefRequested;
     uint oitRefDropped;
+    uint oitRefMaxLength;
 };
 layout(binding = VEIL_IMG_OIT_REF_HEADS, r32ui) uniform restrict readonly uimage2D oitRefHeads;
 layout(binding = VEIL_IMG_OIT_REF_TARGET, rgba16f) uniform restrict image2D hdrImage;
@@ -66,6 +68,7 @@ void main() {
         index = oitRefNodes[index].next;
     }
     if (dropped > 0u) atomicAdd(oitRefDropped, dropped);
+    atomicMax(oitRefMaxLength, uint(count) + dropped);
 
     vec3 color = vec3(0.0), throughput = vec3(1.0);
     for (int i = 0; i < count; ++i) {

@@ -27,7 +27,7 @@ ReferenceTechnique::ReferenceTechnique(gpu::ProgramManager& programs, const Refe
     : programs_(programs), limits_(limits) {
     resolveProgram_ = programs_.add(gpu::ProgramDesc::compute(
         "oit/reference/resolve.comp",
-        {fmt::format("OIT_REF_MAX_FRAGMENTS {}", kMaxFragmentsPerPixel)}));
+        {fmt::format("OIT_REF_MAX_FRAGMENTS {}", limits_.maxFragmentsPerPixel)}));
     GLint64 maxBlock = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
     std::uint64_t capBytes = limits_.maxPoolBytes;
@@ -126,14 +126,17 @@ void ReferenceTechnique::resolve(const OitFrameTargets& targets) {
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                     GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
                     GL_BUFFER_UPDATE_BARRIER_BIT);
-    GLuint dropped = 0;
-    glGetNamedBufferSubData(counters_.id(), sizeof(GLuint), sizeof(GLuint), &dropped);
-    stats_.pixelOverflowFragments = dropped;
-    if (dropped > 0 && !warnedOverflow_) {
+    GLuint counters[3] = {0, 0, 0};
+    glGetNamedBufferSubData(counters_.id(), 0, sizeof(counters), counters);
+    stats_.pixelOverflowFragments = counters[1];
+    stats_.maxListLength = counters[2];
+    if (counters[1] > 0 && !warnedOverflow_) {
         warnedOverflow_ = true;
         log::warn("reference OIT: {} fragments beyond the {} nearest per pixel were dropped "
-                  "(per-pixel array overflow; the image is exact only for the nearest {})",
-                  dropped, kMaxFragmentsPerPixel, kMaxFragmentsPerPixel);
+                  "(the deepest pixel has {}; the image is exact only for the nearest {}); raise "
+                  "render.oit.max_fragments_per_pixel to at least {}",
+                  counters[1], limits_.maxFragmentsPerPixel, counters[2],
+                  limits_.maxFragmentsPerPixel, counters[2]);
     }
 }
 
@@ -148,7 +151,9 @@ nlohmann::json ReferenceTechnique::stats() const {
             {"pool_mib", mib(stats_.poolNodes * kNodeBytes)},
             {"pool_growths", stats_.poolGrowths},
             {"accumulation_repeats", stats_.accumulationRepeats},
-            {"pixel_overflow_fragments", stats_.pixelOverflowFragments}};
+            {"pixel_overflow_fragments", stats_.pixelOverflowFragments},
+            {"max_list_length", stats_.maxListLength},
+            {"max_fragments_per_pixel", limits_.maxFragmentsPerPixel}};
 }
 
 void registerReference(Registry& registry) {
@@ -157,7 +162,11 @@ void registerReference(Registry& registry) {
         .integer("initial_nodes_per_pixel", 4, 1, 1024,
                  "starting node-pool size per pixel (the pool grows by powers of two)")
         .real("max_pool_mib", 1024.0, 1.0 / 1024.0, 65536.0,
-              "cap on the node pool in MiB (also capped by GL_MAX_SHADER_STORAGE_BLOCK_SIZE)");
+              "cap on the node pool in MiB (also capped by GL_MAX_SHADER_STORAGE_BLOCK_SIZE)")
+        .integer("max_fragments_per_pixel", ReferenceTechnique::kDefaultMaxFragmentsPerPixel, 1,
+                 4096,
+                 "fragments per pixel the resolve sorts (its local array); deeper pixels keep "
+                 "the nearest and the rest are counted as dropped");
     registry.add({"reference",
                   "exact per-pixel sorted compositing (per-pixel linked lists, compute resolve)",
                   nullptr,
@@ -167,6 +176,7 @@ void registerReference(Registry& registry) {
                           static_cast<std::uint64_t>(p.getInt("initial_nodes_per_pixel"));
                       limits.maxPoolBytes =
                           static_cast<std::uint64_t>(p.getDouble("max_pool_mib") * 1024.0 * 1024.0);
+                      limits.maxFragmentsPerPixel = p.getInt("max_fragments_per_pixel");
                       return std::make_unique<ReferenceTechnique>(programs, limits);
                   },
                   std::move(schema)});

@@ -5,17 +5,23 @@
 //   initial_nodes_per_pixel [4]    starting node-pool size = this * width * height (min 4096)
 //   max_pool_mib            [1024] cap on the node pool; also capped by the driver's
 //                                  GL_MAX_SHADER_STORAGE_BLOCK_SIZE. Past it: veil::Error.
-// Fixed:
-//   maxFragmentsPerPixel [128]    local array of the resolve (OIT_REF_MAX_FRAGMENTS); deeper
-//                                 pixels keep their nearest 128 fragments, the rest are
-//                                 counted (ReferenceStats::pixelOverflowFragments) and warned
-//                                 about once.
+//   max_fragments_per_pixel [256] local array of the resolve (OIT_REF_MAX_FRAGMENTS), 1..512;
+//                                 deeper pixels keep their nearest ones, the rest are counted
+//                                 (ReferenceStats::pixelOverflowFragments, with the deepest
+//                                 list in maxListLength) and warned about once. 256 holds
+//                                 default.json's deepest pixel at 1920x1080 (217 fragments;
+//                                 128 dropped 240,115 there); each doubling costs the resolve
+//                                 time (H200, default.json 1080p: 3.25 ms at 128, 5.74 at
+//                                 512); NVIDIA's compiler refuses 2048 (bench/RESULTS.md).
 // Storage: an r32ui head-pointer image, a node pool SSBO of 32-byte nodes (premultiplied
 // radiance rgb, view depth, modulation rgb = 1 - a + a T (000 Eq. 2), next index) and a
 // counter SSBO {nodes requested, fragments dropped by the resolve}.
 // Pool overflow: after the last geometry pass repeatAccumulation() reads the counter back;
 // if more nodes were requested than the pool holds, the pool grows to the next power of two
-// and the frame re-runs the transparent passes.
+// and the frame re-runs the transparent passes (grow-and-repeat: the pool ends sized from the
+// frame's actual fragment count, rounded up to a power of two).
+// Fog: fogSegments() is true, so the frame marches the fog per segment between the sorted
+// surfaces of each pixel (oitNextSurfaceDepth() in emit.glsl) and appends one node per segment.
 #pragma once
 
 #include "oit/technique.h"
@@ -27,6 +33,7 @@ namespace veil::oit {
 struct ReferenceLimits {
     std::uint64_t initialNodesPerPixel = 4;
     std::uint64_t maxPoolBytes = std::uint64_t(1) << 30;
+    int maxFragmentsPerPixel = 256; // ReferenceTechnique::kDefaultMaxFragmentsPerPixel
 };
 
 struct ReferenceStats {
@@ -35,16 +42,18 @@ struct ReferenceStats {
     int poolGrowths = 0;                      // times the pool grew (lifetime of the technique)
     int accumulationRepeats = 0;              // extra accumulations in the last frame
     std::uint64_t pixelOverflowFragments = 0; // dropped by the resolve's local array, last frame
+    std::uint64_t maxListLength = 0;          // deepest per-pixel list of the last frame
 };
 
 class ReferenceTechnique final : public Technique {
 public:
-    static constexpr int kMaxFragmentsPerPixel = 128;
+    static constexpr int kDefaultMaxFragmentsPerPixel = 256;
     static constexpr std::size_t kNodeBytes = 32;
 
     ReferenceTechnique(gpu::ProgramManager& programs, const ReferenceLimits& limits);
     std::string name() const override { return "reference"; }
     std::filesystem::path emitInclude() const override { return "oit/reference/emit.glsl"; }
+    bool fogSegments() const override { return true; }
     void resize(const OitFrameTargets& targets) override;
     void beginAccumulate(int pass, const OitFrameTargets& targets,
                          const gpu::Program& program) override;
