@@ -58,6 +58,9 @@ public:
     // False when the shadow technique's maps already hold the volumes' absorbance toward
     // every light: the marcher then skips its own self-shadowing volumes.
     void setSelfShadowing(bool on) { selfShadowing_ = on; }
+    // The volumes' values (density scale, albedo) or a light changed in the scene: the light
+    // transmittance volumes are recomputed at the next march().
+    void invalidateLightVolumes() { lightValid_ = false; }
     // The march's results at 1/divisor() resolution (frame resource "fog.radiance"): rgb
     // in-scattered radiance (a: its mean depth) and rgb transmittance (a: opaque view depth).
     const gpu::Texture& radianceTexture() const { return radiance_; }

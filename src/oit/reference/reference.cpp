@@ -91,17 +91,22 @@ void ReferenceTechnique::endAccumulate(int) {
 bool ReferenceTechnique::repeatAccumulation() {
     GLuint requested = 0;
     glGetNamedBufferSubData(counters_.id(), 0, sizeof(GLuint), &requested);
-    if (requested <= stats_.poolNodes) {
-        stats_.fragments = requested;
+    const bool atCap = stats_.poolNodes >= maxPoolNodes_;
+    if (requested <= stats_.poolNodes || (limits_.dropPastCap && atCap)) {
+        // "drop": the pool is at its cap; emit.glsl skipped the nodes past it (counted only).
+        stats_.poolDroppedFragments =
+            requested > stats_.poolNodes ? requested - stats_.poolNodes : 0;
+        stats_.fragments = requested - stats_.poolDroppedFragments;
         stats_.accumulationRepeats = repeatsThisFrame_;
         repeatsThisFrame_ = 0;
         return false;
     }
     // The counter kept counting past the pool: it is the exact node count this frame needs.
-    VEIL_CHECK(requested <= maxPoolNodes_,
+    VEIL_CHECK(requested <= maxPoolNodes_ || limits_.dropPastCap,
                "reference OIT: the frame has {} transparent fragments ({:.1f} MiB of nodes) but "
                "the node pool is capped at {} nodes ({:.1f} MiB); lower the resolution or the "
-               "transparent depth complexity, or raise render.oit.max_pool_mib",
+               "transparent depth complexity, raise render.oit.max_pool_mib, or set "
+               "render.oit.pool_overflow=drop",
                requested, mib(std::uint64_t(requested) * kNodeBytes), maxPoolNodes_,
                mib(maxPoolNodes_ * kNodeBytes));
     const std::uint64_t grown = std::min(nextPowerOfTwo(requested), maxPoolNodes_);
@@ -148,7 +153,8 @@ nlohmann::json ReferenceTechnique::stats() const {
             {"pool_mib", mib(stats_.poolNodes * kNodeBytes)},
             {"pool_growths", stats_.poolGrowths},
             {"accumulation_repeats", stats_.accumulationRepeats},
-            {"pixel_overflow_fragments", stats_.pixelOverflowFragments}};
+            {"pixel_overflow_fragments", stats_.pixelOverflowFragments},
+            {"pool_dropped_fragments", stats_.poolDroppedFragments}};
 }
 
 void registerReference(Registry& registry) {
@@ -157,7 +163,10 @@ void registerReference(Registry& registry) {
         .integer("initial_nodes_per_pixel", 4, 1, 1024,
                  "starting node-pool size per pixel (the pool grows by powers of two)")
         .real("max_pool_mib", 1024.0, 1.0 / 1024.0, 65536.0,
-              "cap on the node pool in MiB (also capped by GL_MAX_SHADER_STORAGE_BLOCK_SIZE)");
+              "cap on the node pool in MiB (also capped by GL_MAX_SHADER_STORAGE_BLOCK_SIZE)")
+        .choice("pool_overflow", "error", {"error", "drop"},
+                "past the cap: an error, or keep the capped pool and leave out (and count) the "
+                "fragments that do not fit");
     registry.add({"reference",
                   "exact per-pixel sorted compositing (per-pixel linked lists, compute resolve)",
                   nullptr,
@@ -167,6 +176,7 @@ void registerReference(Registry& registry) {
                           static_cast<std::uint64_t>(p.getInt("initial_nodes_per_pixel"));
                       limits.maxPoolBytes =
                           static_cast<std::uint64_t>(p.getDouble("max_pool_mib") * 1024.0 * 1024.0);
+                      limits.dropPastCap = p.getString("pool_overflow") == "drop";
                       return std::make_unique<ReferenceTechnique>(programs, limits);
                   },
                   std::move(schema)});

@@ -4,7 +4,11 @@
 // Properties (declared in registerReference; defaults in brackets):
 //   initial_nodes_per_pixel [4]    starting node-pool size = this * width * height (min 4096)
 //   max_pool_mib            [1024] cap on the node pool; also capped by the driver's
-//                                  GL_MAX_SHADER_STORAGE_BLOCK_SIZE. Past it: veil::Error.
+//                                  GL_MAX_SHADER_STORAGE_BLOCK_SIZE.
+//   pool_overflow           [error] past the cap: "error" (veil::Error, `veil render`) or
+//                                  "drop" (the pool stays at the cap, the fragments that do
+//                                  not fit are left out and counted in stats().
+//                                  pool_dropped_fragments; the viewer's default)
 // Fixed:
 //   maxFragmentsPerPixel [128]    local array of the resolve (OIT_REF_MAX_FRAGMENTS); deeper
 //                                 pixels keep their nearest 128 fragments, the rest are
@@ -27,6 +31,7 @@ namespace veil::oit {
 struct ReferenceLimits {
     std::uint64_t initialNodesPerPixel = 4;
     std::uint64_t maxPoolBytes = std::uint64_t(1) << 30;
+    bool dropPastCap = false; // pool_overflow = "drop"
 };
 
 struct ReferenceStats {
@@ -35,6 +40,7 @@ struct ReferenceStats {
     int poolGrowths = 0;                      // times the pool grew (lifetime of the technique)
     int accumulationRepeats = 0;              // extra accumulations in the last frame
     std::uint64_t pixelOverflowFragments = 0; // dropped by the resolve's local array, last frame
+    std::uint64_t poolDroppedFragments = 0;   // did not fit the capped pool, last frame ("drop")
 };
 
 class ReferenceTechnique final : public Technique {
