@@ -15,10 +15,9 @@ std::vector<DebugViewEntry> debugViewEntries(const frame::Renderer& renderer) {
         e.resource = name;
         const gpu::Texture* t = renderer.resourceTexture(name);
         if (!t || !*t) {
-            e.reason = name.rfind("oit.", 0) == 0
-                           ? "inside the OIT technique '" + renderer.oitName() +
-                                 "' (no frame texture)"
-                           : "no texture behind this resource";
+            e.reason = name.rfind("oit.", 0) == 0 ? "inside the OIT technique '" +
+                                                        renderer.oitName() + "' (no frame texture)"
+                                                  : "no texture behind this resource";
             if (name.rfind("oit.", 0) == 0)
                 e.bytes = std::size_t(renderer.width()) * renderer.height() *
                           renderer.technique().bytesPerPixel();

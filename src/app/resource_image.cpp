@@ -85,8 +85,8 @@ std::string whyNotReadable(const gpu::Texture& t) {
         return fmt::format("texture target 0x{:04x} (e.g. multisample) cannot be read back",
                            target);
     const GLenum f = t.format();
-    if (!isDepth(f) && !isSingleChannel(f) && !isInteger(f) && f != GL_RGBA8 &&
-        f != GL_RGBA16F && f != GL_RGBA32F && f != GL_RG32F)
+    if (!isDepth(f) && !isSingleChannel(f) && !isInteger(f) && f != GL_RGBA8 && f != GL_RGBA16F &&
+        f != GL_RGBA32F && f != GL_RG32F)
         return "format " + formatName(f) + " is not shown";
     return {};
 }

@@ -178,26 +178,36 @@ void scriptOutput(const ScriptAction& a, ViewSession& session, const DebugView& 
 // Applies a state-changing action; returns the frames it asks to wait (frames action).
 int scriptApply(const ScriptAction& a, ViewSession& s, DebugView& view, PanelState& panel) {
     const nlohmann::json& v = a.value;
-    if (a.kind == "set") s.set(v.get<std::string>());
-    else if (a.kind == "oit") s.selectOit(v.get<std::string>());
-    else if (a.kind == "shadows") s.selectShadows(v.get<std::string>());
-    else if (a.kind == "camera") s.selectCamera(v.get<std::string>());
-    else if (a.kind == "reset_camera") s.resetCamera();
+    if (a.kind == "set")
+        s.set(v.get<std::string>());
+    else if (a.kind == "oit")
+        s.selectOit(v.get<std::string>());
+    else if (a.kind == "shadows")
+        s.selectShadows(v.get<std::string>());
+    else if (a.kind == "camera")
+        s.selectCamera(v.get<std::string>());
+    else if (a.kind == "reset_camera")
+        s.resetCamera();
     else if (a.kind == "orbit")
         s.orbitBy(v[0].get<float>(), v[1].get<float>(),
                   a.action.contains("zoom") ? a.action["zoom"].get<float>() : 1.0f);
-    else if (a.kind == "pan") s.panBy(v[0].get<float>(), v[1].get<float>());
+    else if (a.kind == "pan")
+        s.panBy(v[0].get<float>(), v[1].get<float>());
     else if (a.kind == "view") {
         const std::string name = v.get<std::string>();
         view.select(name == "frame" ? "" : name,
                     a.action.contains("layer") ? a.action["layer"].get<int>() : 0);
-    } else if (a.kind == "open") s.open(v.get<std::string>());
-    else if (a.kind == "resize") s.resize(v[0].get<int>(), v[1].get<int>());
-    else if (a.kind == "reload_shaders") s.reloadShaders();
+    } else if (a.kind == "open")
+        s.open(v.get<std::string>());
+    else if (a.kind == "resize")
+        s.resize(v[0].get<int>(), v[1].get<int>());
+    else if (a.kind == "reload_shaders")
+        s.reloadShaders();
     else if (a.kind == "expand")
         for (const auto& name : v)
             panel.expand.insert(name.get<std::string>());
-    else if (a.kind == "frames") return v.get<int>();
+    else if (a.kind == "frames")
+        return v.get<int>();
     return 1;
 }
 
@@ -259,8 +269,10 @@ void runView(const ViewArgs& args) {
             force = true;
         } else if (next < script.size()) {
             action = &script[next++];
-            if (!isOutput(action->kind)) wait = scriptApply(*action, session, view, panel) - 1;
-            else if (action->kind == "save_scene") session.saveSceneAs(action->value.get<std::string>());
+            if (!isOutput(action->kind))
+                wait = scriptApply(*action, session, view, panel) - 1;
+            else if (action->kind == "save_scene")
+                session.saveSceneAs(action->value.get<std::string>());
         }
         if (gui) {
             ImGui_ImplOpenGL3_NewFrame();
@@ -341,7 +353,8 @@ void runView(const ViewArgs& args) {
             gpu::Framebuffer source;
             source.attach(GL_COLOR_ATTACHMENT0, shown);
             const double s = std::min(double(fw) / shown.width(), double(fh) / shown.height());
-            const int w = int(std::lround(shown.width() * s)), h = int(std::lround(shown.height() * s));
+            const int w = int(std::lround(shown.width() * s)),
+                      h = int(std::lround(shown.height() * s));
             const int x0 = (fw - w) / 2, y0 = (fh - h) / 2;
             glBlitNamedFramebuffer(source.id(), 0, 0, 0, shown.width(), shown.height(), x0, y0,
                                    x0 + w, y0 + h, GL_COLOR_BUFFER_BIT,
@@ -368,8 +381,8 @@ void runView(const ViewArgs& args) {
             glfwWaitEventsTimeout(0.1);
     }
     if (!session.errors().empty() && scripted)
-        std::cout << session.errors().size() << " error(s) shown in the panel, last: "
-                  << session.errors().back() << "\n";
+        std::cout << session.errors().size()
+                  << " error(s) shown in the panel, last: " << session.errors().back() << "\n";
 }
 
 } // namespace
@@ -379,8 +392,9 @@ void addViewCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("view", "Explore a scene in a window (needs a display)");
     cmd->add_option("scene", args->scene, "Scene file (JSON) or an OpenVDB file (.vdb)")
         ->required();
-    cmd->add_option("--width", args->width, "Frame width (default: the scene's; interactive: the "
-                                            "window's)")
+    cmd->add_option("--width", args->width,
+                    "Frame width (default: the scene's; interactive: the "
+                    "window's)")
         ->check(CLI::Range(1, 16384));
     cmd->add_option("--height", args->height, "Frame height (as --width)")
         ->check(CLI::Range(1, 16384));

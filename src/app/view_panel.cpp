@@ -1,6 +1,7 @@
 #include "app/view_panel.h"
 
 #include "app/dump.h"
+#include "app/exr_output.h"
 #include "app/property_widgets.h"
 
 #include "base/error.h"
@@ -71,7 +72,8 @@ void techniqueProperties(ViewSession& s, const PropertySchema& schema, const Pro
     const nlohmann::json before = values;
     if (propertyWidgets(schema, values))
         for (const auto& [key, v] : values.items())
-            if (!before.contains(key) || before[key] != v) s.set(prefix + "." + key + "=" + v.dump());
+            if (!before.contains(key) || before[key] != v)
+                s.set(prefix + "." + key + "=" + v.dump());
 }
 
 template <class Registry>
@@ -84,10 +86,9 @@ void techniqueCombo(ViewSession& s, const char* label, const Registry& registry,
         if (ImGui::Selectable(t.name.c_str(), t.name == rendering) && t.name != rendering)
             isOit ? s.selectOit(t.name) : s.selectShadows(t.name);
         ImGui::EndDisabled();
-        const std::string why =
-            available ? t.description
-                      : fmt::format("not available on this GL driver ({}): {}",
-                                    s.context().renderer, t.description);
+        const std::string why = available ? t.description
+                                          : fmt::format("not available on this GL driver ({}): {}",
+                                                        s.context().renderer, t.description);
         tip(why.c_str());
     }
     ImGui::EndCombo();
@@ -210,8 +211,7 @@ void fogSections(ViewSession& s, const PanelState& st) {
             ImGui::Separator();
             ImGui::TextUnformatted(v.name.empty() ? key.c_str() : v.name.c_str());
             sceneFloat(s, key + "density_scale", "density scale", v.densityScale, 1e-4f, 1e3f,
-                       "extinction coefficient per unit density (sigma_t = scale x density)",
-                       true);
+                       "extinction coefficient per unit density (sigma_t = scale x density)", true);
             sceneColour(s, key + "albedo", "albedo", v.albedo,
                         "single-scattering albedo sigma_s / sigma_t");
             sceneFloat(s, key + "anisotropy", "anisotropy g", v.anisotropy, -0.99f, 0.99f,
@@ -274,12 +274,12 @@ void debugSection(ViewSession& s, DebugView& view, const PanelState& st) {
             view.select(e.resource, 0);
         ImGui::EndDisabled();
         const std::string info =
-            e.reason.empty() ? fmt::format("{} x{} layer(s), {}\n{}", e.format, e.layers,
-                                           e.bytes >= 1 << 20
-                                               ? fmt::format("{:.1f} MiB", e.bytes / 1048576.0)
-                                               : fmt::format("{:.1f} KiB", e.bytes / 1024.0),
-                                           resourceUnits(e.resource))
-                             : e.reason;
+            e.reason.empty()
+                ? fmt::format("{} x{} layer(s), {}\n{}", e.format, e.layers,
+                              e.bytes >= 1 << 20 ? fmt::format("{:.1f} MiB", e.bytes / 1048576.0)
+                                                 : fmt::format("{:.1f} KiB", e.bytes / 1024.0),
+                              resourceUnits(e.resource))
+                : e.reason;
         tip(info.c_str());
         if (view.resource() == e.resource && e.layers > 1) {
             int layer = view.layer();
@@ -359,11 +359,13 @@ void writeShownImage(const ViewSession& session, const DebugView& view, const st
         img.strings = {{"veil:resource", view.resource()},
                        {"veil:layer", std::to_string(view.layer())}};
     } else {
-        const ImageF hdr = session.renderer().readHdr();
-        img.width = hdr.width;
-        img.height = hdr.height;
-        img.channels = {"R", "G", "B", "A"};
-        img.pixels = hdr.pixels;
+        // What `veil render -o out.exr` writes for this frame: RGB, A, Z and the metadata.
+        const frame::Renderer& r = session.renderer();
+        const FrameExtras extras = captureExtras(r, false);
+        const RenderMetadata meta = describeRender(
+            session.scenePath(), r.oitName(), r.technique().properties().values(), r.camera().name,
+            extras, r.width(), r.height(), session.context().renderer);
+        img = makeExr(r.readHdr(), extras, meta, false);
     }
     io::writeExr(path, img);
 }

@@ -18,9 +18,9 @@ enum class Want { String, Number, Bool, Array };
 
 Want wantFor(const std::string& kind) {
     static const std::set<std::string> strings = {
-        "set",        "oit",       "shadows",           "camera",       "view",
-        "open",       "screenshot", "window_screenshot", "copy_command", "save_scene",
-        "status"};
+        "set",          "oit",        "shadows",    "camera",
+        "view",         "open",       "screenshot", "window_screenshot",
+        "copy_command", "save_scene", "status"};
     if (strings.count(kind)) return Want::String;
     if (kind == "frames") return Want::Number;
     if (kind == "reset_camera" || kind == "reload_shaders") return Want::Bool;
@@ -28,10 +28,24 @@ Want wantFor(const std::string& kind) {
 }
 
 bool known(const std::string& kind) {
-    static const std::set<std::string> all = {
-        "set",  "oit",    "shadows",      "camera",  "reset_camera",   "orbit",
-        "pan",  "view",   "open",         "resize",  "reload_shaders", "frames",
-        "screenshot", "window_screenshot", "copy_command", "save_scene", "status", "expand"};
+    static const std::set<std::string> all = {"set",
+                                              "oit",
+                                              "shadows",
+                                              "camera",
+                                              "reset_camera",
+                                              "orbit",
+                                              "pan",
+                                              "view",
+                                              "open",
+                                              "resize",
+                                              "reload_shaders",
+                                              "frames",
+                                              "screenshot",
+                                              "window_screenshot",
+                                              "copy_command",
+                                              "save_scene",
+                                              "status",
+                                              "expand"};
     return all.count(kind) > 0;
 }
 
@@ -51,8 +65,8 @@ std::vector<ScriptAction> loadViewScript(const std::filesystem::path& path) {
     for (std::size_t i = 0; i < doc.size(); ++i) {
         const nlohmann::json& a = doc[i];
         const std::string where = fmt::format("{}: action {}", path.string(), i);
-        VEIL_CHECK(a.is_object(), "{}: expected an object such as {{\"set\": \"render.exposure=2\"}}",
-                   where);
+        VEIL_CHECK(a.is_object(),
+                   "{}: expected an object such as {{\"set\": \"render.exposure=2\"}}", where);
         ScriptAction act;
         act.index = i;
         act.action = a;
@@ -82,7 +96,8 @@ std::vector<ScriptAction> loadViewScript(const std::filesystem::path& path) {
                                           : "an array",
                    scene::describeJson(act.value));
         if (act.kind == "orbit" || act.kind == "pan" || act.kind == "resize") {
-            VEIL_CHECK(act.value.size() == 2 && act.value[0].is_number() && act.value[1].is_number(),
+            VEIL_CHECK(act.value.size() == 2 && act.value[0].is_number() &&
+                           act.value[1].is_number(),
                        "{}: '{}' expects two numbers", where, act.kind);
             if (act.kind == "resize")
                 for (const auto& v : act.value)

@@ -47,9 +47,7 @@ void Orbit::pan(float dx, float dy) {
 
 namespace {
 
-bool startsWith(const std::string& s, const std::string& prefix) {
-    return s.rfind(prefix, 0) == 0;
-}
+bool startsWith(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }
 
 // "lights.3.intensity" -> {"lights", "3", "intensity"}
 std::vector<std::string> splitKey(const std::string& key) {
@@ -93,24 +91,21 @@ OverrideScope classifyOverride(const std::string& key) {
     if (p[0] == "render" && p.size() >= 2) {
         if (p[1] == "oit") return OverrideScope::Oit;
         if (p[1] == "width" || p[1] == "height") return OverrideScope::Size;
-        static const char* live[] = {"exposure",  "ambient",   "background",
-                                     "tonemap",   "fog_steps", "fog_jitter"};
+        static const char* live[] = {"exposure", "ambient",   "background",
+                                     "tonemap",  "fog_steps", "fog_jitter"};
         for (const char* k : live)
             if (p[1] == k && p.size() == 2) return OverrideScope::Live;
         return OverrideScope::Renderer;
     }
     // Values the frame reads every frame. A light's type or shadow flag changes which lights
     // have maps; a material's alpha or transmission can change the shadow technique's classes.
-    if (p[0] == "lights" && p.size() >= 3 && p[2] != "shadows" && p[2] != "type" &&
-        p[2] != "name")
+    if (p[0] == "lights" && p.size() >= 3 && p[2] != "shadows" && p[2] != "type" && p[2] != "name")
         return OverrideScope::Live;
     if (p[0] == "materials" && p.size() >= 3 &&
-        (p[2] == "base_color" || p[2] == "roughness" || p[2] == "metalness" ||
-         p[2] == "emission"))
+        (p[2] == "base_color" || p[2] == "roughness" || p[2] == "metalness" || p[2] == "emission"))
         return OverrideScope::Live;
     if (p[0] == "volumes" && p.size() == 3 &&
-        (p[2] == "density_scale" || p[2] == "albedo" || p[2] == "anisotropy" ||
-         p[2] == "emission"))
+        (p[2] == "density_scale" || p[2] == "albedo" || p[2] == "anisotropy" || p[2] == "emission"))
         return OverrideScope::Live; // the session checks that the volume is a grid
     return OverrideScope::Renderer;
 }
@@ -171,8 +166,8 @@ void ViewSession::rebuild(const fs::path& path, std::vector<std::string>& overri
     if (cameraName.empty() || std::none_of(next->cameras.begin(), next->cameras.end(),
                                            [&](const auto& c) { return c.name == cameraName; }))
         cameraName = next->camera(next->render.camera).name;
-    auto renderer = std::make_unique<frame::Renderer>(
-        *next, context_, frame::RendererOptions{w, h, cameraName});
+    auto renderer = std::make_unique<frame::Renderer>(*next, context_,
+                                                      frame::RendererOptions{w, h, cameraName});
     nlohmann::json doc;
     if (lowerExtension(path.string()) == ".json") {
         std::ifstream in(path, std::ios::binary);
@@ -443,8 +438,8 @@ bool ViewSession::saveSceneAs(const fs::path& path) {
         VEIL_CHECK(lowerExtension(scenePath_.string()) == ".json",
                    "save scene as: the scene is a bare .vdb ('{}'); open a .json scene",
                    scenePath_.string());
-        VEIL_CHECK(lowerExtension(path.string()) == ".json", "save scene as '{}': must end in .json",
-                   path.string());
+        VEIL_CHECK(lowerExtension(path.string()) == ".json",
+                   "save scene as '{}': must end in .json", path.string());
         checkOutputPath(path, "save scene as", {scenePath_});
         std::ifstream in(scenePath_, std::ios::binary);
         VEIL_CHECK(in.good(), "cannot read '{}'", scenePath_.string());
