@@ -42,7 +42,8 @@ struct ViewArgs {
     std::string screenshot;
     std::string script;
     int width = 0, height = 0;
-    int frames = 0; // 0 = interactive
+    int windowWidth = 0, windowHeight = 0; // scripted: the window (default: the frame size)
+    int frames = 0;                        // 0 = interactive
     std::vector<std::string> overrides;
 };
 
@@ -178,7 +179,10 @@ void scriptOutput(const ScriptAction& a, ViewSession& session, const DebugView& 
 // Applies a state-changing action; returns the frames it asks to wait (frames action).
 int scriptApply(const ScriptAction& a, ViewSession& s, DebugView& view, PanelState& panel) {
     const nlohmann::json& v = a.value;
-    if (a.kind == "set")
+    if (a.kind == "set" && v.is_array())
+        for (const auto& kv : v)
+            s.set(kv.get<std::string>());
+    else if (a.kind == "set")
         s.set(v.get<std::string>());
     else if (a.kind == "oit")
         s.selectOit(v.get<std::string>());
@@ -232,9 +236,13 @@ void runView(const ViewArgs& args) {
     int width = 0, height = 0;
     sceneSize(args, width, height);
     // Interactive: room for the panel beside a small scene; scripted: the frame size exactly.
-    gpu::WindowContext window(scripted ? width : std::max(width, 1280),
-                              scripted ? height : std::max(height, 720),
-                              "veil view: " + args.scene);
+    const int ww = args.windowWidth > 0 ? args.windowWidth
+                   : scripted           ? width
+                                        : std::max(width, 1280);
+    const int wh = args.windowHeight > 0 ? args.windowHeight
+                   : scripted            ? height
+                                         : std::max(height, 720);
+    gpu::WindowContext window(ww, wh, "veil view: " + args.scene);
     int fw = 0, fh = 0;
     window.framebufferSize(fw, fh);
     ViewSession session(window.info(), args.scene, args.overrides, args.camera,
@@ -397,6 +405,11 @@ void addViewCommand(CLI::App& app) {
                     "window's)")
         ->check(CLI::Range(1, 16384));
     cmd->add_option("--height", args->height, "Frame height (as --width)")
+        ->check(CLI::Range(1, 16384));
+    cmd->add_option("--window-width", args->windowWidth,
+                    "Window width (default: 1280 or the frame's; scripted: the frame's)")
+        ->check(CLI::Range(1, 16384));
+    cmd->add_option("--window-height", args->windowHeight, "Window height (as --window-width)")
         ->check(CLI::Range(1, 16384));
     cmd->add_option("--camera", args->camera, "Camera name");
     cmd->add_option("--oit", args->oit, "Transparency technique");

@@ -1,10 +1,12 @@
 #include "app/view_script.h"
 
 #include "base/error.h"
+#include "base/text.h"
 #include "scene/json_text.h"
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -76,7 +78,7 @@ std::vector<ScriptAction> loadViewScript(const std::filesystem::path& path) {
                        "{}: unknown action '{}' (known: set, oit, shadows, camera, reset_camera, "
                        "orbit, pan, view, open, resize, reload_shaders, frames, screenshot, "
                        "window_screenshot, copy_command, save_scene, status, expand)",
-                       where, scene::describeJson(key));
+                       where, printable(key));
             VEIL_CHECK(act.kind.empty(), "{}: two actions ('{}', '{}') in one object", where,
                        act.kind, key);
             act.kind = key;
@@ -84,7 +86,11 @@ std::vector<ScriptAction> loadViewScript(const std::filesystem::path& path) {
         }
         VEIL_CHECK(!act.kind.empty(), "{}: no action key", where);
         const Want want = wantFor(act.kind);
-        const bool ok = (want == Want::String && act.value.is_string()) ||
+        // "set" also takes a list of edits, applied before one frame.
+        const bool setList = act.kind == "set" && act.value.is_array() &&
+                             std::all_of(act.value.begin(), act.value.end(),
+                                         [](const nlohmann::json& x) { return x.is_string(); });
+        const bool ok = setList || (want == Want::String && act.value.is_string()) ||
                         (want == Want::Number && act.value.is_number_integer() &&
                          act.value.get<long long>() >= 1 && act.value.get<long long>() <= 100000) ||
                         (want == Want::Bool && act.value.is_boolean()) ||

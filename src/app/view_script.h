@@ -1,7 +1,8 @@
 // `veil view --script actions.json`: the viewer driven by a list of actions instead of the
 // mouse, in the real window (Xvfb in tests and CI), one action per displayed frame. The file
 // is a JSON array of objects with one action key each:
-//   {"set": "volumes.0.density_scale=4"}     an edit, as `veil render --set` takes it
+//   {"set": "volumes.0.density_scale=4"}     an edit, as `veil render --set` takes it (or a
+//                                            list of them, applied before one frame)
 //   {"oit": "wboit"}, {"shadows": "moment"}  pick a technique (as the panel's combo does)
 //   {"camera": "top"}, {"reset_camera": true}
 //   {"orbit": [dyaw, dpitch], "zoom": 0.9}   radians; zoom multiplies the distance
