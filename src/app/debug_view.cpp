@@ -56,7 +56,10 @@ void DebugView::update(const frame::Renderer& renderer) {
         }
     if (!(lo <= hi)) lo = 0.0f, hi = 1.0f;
     if (c == 4) lo = std::min(lo, 0.0f); // colours from black
-    if (hi - lo < 1e-30f) hi = lo + 1.0f;
+    if (hi - lo < 1e-30f) {              // a constant: shown against [0, max(1, value)]
+        lo = std::min(lo, 0.0f);
+        hi = std::max(hi, 1.0f);
+    }
     lo_ = lo;
     hi_ = hi;
     rgba_.assign(texels * 4, 1.0f);

@@ -207,10 +207,11 @@ int scriptApply(const ScriptAction& a, ViewSession& s, DebugView& view, PanelSta
         s.resize(v[0].get<int>(), v[1].get<int>());
     else if (a.kind == "reload_shaders")
         s.reloadShaders();
-    else if (a.kind == "expand")
+    else if (a.kind == "expand") {
+        panel.expand.clear();
         for (const auto& name : v)
             panel.expand.insert(name.get<std::string>());
-    else if (a.kind == "frames")
+    } else if (a.kind == "frames")
         return v.get<int>();
     return 1;
 }

@@ -33,7 +33,8 @@ void tip(const char* text) {
 }
 
 bool section(const char* name, const PanelState& state, bool defaultOpen = false) {
-    if (state.expand.count(name)) ImGui::SetNextItemOpen(true);
+    // A script's {"expand": [...]} opens exactly the sections it lists.
+    if (!state.expand.empty()) ImGui::SetNextItemOpen(state.expand.count(name) > 0);
     return ImGui::CollapsingHeader(name, defaultOpen ? ImGuiTreeNodeFlags_DefaultOpen : 0);
 }
 

@@ -20,7 +20,7 @@ struct GLFWwindow;
 namespace veil::app {
 
 struct PanelState {
-    std::set<std::string> expand; // sections opened by a script ({"expand": [...]})
+    std::set<std::string> expand; // a script's {"expand": [...]}: open these, close the rest
     FileDialog openDialog{"Open scene or .vdb", {".json", ".vdb"}};
     std::string saveAs = "edited-scene.json";
     std::string screenshotFolder = ".";

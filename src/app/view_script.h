@@ -17,7 +17,7 @@
 //   {"copy_command": "cmd.txt", "output": "out.png"}  the `veil render` line of this view
 //   {"save_scene": "edited.json"}
 //   {"status": "status.json"}                errors and what renders, as JSON
-//   {"expand": ["Volumes", "Lights"]}        open panel sections (for screenshots)
+//   {"expand": ["Volumes", "Lights"]}        open these panel sections, close the others
 // A malformed script is an error naming the file and the action; an action that fails
 // (a bad file, a failing technique) is recorded like a click would be and the script goes on.
 #pragma once

@@ -223,9 +223,9 @@ bool ViewSession::set(const std::string& keyValue) {
         std::unique_ptr<scene::Scene> parsed = loadWithDefaults(scenePath_, next);
         if (scope == OverrideScope::Live && startsWith(key, "volumes.")) {
             const std::size_t i = std::stoul(splitKey(key)[1]);
-            if (i >= scene_->volumes.size() || !scene_->volumes[i].procedural.empty())
-                scope = OverrideScope::Renderer; // homogeneous fog and procedural grids are
-                                                 // built from their values
+            // Homogeneous fog is summed into global values when the fog pass is built.
+            if (i >= scene_->volumes.size() || scene_->volumes[i].procedural == "homogeneous")
+                scope = OverrideScope::Renderer;
         }
         if (scene_->volumes.size() != parsed->volumes.size() ||
             scene_->lights.size() != parsed->lights.size() ||

@@ -5,8 +5,8 @@
 // Every edit is a `key=value` override of the scene document, exactly what `veil render
 // --set` takes, so "copy render command" reproduces the view. An edit rebuilds only what
 // depends on it (see classifyOverride): camera, lights, materials, exposure, ambient,
-// background, tone map, fog steps/jitter and a grid volume's density scale, albedo,
-// anisotropy and emission are copied into the live scene (a light or volume change
+// background, tone map, fog steps/jitter and a grid volume's (not homogeneous fog's) density scale,
+// albedo, anisotropy and emission are copied into the live scene (a light or volume change
 // recomputes the fog's light transmittance volumes only); render.oit replaces the OIT
 // technique and its targets only; anything else (objects, shadows, fog resolution, volume
 // files) builds a new renderer beside the old one, which stays if the new one fails.
