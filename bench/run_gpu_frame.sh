@@ -18,7 +18,7 @@ run() { # build scene oit rep
     echo "failed: $*" >> "$R/log.txt"
 }
 # Clocks ramp up during the first seconds of a call: a throwaway warm-up first.
-VEIL_SHADER_DIR=$PWD/shaders veil-bench datasets/scenes/default.json --frames 400 --warmup 50 \
+VEIL_SHADER_DIR=$PWD/shaders veil-bench datasets/scenes/room.json --frames 400 --warmup 50 \
   --width $W --height $H > /dev/null 2>&1
 for rep in 1 2; do
   for scene in default fog; do

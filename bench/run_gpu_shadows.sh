@@ -18,7 +18,7 @@ run() { # tag scene oit shadow-type [extra --set ...]
     echo "failed: $tag" >> "$R/log.txt"
 }
 # Clocks ramp up during the first seconds of a call: a throwaway warm-up first.
-veil-bench datasets/scenes/default.json --frames 400 --warmup 50 --width $W --height $H \
+veil-bench datasets/scenes/room.json --frames 400 --warmup 50 --width $W --height $H \
   > /dev/null 2>&1
 TECHS="opaque moment moment16 transmittance-slicemap stochastic stochastic-vsm"
 for scene in fog oit-foliage; do

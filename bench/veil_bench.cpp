@@ -11,6 +11,7 @@
 #include "volume/density_grid.h"
 
 #include <chrono>
+#include <cmath>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -31,7 +32,10 @@ void usage() {
               "                  [--oit NAME] [--set key=value]... [--json out.json]\n"
               "                  [--viewer]  (the frames of `veil view`, windowless)\n"
               "                  [--cpu-fog W H]  also time the CPU fog reference (double\n"
-              "                                   precision, all cores) on the same view at W x H");
+              "                                   precision, all cores) on the same view at W x H\n"
+              "                  [--error-vs NAME] also render the last frame with OIT technique\n"
+              "                                   NAME (e.g. reference) and report the HDR\n"
+              "                                   difference (rgb rmse, max) as error_vs");
 }
 
 double median(std::vector<double> v) {
@@ -138,7 +142,7 @@ int viewerBench(const std::string& scenePath, const std::vector<std::string>& ov
 } // namespace
 
 int main(int argc, char** argv) try {
-    std::string scenePath, jsonPath, oit;
+    std::string scenePath, jsonPath, oit, errorVs;
     int width = 1920, height = 1080, frames = 100, warmup = 20, cpuFogW = 0, cpuFogH = 0;
     bool viewer = false;
     std::vector<std::string> overrides;
@@ -164,6 +168,8 @@ int main(int argc, char** argv) try {
             jsonPath = next();
         else if (a == "--viewer")
             viewer = true;
+        else if (a == "--error-vs")
+            errorVs = next();
         else if (a == "--cpu-fog") {
             cpuFogW = std::stoi(next());
             cpuFogH = std::stoi(next());
@@ -208,6 +214,7 @@ int main(int argc, char** argv) try {
     out["oit"] = renderer.oitName();
     out["shadows"] = renderer.shadowTechnique().name();
     out["shadow_properties"] = renderer.shadowTechnique().properties().values();
+    out["shadow_stats"] = renderer.shadowTechnique().stats(); // of the last frame
     out["renderer"] = context.info().renderer;
     out["gl_version"] = context.info().version;
     out["timer"] = renderer.timerMode() == veil::gpu::GpuTimer::Mode::Query ? "GL_TIME_ELAPSED"
@@ -246,6 +253,32 @@ int main(int argc, char** argv) try {
             if (p["name"] == "fog")
                 out["cpu_fog"]["gpu_fog_ns_per_pixel"] =
                     p["median_ms"].get<double>() * 1e6 / (double(width) * height);
+    }
+    if (!errorVs.empty()) {
+        // The image error of this technique against another on the same frame (GPU checks of
+        // paths the CPU driver cannot run, e.g. fragment shader interlock).
+        const veil::gpu::ImageF mine = renderer.readHdr();
+        veil::frame::Renderer other(scene, context.info(), {width, height, {}, errorVs});
+        other.render();
+        const veil::gpu::ImageF theirs = other.readHdr();
+        VEIL_CHECK(mine.pixels.size() == theirs.pixels.size(), "--error-vs: image sizes differ");
+        double sum = 0.0, worst = 0.0;
+        std::size_t count = 0, nonFinite = 0;
+        for (std::size_t i = 0; i < mine.pixels.size(); ++i) {
+            if (i % 4 == 3) continue; // rgb only
+            const double d = double(mine.pixels[i]) - double(theirs.pixels[i]);
+            if (!std::isfinite(d)) {
+                ++nonFinite;
+                continue;
+            }
+            sum += d * d;
+            worst = std::max(worst, std::abs(d));
+            ++count;
+        }
+        out["error_vs"] = {{"technique", other.oitName()},
+                           {"rmse", std::sqrt(sum / double(std::max<std::size_t>(count, 1)))},
+                           {"max", worst},
+                           {"non_finite", nonFinite}};
     }
     const std::string text = out.dump(2);
     if (!jsonPath.empty())

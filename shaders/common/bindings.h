@@ -42,6 +42,10 @@
 #define VEIL_SSBO_OIT_REF_NODES 1
 #define VEIL_SSBO_OIT_REF_COUNTERS 2
 #define VEIL_IMG_OIT_WBOIT_TARGET 3
+// Per-pixel emission from compute (shaders/oit/fragment.glsl OIT_TARGET): images 4..6, shared
+// with the fog march's (bound again by every march); GL 4.5 guarantees units 0..7 only (NVIDIA
+// has exactly 8: binding 8 fails to compile there).
+#define VEIL_IMG_OIT_TARGET0 4
 
 // Fog (src/volume): marcher outputs, and per-volume textures (VEIL_MAX_VOLUMES of each)
 #define VEIL_TEX_FOG_RADIANCE 12
@@ -59,6 +63,12 @@
 #define VEIL_MAX_LIGHTS 8
 
 #define VEIL_SSBO_SHADOW_SLICES 12 // transmittance-slicemap: light-space slice-map words
+// Shadow `volume`: per caster and light clamp depth or culled flag; the camera's receivers
+// voxelized into each light's slice map; the opaque map's farthest depth per column.
+#define VEIL_SSBO_SHADOW_VOLUME_CASTERS 13
+#define VEIL_SSBO_SHADOW_VOLUME_RECEIVERS 14
+#define VEIL_SSBO_SHADOW_VOLUME_OCCLUDERS 15
+#define VEIL_SSBO_SHADOW_VOLUME_BOUNDS 16
 
 // Voxelization (src/voxelize, shaders/voxelize): slice-map words, per-column local-slicing
 // ranges (near, far pairs), triangle soup, per-axis maps of three-axis voxelization.

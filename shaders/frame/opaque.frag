@@ -1,5 +1,8 @@
 #version 450 core
 // Opaque forward pass: Lambert + GGX with Schlick Fresnel, emission, shadowed lights.
+// The shaded surface is the one the depth buffer keeps: screen-space shadow techniques
+// (`volume`) may answer from the pixel (veil:light_visibility).
+#define VEIL_RECEIVER_AT_DEPTH 1
 #include "../common/camera.glsl"
 #include "material.glsl"
 #include "shading.glsl"

@@ -1,3 +1,5 @@
+#include "../common/bindings.h"
+
 // The one contribution every OIT technique takes (DESIGN.md "How fog and surfaces share one
 // transparency technique"): each technique's emit.glsl defines
 //     void oitEmit(OitFragment f);
@@ -22,6 +24,33 @@ struct OitFragment {
     vec3 attenuationColor;       // KHR_materials_volume behind the surface
     float attenuationDistance;   // 0 = no absorption
 };
+
+// Targets and writes of an emit include, one source for two callers (issue 14):
+//   fragments (transparent.frag, fog_emit.frag): OIT_TARGET declares a fragment output, and
+//     OIT_WRITE assigns it; the technique's fixed-function blend state (its C++ side) does
+//     the blending;
+//   compute with OIT_COMPUTE defined (fog_emit.comp, one invocation per pixel, the only writer
+//     of its pixel while it runs): OIT_TARGET declares an image on unit
+//     VEIL_IMG_OIT_TARGET0 + location, which the technique binds (Technique::bindPerPixelEmit),
+//     and OIT_WRITE applies the blend equation `blend(dst, src)` in the shader with imageLoad /
+//     imageStore. The equation named in OIT_WRITE must be the one the technique's blend state
+//     gives that target: oitBlendAdd for (ONE, ONE), oitBlendModulate for
+//     (ZERO, ONE_MINUS_SRC_COLOR), or the technique's own.
+// oitPixel is the contribution's pixel and oitWindowDepth its window depth in [0, 1]
+// (gl_FragCoord for fragments; set by the compute caller before oitEmit()).
+vec4 oitBlendAdd(vec4 dst, vec4 src) { return dst + src; }
+vec4 oitBlendModulate(vec4 dst, vec4 src) { return dst * (vec4(1.0) - src); }
+#ifdef OIT_COMPUTE
+ivec2 oitPixel;
+float oitWindowDepth;
+#define OIT_TARGET(loc, format, name) layout(binding = VEIL_IMG_OIT_TARGET0 + loc, format) uniform image2D name
+#define OIT_WRITE(name, value, blend) imageStore(name, oitPixel, blend(imageLoad(name, oitPixel), (value)))
+#else
+#define oitPixel ivec2(gl_FragCoord.xy)
+#define oitWindowDepth gl_FragCoord.z
+#define OIT_TARGET(loc, format, name) layout(location = loc) out vec4 name
+#define OIT_WRITE(name, value, blend) name = (value)
+#endif
 
 // A contribution with no surface: what the fog hands over per pixel.
 OitFragment oitFragment(vec3 radiance, float alpha, vec3 transmission, float viewDepth) {

@@ -8,6 +8,10 @@
 
 #include <cmath>
 
+// The OIT targets of the fog's compute emission (three at most) must fit the 8 image units
+// that GL 4.5 guarantees (NVIDIA has exactly 8).
+static_assert(VEIL_IMG_OIT_TARGET0 + 2 < 8, "OIT per-pixel emission images beyond unit 7");
+
 namespace veil::frame {
 
 namespace {
@@ -111,6 +115,8 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
     shadowFrame_.views = &shadowViews_;
     shadowFrame_.scene = &scene_;
     shadowFrame_.seed = scene.render.seed;
+    shadowFrame_.width = width_;
+    shadowFrame_.height = height_;
     shadowFrame_.drawCasters = [this](const gpu::Program& program, shadows::CasterSet set) {
         drawObjects(program, set == shadows::CasterSet::Opaque ? Subset::OpaqueCasters
                                                                : Subset::TransparentCasters);
@@ -144,10 +150,24 @@ void Renderer::addTechniquePrograms() {
         transparent.push_back(programs_.add(
             ProgramDesc::graphics("frame/mesh.vert", "frame/transparent.frag", defines,
                                   {{"veil:oit_emit", oit_->emitInclude()}, visibility[0]})));
-        if (fog_)
+        if (!fog_) continue;
+        // The fog's one contribution per pixel: from compute where the technique's emit file
+        // writes its targets as images (oit::PerPixelEmit, issue 14), else as a full-screen
+        // fragment; both through the technique's one oitEmit().
+        const oit::PerPixelEmit mode = oit_->perPixelEmit(pass);
+        const gpu::IncludeAliases emit{{"veil:oit_emit", oit_->emitInclude()}};
+        if (mode == oit::PerPixelEmit::Compute) {
+            std::vector<std::string> computeDefines = defines;
+            computeDefines.insert(computeDefines.begin(),
+                                  "OIT_COMPUTE 1"); // before the technique's
             fogEmit.push_back(programs_.add(
-                ProgramDesc::graphics("volume/fullscreen.vert", "volume/fog_emit.frag", defines,
-                                      {{"veil:oit_emit", oit_->emitInclude()}})));
+                ProgramDesc::compute("volume/fog_emit.comp", std::move(computeDefines), emit)));
+        } else if (mode == oit::PerPixelEmit::Fragments) {
+            fogEmit.push_back(programs_.add(ProgramDesc::graphics(
+                "volume/fullscreen.vert", "volume/fog_emit.frag", defines, emit)));
+        } else {
+            fogEmit.emplace_back();
+        }
     }
     transparentPrograms_ = std::move(transparent);
     fogEmitPrograms_ = std::move(fogEmit);
@@ -182,6 +202,8 @@ void Renderer::resize(int width, int height) {
     checkFogWork(scene_, context_, width, height);
     width_ = width;
     height_ = height;
+    shadowFrame_.width = width_; // screen-space shadow techniques
+    shadowFrame_.height = height_;
     createTargets(); // the OIT technique's targets too; the fog resizes in march()
 }
 
@@ -302,6 +324,8 @@ void Renderer::render() {
     fogTargets_.viewProjection = camera_.projection(aspect) * camera_.view();
     fogTargets_.projection = camera_.projection(aspect);
     fogTargets_.seed = scene_.render.seed;
+    shadowFrame_.cameraViewProjection = fogTargets_.viewProjection;
+    shadowFrame_.orthographicCamera = camera_.type == scene::CameraType::Orthographic;
     if (shadowSet_.viewCount > 0)
         fogTargets_.prepareReceiver = [this](const gpu::Program& program) {
             shadows_->prepareReceiver(program, shadowFrame_);
@@ -370,13 +394,23 @@ void Renderer::buildPasses() {
                          if (shadowSet_.viewCount > 0)
                              shadows_->prepareReceiver(program, shadowFrame_);
                          oit_->beginAccumulate(pass, targets_, program);
-                         if (fog_) {
+                         const oit::PerPixelEmit fogMode = oit_->perPixelEmit(pass);
+                         if (fog_ && fogMode != oit::PerPixelEmit::None) {
                              // Fog first: one contribution per pixel through the same oitEmit().
                              const gpu::Program& fogProgram = programs_.get(fogEmitPrograms_[pass]);
                              oit_->prepareProgram(pass, fogProgram);
                              fog_->bindForEmit(fogProgram, fogTargets_);
                              fogProgram.use();
-                             fog_->drawEmit();
+                             if (fogMode == oit::PerPixelEmit::Compute) {
+                                 oit_->bindPerPixelEmit(pass, targets_);
+                                 glDispatchCompute((width_ + 7) / 8, (height_ + 7) / 8, 1);
+                                 // The pass's blending, texel fetches and image loads see it.
+                                 glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT |
+                                                 GL_TEXTURE_FETCH_BARRIER_BIT |
+                                                 GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+                             } else {
+                                 fog_->drawEmit();
+                             }
                          }
                          drawObjects(program, Subset::Transparent);
                          oit_->endAccumulate(pass);

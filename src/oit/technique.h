@@ -1,9 +1,12 @@
 // The transparency interface (DESIGN.md): a technique owns its accumulation targets, blend
 // state and resolve, and provides the GLSL file defining
-//     void oitEmit(vec3 radiance, float alpha, vec3 transmission, float viewDepth);
-// which surface shaders call per fragment (and the fog marcher per pixel, once, with what it
-// accumulated in registers). `radiance` is premultiplied by coverage alpha; the background
-// behind the contribution is modulated by (1 - alpha + alpha * transmission) (000 Eq. 2).
+//     void oitEmit(OitFragment f);   (shaders/oit/fragment.glsl)
+// which surface shaders call per fragment, and the fog once per pixel with what the marcher
+// accumulated: from a compute shader (volume/fog_emit.comp) where the technique writes its
+// targets through OIT_TARGET / OIT_WRITE (perPixelEmit() == Compute), otherwise as a
+// full-screen fragment (volume/fog_emit.frag). `radiance` is premultiplied by coverage
+// alpha; the background behind the contribution is modulated by
+// (1 - alpha + alpha * transmission) (000 Eq. 2).
 #pragma once
 
 #include "base/named_registry.h"
@@ -45,6 +48,14 @@ inline gpu::PipelineState accumulationState(const OitFrameTargets& targets) {
     return s;
 }
 
+// How geometry pass `pass` takes per-pixel contributions (the fog's, one per pixel):
+//   Fragments  a full-screen draw through the pass's blend state (fog_emit.frag);
+//   Compute    a compute shader including the emit file with OIT_COMPUTE defined, one
+//              invocation per pixel writing the targets as images (fog_emit.comp), dispatched
+//              after beginAccumulate() and bindPerPixelEmit(), before the pass's draws;
+//   None       the pass takes none (its oitEmit() would drop them).
+enum class PerPixelEmit { Fragments, Compute, None };
+
 class Technique {
 public:
     virtual ~Technique() = default;
@@ -72,6 +83,18 @@ public:
     virtual void prepareProgram(int pass, const gpu::Program& program) const {
         (void)pass;
         (void)program;
+    }
+    // See PerPixelEmit. Compute needs the emit file written with OIT_TARGET / OIT_WRITE.
+    virtual PerPixelEmit perPixelEmit(int pass) const {
+        (void)pass;
+        return PerPixelEmit::Fragments;
+    }
+    // Binds pass `pass`'s targets on image units VEIL_IMG_OIT_TARGET0 + location for the
+    // compute emission (called after beginAccumulate() and prepareProgram(); the frame issues
+    // the memory barriers after the dispatch).
+    virtual void bindPerPixelEmit(int pass, const OitFrameTargets& targets) const {
+        (void)pass;
+        (void)targets;
     }
     // Ends geometry pass `pass` (barriers, unbinding its images and framebuffer). Fixed-function
     // state needs no restoring: the next pass declares its own.

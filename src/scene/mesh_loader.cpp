@@ -132,6 +132,10 @@ std::vector<LoadedMesh> loadMeshFile(const std::filesystem::path& path) {
     // reads PLY content under other names when the named format's importer refuses the file
     // (a PLY named .gltf hung it: tests/fuzz/regressions/mesh), so the content decides.
     if (ext == ".ply" || startsWithPlyMagic(path)) checkPlyFile(path);
+    // The glTF2 importer allocates file-given lengths before reading them; GLB content is
+    // read as such under any name.
+    else if (gltf || startsWithGlbMagic(path))
+        checkGltfFile(path);
 
     Assimp::Importer importer;
     // Points and lines are dropped; the renderer only draws triangles.

@@ -4,8 +4,9 @@
 #include "shadows/moment/moment.h"
 #include "shadows/opaque/opaque.h"
 #include "shadows/reference/reference.h"
-#include "shadows/transmittance_slicemap/transmittance_slicemap.h"
 #include "shadows/stochastic/stochastic.h"
+#include "shadows/transmittance_slicemap/transmittance_slicemap.h"
+#include "shadows/volume/volume.h"
 
 namespace veil::shadows {
 
@@ -16,6 +17,7 @@ void registerBuiltinTechniques(Registry& registry) {
     registerReference(registry);
     registerTransmittanceSlicemap(registry);
     registerStochastic(registry);
+    registerVolume(registry);
 }
 } // namespace
 

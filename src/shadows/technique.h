@@ -54,6 +54,11 @@ struct ShadowFrame {
     // (textures and the uniforms of `program`); null when the scene has no volumes.
     std::function<void(const gpu::Program&)> bindMedia;
     std::uint32_t seed = 1;
+    // The camera image (screen-space techniques, e.g. `volume`): its size and world -> clip
+    // matrix (the camera block at VEIL_UBO_CAMERA holds the same while the passes run).
+    int width = 0, height = 0;
+    glm::mat4 cameraViewProjection{1.0f};
+    bool orthographicCamera = false;
 };
 
 // One pass of a technique, added to the frame as "shadow" (the first) or "shadow.<name>".

@@ -214,6 +214,39 @@ TEST_F(FogTest, FogBetweenGlassPanesUnderReferenceIsTheAnalyticComposite) {
     EXPECT_GT(std::abs(ref.at(16, 16, 0) - blend.at(16, 16, 0)), 0.05);
 }
 
+TEST_F(FogTest, FogAloneIsOneExactContributionInEveryTechnique) {
+    // Issue 14: the fog enters blend, wboit, phenomenological and moment-* from a compute pass
+    // (fog_emit.comp, images, the blend equations in the shader) and reference / stochastic as
+    // a full-screen fragment. With the fog the only contribution (no transparent surfaces), a
+    // grey lit slab over a coloured background, every technique composites one layer, which
+    // each of them does exactly: L + T * background (blend: dual-source; wboit: grey
+    // revealage = T since T is grey; phenomenological: one layer, no refraction (eta 1);
+    // moments: one surface, per-channel b_0, renormalized). Compared with the closed form,
+    // within the RGBA16F targets' precision (4e-3) and the slab's exp(-sigma d) to 0.5%
+    // (HomogeneousSlabTransmittanceIsExponential).
+    nlohmann::json doc = baseScene(32);
+    doc["render"]["ambient"] = 0.5;
+    doc["render"]["background"] = {0.9, 0.4, 0.1};
+    doc["volumes"] = {{{"procedural", "box"},
+                       {"size", {3, 3, 0.5}},
+                       {"voxel_size", 0.05},
+                       {"density_scale", 1.2},
+                       {"albedo", 1.0}}};
+    const double Tf = std::exp(-1.2 * 0.5), A = 0.5;
+    const double bg[3] = {0.9, 0.4, 0.1};
+    for (const char* oit : {"blend", "wboit", "phenomenological", "moment-p6", "moment-p6-half",
+                            "moment-t3", "reference"}) {
+        const ImageF img = render(doc, info(), oit);
+        for (int c = 0; c < 3; ++c) {
+            const double expected = A * (1 - Tf) + Tf * bg[c];
+            EXPECT_NEAR(img.at(16, 16, c), expected, 4e-3 + 0.005 * Tf * bg[c])
+                << oit << " channel " << c;
+            EXPECT_NEAR(img.at(5, 26, c), expected, 4e-3 + 0.005 * Tf * bg[c])
+                << oit << " channel " << c;
+        }
+    }
+}
+
 TEST_F(FogTest, ReducedResolutionIsUpsampledAlongDepthEdges) {
     // Dense fog in front of an emissive wall, a near opaque box occluding part of it. At 1/2
     // and 1/4 resolution the joint bilateral upsampling must keep the fog off the box (little

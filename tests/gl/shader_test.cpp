@@ -125,8 +125,9 @@ namespace {
 
 // Every program the project builds, as src/ builds it:
 //  - frame (src/frame/renderer.cpp): mesh.vert with opaque.frag and shadow.frag, tonemap.comp,
-//    and per OIT technique and geometry pass transparent.frag and the fog's fog_emit.frag with
-//    the technique's defines(pass) + "OIT_PASS <pass>" and "veil:oit_emit" -> emitInclude();
+//    and per OIT technique and geometry pass transparent.frag and the fog's fog_emit.frag or
+//    fog_emit.comp (by perPixelEmit(pass)) with the technique's defines(pass) + "OIT_PASS
+//    <pass>" and "veil:oit_emit" -> emitInclude();
 //  - the OIT techniques' own programs (src/oit/<technique>/*.cpp), which Registry::create
 //    also compiles;
 //  - fog (src/volume/fog_pass.cpp), voxelizer (src/voxelize/gpu_voxelizer.cpp: every
@@ -199,8 +200,16 @@ ProjectPrograms projectPrograms(const gpu::ContextInfo& info, gpu::ProgramManage
             const gpu::IncludeAliases emit{{"veil:oit_emit", technique->emitInclude()}};
             P.push_back(ProgramDesc::graphics("frame/mesh.vert", "frame/transparent.frag", defines,
                                               {emit[0], visibility[0]}));
-            P.push_back(ProgramDesc::graphics("volume/fullscreen.vert", "volume/fog_emit.frag",
-                                              defines, emit));
+            // The fog's per-pixel emission as the frame builds it (oit::PerPixelEmit).
+            const oit::PerPixelEmit mode = technique->perPixelEmit(pass);
+            if (mode == oit::PerPixelEmit::Compute) {
+                std::vector<std::string> compute = defines;
+                compute.insert(compute.begin(), "OIT_COMPUTE 1");
+                P.push_back(ProgramDesc::compute("volume/fog_emit.comp", compute, emit));
+            } else if (mode == oit::PerPixelEmit::Fragments) {
+                P.push_back(ProgramDesc::graphics("volume/fullscreen.vert",
+                                                  "volume/fog_emit.frag", defines, emit));
+            }
         }
     }
     // The technique template (src/oit/_template), not registered by default.

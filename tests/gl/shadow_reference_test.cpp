@@ -9,6 +9,7 @@
 // (the map's texel resolution smears edges: those pixels are skipped), under a spot light
 // (perspective view) and a directional one.
 #include "gl_fixture.h"
+#include "ray_cast_shadows.h"
 
 #include "frame/renderer.h"
 #include "scene/scene.h"
@@ -30,40 +31,7 @@ namespace ss = shadow_scenes;
 
 using Rgb = std::array<double, 3>;
 
-// Transmittance of the scene's shadow-casting triangles along the segment P -> P + t d,
-// t in (eps, tMax).
-Rgb trianglesTransmittance(const scene::Scene& sc, const glm::dvec3& P, const glm::dvec3& d,
-                           double tMax) {
-    Rgb T{1.0, 1.0, 1.0};
-    for (const auto& object : sc.objects) {
-        if (!object.castShadows) continue;
-        const scene::Material& m = sc.materials.at(object.material);
-        const auto& mesh = sc.meshes.at(object.mesh);
-        const glm::dmat4 M(object.transform);
-        for (std::size_t k = 0; k + 2 < mesh.indices.size(); k += 3) {
-            const glm::dvec3 a(M * glm::dvec4(glm::dvec3(mesh.positions[mesh.indices[k]]), 1.0));
-            const glm::dvec3 b(M *
-                               glm::dvec4(glm::dvec3(mesh.positions[mesh.indices[k + 1]]), 1.0));
-            const glm::dvec3 c(M *
-                               glm::dvec4(glm::dvec3(mesh.positions[mesh.indices[k + 2]]), 1.0));
-            const glm::dvec3 e1 = b - a, e2 = c - a, p = glm::cross(d, e2);
-            const double det = glm::dot(e1, p);
-            if (std::abs(det) < 1e-14) continue;
-            const glm::dvec3 s = P - a;
-            const double u = glm::dot(s, p) / det;
-            if (u < 0.0 || u > 1.0) continue;
-            const glm::dvec3 q = glm::cross(s, e1);
-            const double v = glm::dot(d, q) / det;
-            if (v < 0.0 || u + v > 1.0) continue;
-            const double t = glm::dot(e2, q) / det;
-            if (t <= 1e-6 || t >= tMax) continue;
-            if (!m.isTransparent()) return {0.0, 0.0, 0.0};
-            for (int ch = 0; ch < 3; ++ch)
-                T[ch] *= 1.0 - m.alpha + m.alpha * m.transmission[ch];
-        }
-    }
-    return T;
-}
+using ray_cast::trianglesTransmittance;
 
 struct CpuShadows {
     const scene::Scene& sc;
@@ -71,14 +39,8 @@ struct CpuShadows {
     Rgb at(const glm::dvec3& P) const {
         const scene::Light& l = sc.lights[0];
         glm::dvec3 d;
-        double tMax = 1e30;
-        if (l.type == scene::LightType::Directional) {
-            d = -glm::normalize(glm::dvec3(l.direction));
-        } else {
-            const glm::dvec3 toLight = glm::dvec3(l.position) - P;
-            tMax = glm::length(toLight);
-            d = toLight / tMax;
-        }
+        double tMax;
+        ray_cast::towardLight(l, P, d, tMax);
         Rgb T = trianglesTransmittance(sc, P, d, tMax);
         const double media = fog.transmittanceToLight(P, 0, 4096);
         for (double& c : T)

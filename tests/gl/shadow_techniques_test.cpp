@@ -128,6 +128,15 @@ std::vector<TechniqueCase> cases() {
          "Williams map of opaque casters only: transparent casters and fog cast nothing (the "
          "baseline); 2e-3 of float rounding",
          -1},
+        {"volume",
+         {},
+         -1,
+         -1,
+         -1,
+         -1,
+         "stencil shadow volumes of opaque casters only: transparent casters and fog cast "
+         "nothing (like opaque); 2e-3 of float rounding",
+         -1},
         {"reference",
          {},
          2e-3,

@@ -34,7 +34,7 @@ TEST(ViewTest, ViewerScreenshotEqualsHeadlessRender) {
 TEST(ViewTest, NoDisplayIsOneClearError) {
     const CommandResult r =
         runCommand("env -u DISPLAY -u WAYLAND_DISPLAY " + veilExe() + " view '" +
-                   (sourceDir() / "datasets/scenes/default.json").string() + "' --frames 1");
+                   (sourceDir() / "datasets/scenes/room.json").string() + "' --frames 1");
     EXPECT_NE(r.exitCode, 0);
     EXPECT_NE(r.output.find("veil: error:"), std::string::npos) << r.output;
 }

@@ -1,13 +1,18 @@
-// OIT technique `moment-*` (002: moment-based order-independent transparency), float32
-// storage with additive blending only. Needs MOMENT_COUNT, MOMENT_POWER or MOMENT_TRIG,
-// MOMENT_STORED (floats after b_0: m for power, 2m for trigonometric) and OIT_PASS.
+// OIT technique `moment-*` (002: moment-based order-independent transparency), float32 or
+// half-float storage with additive blending only. Needs MOMENT_COUNT, MOMENT_POWER or
+// MOMENT_TRIG, MOMENT_STORED (floats after b_0: m for power, 2m for trigonometric), OIT_PASS,
+// and the image formats of the targets (MOMENT_FORMAT0..2, MOMENT_ACCUM_FORMAT: used where
+// the targets are written as images from compute, OIT_COMPUTE).
 //
 // Pass 0 (002 section 3.1): accumulate absorbance moments (16-bit variants: storage16.glsl).
 //   target 0 RGBA32F: (b_0, b_0 red, b_0 green, b_0 blue)
-//   target 1 RGBA32F: moments 1..4 (power b_1..b_4; trig re b_1, im b_1, re b_2, im b_2)
-//   target 2 RGBA32F: moments 5..8 (only when MOMENT_STORED > 4)
+//   target 1 RGBA32F / RGBA16F: moments 1..4 (power b_1..b_4; trig re b_1, im b_1, re b_2,
+//            im b_2)
+//   target 2 RGBA32F / RGBA16F or RG16F where 6 are stored: moments 5..8 (only when
+//            MOMENT_STORED > 4)
 // Pass 1 (002 section 3.2): reconstruct T in front of the fragment and accumulate
-//   target RGBA32F: (radiance * T, alpha_eff * T)  (alpha = renormalization weight, Eq. 2)
+//   target RGBA32F / RGBA16F: (radiance * T, alpha_eff * T)  (alpha = renormalization
+//   weight, Eq. 2)
 //
 // Colored transmission: the moments are scalar. A surface modulates what is behind it by
 // f = 1 - alpha + alpha * transmission (000 Eq. 2) per channel; the moments use the net
@@ -16,10 +21,9 @@
 // the exact colored transmittance exp(-b_0,rgb) in the resolve. Surfaces in front of others
 // occlude them by the scalar reconstruction only.
 //
-// Fog: the marcher (compute, no rasterizer outputs) cannot call this oitEmit. It should call
-// momentEmitMoments() / momentEmitComposite() below with what it accumulated per segment and
-// add the results into the same targets as images (imageLoad + imageStore per pixel, its
-// only writer at that time).
+// Fog: its one contribution per pixel comes through this oitEmit() from compute (OIT_COMPUTE,
+// shaders/oit/fragment.glsl: OIT_WRITE adds into the targets as images; the 16-bit storage
+// commits directly, as one invocation owns its pixel and no fragment runs meanwhile).
 #include "../fragment.glsl"
 
 #include "moment_math.glsl"
@@ -33,10 +37,10 @@ float momentNetCoverage(float alpha, vec3 transmission, out vec3 absorbanceRgb) 
 
 #if OIT_PASS == 0
 #ifndef MOMENT_STORAGE16
-layout(location = 0) out vec4 oitOutMoments0;
-layout(location = 1) out vec4 oitOutMoments1;
+OIT_TARGET(0, MOMENT_FORMAT0, oitOutMoments0);
+OIT_TARGET(1, MOMENT_FORMAT1, oitOutMoments1);
 #if MOMENT_STORED > 4
-layout(location = 2) out vec4 oitOutMoments2;
+OIT_TARGET(2, MOMENT_FORMAT2, oitOutMoments2);
 #endif
 #endif
 
@@ -70,15 +74,17 @@ void oitEmit(OitFragment f) {
     float alphaEff = momentNetCoverage(alpha, transmission, absorbanceRgb);
     float b[9];
     momentEmitMoments(alphaEff, momentWarp(viewDepth), b);
-#ifdef MOMENT_STORAGE16
+#if defined(MOMENT_STORAGE16) && defined(OIT_COMPUTE)
+    momentAccumulate16(oitPixel, b, absorbanceRgb);
+#elif defined(MOMENT_STORAGE16)
     momentPending = true;
     momentPendingB = b;
     momentPendingRgb = absorbanceRgb;
 #else
-    oitOutMoments0 = vec4(b[0], absorbanceRgb);
-    oitOutMoments1 = vec4(b[1], b[2], b[3], b[4]);
+    OIT_WRITE(oitOutMoments0, vec4(b[0], absorbanceRgb), oitBlendAdd);
+    OIT_WRITE(oitOutMoments1, vec4(b[1], b[2], b[3], b[4]), oitBlendAdd);
 #if MOMENT_STORED > 4
-    oitOutMoments2 = vec4(b[5], b[6], b[7], b[8]);
+    OIT_WRITE(oitOutMoments2, vec4(b[5], b[6], b[7], b[8]), oitBlendAdd);
 #endif
 #endif
 }
@@ -89,7 +95,7 @@ layout(binding = VEIL_TEX_OIT0 + 1) uniform sampler2D momentTex1;
 #if MOMENT_STORED > 4
 layout(binding = VEIL_TEX_OIT0 + 2) uniform sampler2D momentTex2;
 #endif
-layout(location = 0) out vec4 oitOutAccum;
+OIT_TARGET(0, MOMENT_ACCUM_FORMAT, oitOutAccum);
 
 // Transmittance in front of view depth `viewDepth` at pixel p (002 section 3.2).
 float momentTransmittance(ivec2 p, float viewDepth) {
@@ -128,6 +134,7 @@ void oitEmit(OitFragment f) {
     float viewDepth = f.viewDepth;
     vec3 absorbanceRgb;
     float alphaEff = momentNetCoverage(alpha, transmission, absorbanceRgb);
-    oitOutAccum = momentEmitComposite(ivec2(gl_FragCoord.xy), radiance, alphaEff, viewDepth);
+    OIT_WRITE(oitOutAccum, momentEmitComposite(oitPixel, radiance, alphaEff, viewDepth),
+              oitBlendAdd);
 }
 #endif

@@ -9,14 +9,12 @@
 // Entry point: oitEmit(OitFragment f) (shaders/oit/fragment.glsl). Surfaces use its
 // collimation, eta, view-space position and viewer-facing normal; the fog's contribution
 // (f.surface false) is collimated (c = 1) and non-refracting (eta = 1).
-// The fog marcher (a compute shader) cannot write blended fragment outputs. Included with
-// OIT_EMIT_COMPUTE defined, this file declares no outputs and no oitEmit(): the marcher calls
-// the pure function phenComputeOutput() (no fragment built-ins: every input is explicit) with
-// what it accumulated and applies the blend equations of the appendix to its own pixel with
-// imageLoad / imageStore on the three targets (A += o.A; beta *= 1 - o.betaD.rgb; D^2 +=
-// o.betaD.a; delta += o.delta; one invocation owns one pixel, so no atomics are needed when
-// the fog pass runs apart from the raster pass). The host side of that (binding the targets
-// as images and the phen* uniforms for the fog program) is not written yet.
+// Per-pixel contributions (the fog) come from compute through this oitEmit() (OIT_COMPUTE,
+// shaders/oit/fragment.glsl): the three targets are images and OIT_WRITE applies the blend
+// equations of the appendix (A += o.A; beta *= 1 - o.betaD.rgb, D^2 += o.betaD.a; delta +=
+// o.delta). Only media contributions (f.surface false) may come that way: the surface path
+// needs fragment built-ins (gl_FrontFacing for volume refraction). The slice-map pass and the
+// low-resolution particle pass take none (PerPixelEmit::None in phenomenological.cpp).
 //
 // Volume refraction (PhenomenologicalParams::volumeRefraction, defines PHEN_VOLUME): a first
 // geometry pass (PHEN_THICKNESS) writes each transparent fragment as one bit of its view-depth
@@ -32,10 +30,10 @@
 #if defined(PHEN_THICKNESS)
 layout(location = 0) out uvec4 phenSliceFront[4]; // slices 0..511, 128 per target
 layout(location = 4) out uvec4 phenSliceBack[4];
-#elif !defined(OIT_EMIT_COMPUTE)
-layout(location = 0) out vec4 phenOutA;
-layout(location = 1) out vec4 phenOutBetaD;
-layout(location = 2) out vec4 phenOutDelta;
+#else
+OIT_TARGET(0, rgba16f, phenOutA);
+OIT_TARGET(1, rgba16, phenOutBetaD);
+OIT_TARGET(2, rgba16f, phenOutDelta);
 #endif
 
 #ifdef PHEN_VOLUME
@@ -142,7 +140,7 @@ PhenOutput phenComputeOutput(vec3 radiance, float alpha, vec3 t, float viewDepth
     return o;
 }
 
-#ifndef OIT_EMIT_COMPUTE
+#ifndef OIT_COMPUTE
 // Reduced-resolution particles (000 section 3 and 5 "Upsample"): with two geometry passes,
 // pass 0 (full resolution) skips billboard meshes and pass 1 (1/2 or 1/4 resolution) draws only
 // them, testing depth by hand against a downsampled key (the farthest opaque depth of the
@@ -155,9 +153,10 @@ void phenPassFilter(bool billboard) {
     if (gl_FragCoord.z >= texelFetch(phenOpaqueDepth, ivec2(gl_FragCoord.xy), 0).r) discard;
 #endif
 }
+#endif
 
 float phenBackgroundDepth() {
-    return phenViewDepthFromWindow(texelFetch(phenOpaqueDepth, ivec2(gl_FragCoord.xy), 0).r);
+    return phenViewDepthFromWindow(texelFetch(phenOpaqueDepth, oitPixel, 0).r);
 }
 
 #if defined(PHEN_THICKNESS)
@@ -181,14 +180,21 @@ void oitEmit(OitFragment f) {
 }
 
 #else
+// RT1's blend: rgb (ZERO, ONE_MINUS_SRC_COLOR), alpha (ONE, ONE).
+vec4 phenBlendBetaD(vec4 dst, vec4 src) {
+    return vec4(dst.rgb * (vec3(1.0) - src.rgb), dst.a + src.a);
+}
+
 void phenWrite(PhenOutput o) {
-    phenOutA = o.A;
-    phenOutBetaD = o.betaD;
-    phenOutDelta = o.delta;
+    OIT_WRITE(phenOutA, o.A, oitBlendAdd);
+    OIT_WRITE(phenOutBetaD, o.betaD, phenBlendBetaD);
+    OIT_WRITE(phenOutDelta, o.delta, oitBlendAdd);
 }
 
 void oitEmit(OitFragment f) {
+#ifndef OIT_COMPUTE
     phenPassFilter(f.particle);
+#endif
     if (!f.surface) {
         // A medium's per-pixel contribution: collimated, no refraction, at its own depth.
         phenWrite(phenComputeOutput(f.radiance, f.alpha, f.transmission, f.viewDepth, 1.0, 1.0,
@@ -196,6 +202,7 @@ void oitEmit(OitFragment f) {
                                     phenRefractionDepth, 0.0));
         return;
     }
+#ifndef OIT_COMPUTE
     vec3 radiance = f.radiance;
     float alpha = f.alpha;
     vec3 transmission = f.transmission;
@@ -229,6 +236,6 @@ void oitEmit(OitFragment f) {
 #endif
     phenWrite(phenComputeOutput(radiance, alpha, t, viewDepth, collimation, eta, viewPos,
                                 viewNormal, phenBackgroundDepth(), refractionDepth, extraD));
+#endif // !OIT_COMPUTE
 }
 #endif // PHEN_THICKNESS
-#endif // OIT_EMIT_COMPUTE

@@ -8,14 +8,14 @@
 // (fully clear) contributes no weight and its reflections vanish in the resolve. The
 // phenomenological technique (000 full model) keeps the colored beta instead.
 //
-// Fog marcher: this emit writes fragment outputs and reads gl_FragCoord.z, so a compute
-// marcher cannot call it. It would have to write its per-pixel (A, netCoverage) sums into
-// the same two targets by a full-screen blended draw with the same blend state.
+// Per-pixel contributions (the fog) come from compute through the same oitEmit()
+// (OIT_COMPUTE, shaders/oit/fragment.glsl: images, the two blend equations in the shader), at
+// the window depth the caller gives (oitWindowDepth; the fog's representative depth).
 
 #include "../fragment.glsl"
 
-layout(location = 0) out vec4 oitOutAccum;
-layout(location = 1) out vec4 oitOutRevealage;
+OIT_TARGET(0, rgba16f, oitOutAccum);
+OIT_TARGET(1, r16f, oitOutRevealage);
 
 void oitEmit(OitFragment f) {
     vec3 radiance = f.radiance;
@@ -24,8 +24,8 @@ void oitEmit(OitFragment f) {
     float viewDepth = f.viewDepth;
     float netCoverage = alpha * (1.0 - dot(transmission, vec3(1.0 / 3.0))); // 000 Listing 1
     // 000 Eq. 5: w = clamp([10 (1 - 0.99 f) alpha (1 - tbar)]^3, 0.01, 30), f = window z.
-    float t = 10.0 * (1.0 - 0.99 * gl_FragCoord.z) * netCoverage;
+    float t = 10.0 * (1.0 - 0.99 * oitWindowDepth) * netCoverage;
     float w = clamp(t * t * t, 0.01, 30.0);
-    oitOutAccum = vec4(radiance, netCoverage) * w;
-    oitOutRevealage = vec4(netCoverage);
+    OIT_WRITE(oitOutAccum, vec4(radiance, netCoverage) * w, oitBlendAdd);
+    OIT_WRITE(oitOutRevealage, vec4(netCoverage), oitBlendModulate);
 }

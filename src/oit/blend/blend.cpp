@@ -1,5 +1,7 @@
 #include "oit/blend/blend.h"
 
+#include "shaders/common/bindings.h"
+
 namespace veil::oit {
 
 namespace {
@@ -23,6 +25,13 @@ public:
         // dst = src0 * 1 + dst * src1 (dual-source: per-channel modulation of the background)
         state.blend[0] = gpu::BlendState::separate(GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
         targets.state->apply(state);
+    }
+
+    // The fog from compute: dst = src0 + src1 * dst on the HDR image (emit.glsl).
+    PerPixelEmit perPixelEmit(int) const override { return PerPixelEmit::Compute; }
+    void bindPerPixelEmit(int, const OitFrameTargets& targets) const override {
+        glBindImageTexture(VEIL_IMG_OIT_TARGET0, targets.hdrColor->id(), 0, GL_FALSE, 0,
+                           GL_READ_WRITE, GL_RGBA16F);
     }
 
     void endAccumulate(int) override { glBindFramebuffer(GL_FRAMEBUFFER, 0); }

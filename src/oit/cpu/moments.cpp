@@ -271,4 +271,101 @@ std::array<double, 4> dequantizePower4(const std::array<double, 4>& q) {
     return {b1, b2, b3, b4};
 }
 
+namespace {
+
+// MOMENTS-NOTES.md, "16-bit quantization transforms for 6 and 8 power moments" (row-major).
+constexpr double kQ6Odd[9] = {2.5,   -1.87499864450, 1.26583039016,
+                              -10.0, 4.20757543111,  -1.47644882902,
+                              8.0,   -1.83257678661, 0.71061660238};
+constexpr double kQ6Even[9] = {4.0,           9.0, -0.57759806484, -4.0,          -24.0,
+                               4.61936647543, 0.0, 16.0,           -3.07953906655};
+constexpr double kQ6OddInv[9] = {-0.02877789192, 0.09995235706, 0.25893353755,
+                                 0.47635550422,  0.84532580931, 0.90779616657,
+                                 1.55242808973,  1.05472570761, 0.83327335647};
+constexpr double kQ6EvenInv[9] = {0.00001253044, -0.24998746956, -0.37498825271,
+                                  0.16668494186, 0.16668494186,  0.21876713299,
+                                  0.86602540579, 0.86602540579,  0.81189881793};
+constexpr double kQ6OddOffset[3] = {0.5, 0.5, 0.5};
+constexpr double kQ6EvenOffset[3] = {0.0, 0.0, 0.018888946};
+constexpr double kQ8Odd[16] = {
+    3.48044635732474,  -27.5760737514826,  55.1267384344761,   -31.5311110403183,
+    1.26797185782836,  -0.928755808743913, -2.07520453231032,  1.23598848322588,
+    -2.1671560004294,  6.17950199592966,   -0.276515571579297, -4.23583042392097,
+    0.974332879165755, -0.443426830933027, -0.360491648368785, 0.310149466050223};
+constexpr double kQ8Even[16] = {
+    0.280504133158527, -0.757633844606942, 0.392179589334688,  -0.887531871812237,
+    -2.01362265883247, 0.221551373038988,  -1.06107954265125,  2.83887201588367,
+    -7.31010494985321, 13.9855979699139,   -0.114305766176437, -7.4361899359832,
+    -15.8954215629556, 79.6186327084103,   -127.457278992502,  63.7349456687829};
+constexpr double kQ8OddInv[16] = {
+    -0.00482399708502382, -0.423201508674231, 0.0348312382605129, 1.67179208266592,
+    -0.0233402218644408,  -0.832829097046478, 0.0193406040499625, 1.21021509068975,
+    -0.010888537031885,   -0.926393772997063, -0.11723394414779,  0.983723301818275,
+    -0.0308713357806732,  -0.937989172670245, -0.218033377677099, 0.845991731322996};
+constexpr double kQ8EvenInv[16] = {
+    -0.976220278891035, -0.456139260269401, -0.0504335521016742, 0.000838800390651085,
+    -1.04828341778299,  -0.229726640510149, 0.0259608334616091,  -0.00133632693205861,
+    -1.03115268628604,  -0.077844420809897, 0.00443408851014257, -0.0103744938457406,
+    -0.996038443434636, 0.0175438624416783, -0.0361414253243963, -0.00317839994022725};
+constexpr double kQ8OddOffset[4] = {0.5, 0.5, 0.5, 0.5};
+constexpr double kQ8EvenOffset[4] = {0.972481993925964, 1.0, 0.999179192513328, 0.991778293073131};
+
+// out = v M (rowVector) or M v, for an n x n row-major M.
+void multiply(const double* M, const double* v, double* out, int n, bool rowVector) {
+    for (int j = 0; j < n; ++j) {
+        double s = 0.0;
+        for (int k = 0; k < n; ++k)
+            s += rowVector ? v[k] * M[k * n + j] : M[j * n + k] * v[k];
+        out[j] = s;
+    }
+}
+
+struct PowerQuantization {
+    const double *oddQ, *evenQ, *oddInv, *evenInv, *oddOffset, *evenOffset;
+    bool rowVector;
+};
+
+PowerQuantization powerQuantization(std::size_t count) {
+    if (count == 6)
+        return {kQ6Odd, kQ6Even, kQ6OddInv, kQ6EvenInv, kQ6OddOffset, kQ6EvenOffset, true};
+    VEIL_CHECK(count == 8, "16-bit power-moment storage needs 4, 6 or 8 moments (got {})", count);
+    return {kQ8Odd, kQ8Even, kQ8OddInv, kQ8EvenInv, kQ8OddOffset, kQ8EvenOffset, false};
+}
+
+} // namespace
+
+std::vector<double> quantizePower(const std::vector<double>& n) {
+    if (n.size() == 4) {
+        const auto q = quantizePower4({n[0], n[1], n[2], n[3]});
+        return {q.begin(), q.end()};
+    }
+    const PowerQuantization t = powerQuantization(n.size());
+    const int h = static_cast<int>(n.size() / 2);
+    std::vector<double> odd(h), even(h), q(n.size());
+    for (int i = 0; i < h; ++i)
+        odd[i] = n[2 * i], even[i] = n[2 * i + 1];
+    multiply(t.oddQ, odd.data(), q.data(), h, t.rowVector);
+    multiply(t.evenQ, even.data(), q.data() + h, h, t.rowVector);
+    for (int i = 0; i < h; ++i)
+        q[i] += t.oddOffset[i], q[h + i] += t.evenOffset[i];
+    return q;
+}
+
+std::vector<double> dequantizePower(const std::vector<double>& q) {
+    if (q.size() == 4) {
+        const auto n = dequantizePower4({q[0], q[1], q[2], q[3]});
+        return {n.begin(), n.end()};
+    }
+    const PowerQuantization t = powerQuantization(q.size());
+    const int h = static_cast<int>(q.size() / 2);
+    std::vector<double> odd(h), even(h), oddN(h), evenN(h), n(q.size());
+    for (int i = 0; i < h; ++i)
+        odd[i] = q[i] - t.oddOffset[i], even[i] = q[h + i] - t.evenOffset[i];
+    multiply(t.oddInv, odd.data(), oddN.data(), h, t.rowVector);
+    multiply(t.evenInv, even.data(), evenN.data(), h, t.rowVector);
+    for (int i = 0; i < h; ++i)
+        n[2 * i] = oddN[i], n[2 * i + 1] = evenN[i];
+    return n;
+}
+
 } // namespace veil::oit::cpu

@@ -9,6 +9,7 @@
 //   absorbance          002 Algorithm 1 (power moments, Hankel) / Algorithm 2 (trigonometric,
 //                       Toeplitz), on b / b_0 biased as in MOMENTS-NOTES.md, times b_0
 //   quantizePower4      16-bit storage transform of the normalized 4 power moments
+//   quantizePower       the same for 4, 6 or 8 power moments (MOMENTS-NOTES.md)
 //
 // Biasing: power moments are interpolated toward a bias vector, b' = (1 - a) b + a b*;
 // trigonometric moments b_1..b_m are multiplied by (1 - a) (002 section 5.3).
@@ -86,5 +87,16 @@ double exactAbsorbance(const std::vector<Layer>& layers, double zf);
 // = (odd0, odd1, even0, even1).
 std::array<double, 4> quantizePower4(const std::array<double, 4>& normalized);
 std::array<double, 4> dequantizePower4(const std::array<double, 4>& quantized);
+
+// 16-bit storage of m = 4, 6 or 8 normalized power moments n_k = b_k / b_0, k = 1..m
+// (002 section 4.1, transforms of MOMENTS-NOTES.md): odd (n_1, n_3, ...) and even (n_2, n_4,
+// ...) moments are transformed separately and offset so that valid moment vectors land in
+// [0, 1]^m; the result is (odd transformed..., even transformed...). m = 4 is quantizePower4;
+// m = 6 applies the transform as a row vector times the matrix (n Q + offset), m = 8 as the
+// matrix times a column vector (Q n + offset). The notes' "offsets before quantizing" for 6 and
+// 8 moments would map valid vectors far outside [0, 1] (tests/unit/oit_moment_test.cpp checks
+// the range): the offsets are added after the transform and subtracted before its inverse.
+std::vector<double> quantizePower(const std::vector<double>& normalized);
+std::vector<double> dequantizePower(const std::vector<double>& quantized);
 
 } // namespace veil::oit::cpu

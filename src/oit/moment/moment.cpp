@@ -4,17 +4,19 @@
 // overestimation, bias, wrapping_zone, z_min, z_max declared in registerMoment):
 //   overestimation  beta = 0.25           002 section 3.2, v_0 of Algorithms 1 and 2
 //   bias            float32 per set:      p4 5e-7, p6 5e-6, p8 5e-5, t3 8e-7, t4 1.5e-6
-//                   16-bit per set:       p4 6e-5, t3 6.5e-4, t4 8.5e-4
+//                   16-bit per set:       p4 6e-5, p6 6e-4, p8 2.5e-3, t3 6.5e-4, t4 8.5e-4
+//                   half per set:         the 16-bit ones times kHalfBiasFactor
 //                                         (MOMENTS-NOTES.md; 002 sections 4.1, 5.3)
 //   biasVector      power: p4 (0, .375, 0, .375), p6 (0, .48, 0, .451, 0, .45),
-//                   p8 (0, .75, 0, .6767, 0, .63, 0, .6003), p4-16 (0, .628, 0, .628)
+//                   p8 (0, .75, 0, .6767, 0, .63, 0, .6003); 16-bit and half: the 16-bit
+//                   vectors of MOMENTS-NOTES.md, e.g. p4 (0, .628, 0, .628)
 //                   (b' = (1 - bias) b + bias b*); trigonometric: b_j *= (1 - bias), j >= 1
 //                   (002 section 5.3)
 //   wrappingZone    theta = pi / 10       002 Eq. 5 and 6 (trigonometric only)
 //   zMin, zMax      log-depth warp range  002 section 3.3; default (0) = camera near/far
 //
 // Passes: geometry pass 0 accumulates b_0 and the moments (emit.glsl: additive blending into
-// float32 targets; storage16.glsl: read-modify-write of 16-bit images under
+// float32 or half-float targets; storage16.glsl: read-modify-write of 16-bit images under
 // GL_ARB_fragment_shader_interlock), geometry pass 1 reconstructs T in front of each fragment
 // (Algorithm 1 or 2) and accumulates radiance * T and alpha * T additively, the resolve
 // (compute) renormalizes (002 Eq. 2).
@@ -31,28 +33,56 @@ namespace veil::oit {
 
 namespace {
 
+// Storage of the moments (002 section 4.1):
+//   Float32    RGBA32F targets, additive blending only
+//   Quantized  b_0 in RGBA16F, normalized moments in 16 bits through the quantization
+//              transforms (MOMENTS-NOTES.md), a read-modify-write under
+//              GL_ARB_fragment_shader_interlock (storage16.glsl)
+//   Half       unnormalized moments in RGBA16F / RG16F and b_0 (with the per-channel b_0) in
+//              RGBA32F (b_0 in half doubled t4's error, tests/gl/oit_moment_test.cpp),
+//              the accumulation of pass 1 in RGBA16F, additive blending only, so
+//              drivers without interlock get half the bandwidth too; rounding errors then
+//              accumulate with the fragment count, which the paper counters with a stronger
+//              bias, "not ... increased by more than one order of magnitude" (002 section 4.1)
+enum class Storage { Float32, Quantized, Half };
+// Half storage: the 16-bit column of MOMENTS-NOTES.md (bias and bias vector) times this
+// factor (002 section 4.1 allows up to 10). Measured in tests/gl/oit_moment_test.cpp
+// (HalfStorageErrorWithinFloat32): 5 made every power set worse (p6 2.06x float32's error on
+// one scene instead of 1.68x), so the 16-bit values are kept.
+constexpr double kHalfBiasFactor = 1.0;
+
 struct Variant {
     const char* name;
     cpu::MomentBasis basis;
     int count;
-    bool storage16; // 002 section 4.1: 16-bit storage, read-modify-write under interlock
+    Storage storage;
 };
-// p6-16 and p8-16 are missing: their quantization matrices are not in MOMENTS-NOTES.md.
-constexpr std::array<Variant, 8> kVariants{{{"p4", cpu::MomentBasis::Power, 4, false},
-                                            {"p6", cpu::MomentBasis::Power, 6, false},
-                                            {"p8", cpu::MomentBasis::Power, 8, false},
-                                            {"t3", cpu::MomentBasis::Trigonometric, 3, false},
-                                            {"t4", cpu::MomentBasis::Trigonometric, 4, false},
-                                            {"p4-16", cpu::MomentBasis::Power, 4, true},
-                                            {"t3-16", cpu::MomentBasis::Trigonometric, 3, true},
-                                            {"t4-16", cpu::MomentBasis::Trigonometric, 4, true}}};
+constexpr std::array<Variant, 15> kVariants{{
+    {"p4", cpu::MomentBasis::Power, 4, Storage::Float32},
+    {"p6", cpu::MomentBasis::Power, 6, Storage::Float32},
+    {"p8", cpu::MomentBasis::Power, 8, Storage::Float32},
+    {"t3", cpu::MomentBasis::Trigonometric, 3, Storage::Float32},
+    {"t4", cpu::MomentBasis::Trigonometric, 4, Storage::Float32},
+    {"p4-16", cpu::MomentBasis::Power, 4, Storage::Quantized},
+    {"p6-16", cpu::MomentBasis::Power, 6, Storage::Quantized},
+    {"p8-16", cpu::MomentBasis::Power, 8, Storage::Quantized},
+    {"t3-16", cpu::MomentBasis::Trigonometric, 3, Storage::Quantized},
+    {"t4-16", cpu::MomentBasis::Trigonometric, 4, Storage::Quantized},
+    {"p4-half", cpu::MomentBasis::Power, 4, Storage::Half},
+    {"p6-half", cpu::MomentBasis::Power, 6, Storage::Half},
+    {"p8-half", cpu::MomentBasis::Power, 8, Storage::Half},
+    {"t3-half", cpu::MomentBasis::Trigonometric, 3, Storage::Half},
+    {"t4-half", cpu::MomentBasis::Trigonometric, 4, Storage::Half},
+}};
 
 const Variant& findVariant(const std::string& name) {
-    for (const Variant& v : kVariants)
+    std::vector<std::string> known;
+    for (const Variant& v : kVariants) {
         if (name == v.name) return v;
-    throw Error(fmt::format("unknown moment OIT variant '{}' (known: p4, p6, p8, t3, t4, p4-16, "
-                            "t3-16, t4-16)",
-                            name));
+        known.push_back(v.name);
+    }
+    throw Error(
+        fmt::format("unknown moment OIT variant '{}' (known: {})", name, fmt::join(known, ", ")));
 }
 
 class MomentTechnique final : public Technique {
@@ -84,15 +114,35 @@ public:
                                                                              : "MOMENT_TRIG 1",
                                    fmt::format("MOMENT_COUNT {}", variant_.count),
                                    fmt::format("MOMENT_STORED {}", stored_), biasVectorDefine()};
-        if (variant_.storage16) {
+        // Image formats of the additive targets, for per-pixel emission from compute.
+        for (int i = 0; i < momentTargets(); ++i)
+            d.push_back(fmt::format("MOMENT_FORMAT{} {}", i, imageFormatName(momentFormat(i))));
+        d.push_back(fmt::format("MOMENT_ACCUM_FORMAT {}", imageFormatName(accumFormat())));
+        if (quantized()) {
             d.push_back("MOMENT_STORAGE16 1");
             // The loader writes defines right after #version, the one place an #extension
-            // may go. Pass 1 only reads the moments and needs no interlock.
+            // may go. Pass 1 only reads the moments and needs no interlock; the per-pixel
+            // emission from compute (OIT_COMPUTE, defined before these) needs none either.
             if (pass == 0)
-                d.push_back(
-                    "MOMENT_INTERLOCK 1\n#extension GL_ARB_fragment_shader_interlock : require");
+                d.push_back("MOMENT_INTERLOCK 1\n#ifndef OIT_COMPUTE\n#extension "
+                            "GL_ARB_fragment_shader_interlock : require\n#endif");
         }
         return d;
+    }
+
+    PerPixelEmit perPixelEmit(int) const override { return PerPixelEmit::Compute; }
+
+    void bindPerPixelEmit(int pass, const OitFrameTargets&) const override {
+        // The 16-bit storage's images are bound by beginAccumulate (pass 0).
+        if (pass == 0 && quantized()) return;
+        if (pass == 0) {
+            for (int i = 0; i < momentTargets(); ++i)
+                glBindImageTexture(VEIL_IMG_OIT_TARGET0 + i, moments_[i].id(), 0, GL_FALSE, 0,
+                                   GL_READ_WRITE, momentFormat(i));
+        } else {
+            glBindImageTexture(VEIL_IMG_OIT_TARGET0, accum_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+                               accumFormat());
+        }
     }
 
     void resize(const OitFrameTargets& targets) override {
@@ -106,10 +156,10 @@ public:
         moments_.clear();
         for (int i = 0; i < momentTargets(); ++i)
             moments_.push_back(make(momentFormat(i)));
-        accum_ = make(GL_RGBA32F);
+        accum_ = make(accumFormat());
         momentFbo_ = gpu::Framebuffer();
         momentFbo_.attach(GL_DEPTH_ATTACHMENT, *targets.depth);
-        if (variant_.storage16) {
+        if (quantized()) {
             momentFbo_.drawBuffers({GL_NONE}); // moments go through images; depth test only
         } else {
             for (int i = 0; i < momentTargets(); ++i)
@@ -131,14 +181,14 @@ public:
     void beginAccumulate(int pass, const OitFrameTargets& targets,
                          const gpu::Program& program) override {
         gpu::PipelineState state = accumulationState(targets);
-        if (pass != 0 || !variant_.storage16)
+        if (pass != 0 || !quantized())
             state.blendAll(gpu::BlendState::func(GL_ONE, GL_ONE)); // 002: additive passes
         targets.state->apply(state);
         const float zero[4] = {0, 0, 0, 0};
         if (pass == 0) {
             momentFbo_.bind();
             for (int i = 0; i < momentTargets(); ++i) {
-                if (variant_.storage16) {
+                if (quantized()) {
                     glClearTexImage(moments_[i].id(), 0, GL_RGBA, GL_FLOAT, zero);
                     glBindImageTexture(VEIL_IMG_MOMENT0 + i, moments_[i].id(), 0, GL_FALSE, 0,
                                        GL_READ_WRITE, momentFormat(i));
@@ -165,7 +215,7 @@ public:
 
     void endAccumulate(int pass) override {
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        if (pass == 0 && variant_.storage16) {
+        if (pass == 0 && quantized()) {
             glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
             for (int i = 0; i < momentTargets(); ++i)
                 glBindImageTexture(VEIL_IMG_MOMENT0 + i, 0, 0, GL_FALSE, 0, GL_READ_WRITE,
@@ -186,8 +236,10 @@ public:
     }
 
     std::size_t bytesPerPixel() const override {
-        const std::size_t texel = variant_.storage16 ? 8 : 16;
-        return texel * static_cast<std::size_t>(momentTargets()) + 16; // + RGBA32F accumulation
+        std::size_t bytes = formatBytes(accumFormat());
+        for (int i = 0; i < momentTargets(); ++i)
+            bytes += formatBytes(momentFormat(i));
+        return bytes;
     }
 
 private:
@@ -199,12 +251,53 @@ private:
             v[i] = bv[i];
         return fmt::format("MOMENT_BIAS_VECTOR float[8]({:.17g})", fmt::join(v, ", "));
     }
+    bool quantized() const { return variant_.storage == Storage::Quantized; }
     int momentTargets() const { return stored_ > 4 ? 3 : 2; }
     // Target 0 holds (b_0, b_0 rgb); targets 1, 2 the moments (emit.glsl, storage16.glsl).
+    // Target 2 holds moments 5..MOMENT_STORED: two channels where 6 are stored.
     GLenum momentFormat(int target) const {
-        if (!variant_.storage16) return GL_RGBA32F;
-        if (target == 0) return GL_RGBA16F;
-        return variant_.basis == cpu::MomentBasis::Power ? GL_RGBA16 : GL_RGBA16_SNORM;
+        const bool two = target == 2 && stored_ == 6;
+        switch (variant_.storage) {
+        case Storage::Float32:
+            return GL_RGBA32F;
+        case Storage::Half:
+            return target == 0 ? GL_RGBA32F : two ? GL_RG16F : GL_RGBA16F;
+        case Storage::Quantized:
+            if (target == 0) return GL_RGBA16F;
+            if (variant_.basis == cpu::MomentBasis::Trigonometric) return GL_RGBA16_SNORM;
+            return two ? GL_RG16 : GL_RGBA16;
+        }
+        return GL_RGBA32F;
+    }
+    static const char* imageFormatName(GLenum format) {
+        switch (format) {
+        case GL_RGBA32F:
+            return "rgba32f";
+        case GL_RGBA16F:
+            return "rgba16f";
+        case GL_RG16F:
+            return "rg16f";
+        case GL_RGBA16:
+            return "rgba16";
+        case GL_RG16:
+            return "rg16";
+        default:
+            return "rgba16_snorm";
+        }
+    }
+    static std::size_t formatBytes(GLenum format) {
+        switch (format) {
+        case GL_RGBA32F:
+            return 16;
+        case GL_RG16F:
+        case GL_RG16:
+            return 4;
+        default:
+            return 8; // RGBA16F, RGBA16, RGBA16_SNORM
+        }
+    }
+    GLenum accumFormat() const {
+        return variant_.storage == Storage::Half ? GL_RGBA16F : GL_RGBA32F;
     }
 
     gpu::ProgramManager& programs_;
@@ -222,7 +315,8 @@ private:
 MomentTechniqueParams defaultMomentTechniqueParams(const std::string& variant) {
     const Variant& v = findVariant(variant);
     MomentTechniqueParams p;
-    p.reconstruction = cpu::defaultMomentParams({v.basis, v.count}, v.storage16);
+    p.reconstruction = cpu::defaultMomentParams({v.basis, v.count}, v.storage != Storage::Float32);
+    if (v.storage == Storage::Half) p.reconstruction.bias *= kHalfBiasFactor;
     return p;
 }
 
@@ -254,24 +348,27 @@ void registerMoment(Registry& registry) {
             .real("z_max", 0.0, 0.0, 1e30,
                   "far end of the log-depth warp (0 = the camera's far plane)", "002 sec. 3.3");
         std::function<bool(const gpu::ContextInfo&)> available;
-        if (v.storage16)
+        if (v.storage == Storage::Quantized)
             available = [](const gpu::ContextInfo& c) { return c.fragmentShaderInterlock; };
-        registry.add(
-            {std::string("moment-") + v.name,
-             fmt::format("moment-based OIT (002), {} {} moments, {} storage", v.count,
-                         v.basis == cpu::MomentBasis::Power ? "power" : "trigonometric",
-                         v.storage16 ? "16-bit (needs fragment shader interlock)" : "float32"),
-             available,
-             [variant, trig](gpu::ProgramManager& programs, const Properties& p) {
-                 MomentTechniqueParams params = defaultMomentTechniqueParams(variant);
-                 params.reconstruction.overestimation = p.getDouble("overestimation");
-                 params.reconstruction.bias = p.getDouble("bias");
-                 if (trig) params.reconstruction.wrappingZone = p.getDouble("wrapping_zone");
-                 params.zMin = p.getDouble("z_min");
-                 params.zMax = p.getDouble("z_max");
-                 return createMomentTechnique(programs, variant, params);
-             },
-             std::move(schema)});
+        registry.add({std::string("moment-") + v.name,
+                      fmt::format("moment-based OIT (002), {} {} moments, {} storage", v.count,
+                                  v.basis == cpu::MomentBasis::Power ? "power" : "trigonometric",
+                                  v.storage == Storage::Quantized
+                                      ? "16-bit (needs fragment shader interlock)"
+                                  : v.storage == Storage::Half ? "half-float, additive"
+                                                               : "float32"),
+                      available,
+                      [variant, trig](gpu::ProgramManager& programs, const Properties& p) {
+                          MomentTechniqueParams params = defaultMomentTechniqueParams(variant);
+                          params.reconstruction.overestimation = p.getDouble("overestimation");
+                          params.reconstruction.bias = p.getDouble("bias");
+                          if (trig)
+                              params.reconstruction.wrappingZone = p.getDouble("wrapping_zone");
+                          params.zMin = p.getDouble("z_min");
+                          params.zMax = p.getDouble("z_max");
+                          return createMomentTechnique(programs, variant, params);
+                      },
+                      std::move(schema)});
     }
 }
 

@@ -1,7 +1,9 @@
 // `moment-p4`, `moment-p6`, `moment-p8`, `moment-t3`, `moment-t4`: moment-based
 // order-independent transparency (002, Muenstermann et al. 2018) with float32 storage and
-// additive blending only; `moment-p4-16`, `moment-t3-16`, `moment-t4-16`: 16-bit storage with a
-// read-modify-write under GL_ARB_fragment_shader_interlock (unavailable without it). See
+// additive blending only; `moment-p4-16`, `moment-p6-16`, `moment-p8-16`, `moment-t3-16`,
+// `moment-t4-16`: 16-bit quantized storage with a read-modify-write under
+// GL_ARB_fragment_shader_interlock (unavailable without it); `moment-p4-half` ... `moment-t4-half`:
+// unnormalized moments in half floats with additive blending only (any driver). See
 // moment.cpp for the parameter block and shaders/oit/moment/emit.glsl for the storage layout.
 #pragma once
 
@@ -22,8 +24,8 @@ struct MomentTechniqueParams {
     double zMin = 0.0, zMax = 0.0;
 };
 
-// Variants in one table; `variant` is the name without "moment-" ("p4", ..., "t4", "p4-16",
-// "t3-16", "t4-16"; the 16-bit ones need GL_ARB_fragment_shader_interlock).
+// Variants in one table; `variant` is the name without "moment-" ("p4", ..., "t4", "p4-16", ...,
+// "t4-16", "p4-half", ..., "t4-half"; the "-16" ones need GL_ARB_fragment_shader_interlock).
 MomentTechniqueParams defaultMomentTechniqueParams(const std::string& variant);
 std::unique_ptr<Technique> createMomentTechnique(gpu::ProgramManager& programs,
                                                  const std::string& variant,

@@ -222,6 +222,21 @@ public:
             .set("phenRefraction", params_.refraction ? 1 : 0);
     }
 
+    // The fog from compute, in the full-resolution accumulation pass only: the slice-map and
+    // particle passes drop media contributions (emit.glsl).
+    PerPixelEmit perPixelEmit(int pass) const override {
+        return !isThicknessPass(pass) && innerPass(pass) == 0 ? PerPixelEmit::Compute
+                                                              : PerPixelEmit::None;
+    }
+    void bindPerPixelEmit(int, const OitFrameTargets&) const override {
+        glBindImageTexture(VEIL_IMG_OIT_TARGET0, accumA_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+                           GL_RGBA16F);
+        glBindImageTexture(VEIL_IMG_OIT_TARGET0 + 1, betaD_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+                           GL_RGBA16);
+        glBindImageTexture(VEIL_IMG_OIT_TARGET0 + 2, delta_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+                           GL_RGBA16F);
+    }
+
     void endAccumulate(int) override { glBindFramebuffer(GL_FRAMEBUFFER, 0); }
 
     void resolve(const OitFrameTargets& targets) override {

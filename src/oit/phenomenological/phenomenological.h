@@ -50,8 +50,8 @@
 // volumeRefraction adds 8 RGBA32UI slice targets (128) and an RG32F thickness, count (8).
 //
 // Not implemented: caustic stochastic shadow maps (Eq. 10-12), inferred ambient
-// occlusion (001 section 6; the frame has no AO buffer), the host side of the fog path
-// (emit.glsl compiles in compute shaders with OIT_EMIT_COMPUTE; see its header).
+// occlusion (001 section 6; the frame has no AO buffer). The fog's per-pixel contribution
+// comes from compute (PerPixelEmit::Compute in the full-resolution pass; emit.glsl's header).
 #pragma once
 
 #include "oit/technique.h"

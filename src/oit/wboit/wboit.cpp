@@ -38,6 +38,15 @@ public:
         glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 1, one);
     }
 
+    // The fog from compute through emit.glsl's OIT_WRITE (the two blend equations above).
+    PerPixelEmit perPixelEmit(int) const override { return PerPixelEmit::Compute; }
+    void bindPerPixelEmit(int, const OitFrameTargets&) const override {
+        glBindImageTexture(VEIL_IMG_OIT_TARGET0, accum_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+                           GL_RGBA16F);
+        glBindImageTexture(VEIL_IMG_OIT_TARGET0 + 1, revealage_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+                           GL_R16F);
+    }
+
     void endAccumulate(int) override { glBindFramebuffer(GL_FRAMEBUFFER, 0); }
 
     void resolve(const OitFrameTargets& targets) override {

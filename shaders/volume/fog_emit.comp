@@ -1,0 +1,25 @@
+#version 450 core
+// Hands the marched fog to the active OIT technique from compute (issue 14), one invocation
+// per pixel: the technique's own oitEmit() (its emit file included with OIT_COMPUTE defined,
+// writing its targets as images through OIT_WRITE, shaders/oit/fragment.glsl). The depth test
+// of the accumulation passes (GL_LESS against the opaque depth) is done here, at the fog's
+// representative depth, as the fragment emitter's gl_FragDepth would be tested.
+#include "../common/camera.glsl"
+
+#include "veil:oit_emit"
+
+#include "fog_contribution.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(p, textureSize(opaqueDepth, 0)))) return;
+    vec4 L, T;
+    if (!fogContribution(p, L, T)) return;
+    float depth = fogWindowDepth(L.a);
+    if (!(depth < texelFetch(opaqueDepth, p, 0).r)) return;
+    oitPixel = p;
+    oitWindowDepth = depth;
+    oitEmit(oitFragment(L.rgb, 1.0, T.rgb, L.a)); // no surface, no particle
+}

@@ -1,0 +1,466 @@
+#include "shadows/volume/volume.h"
+
+#include "base/error.h"
+#include "base/log.h"
+#include "shadows/common/depth_maps.h"
+#include "shadows/opaque/opaque.h"
+#include "shadows/volume/adjacency.h"
+
+#include <fmt/format.h>
+#include <glm/gtc/matrix_inverse.hpp>
+
+#include <algorithm>
+
+namespace veil::shadows {
+
+namespace {
+
+// One scene mesh as the volumes need it: welded positions and the adjacency index buffer.
+struct VolumeMesh {
+    gpu::Buffer positions{gpu::NoCreate}, indices{gpu::NoCreate};
+    gpu::VertexArray vao{gpu::NoCreate};
+    GLsizei indexCount = 0;
+    bool closed = false;
+    glm::vec3 lo{0.0f}, hi{0.0f};
+};
+
+// A light with a volume: its slot (layer of the visibility array) and what the shaders need.
+struct VolumeLight {
+    int light = 0;
+    glm::vec4 position{0.0f}; // xyz position (w = 1) or direction of travel (w = 0)
+    int clampView = -1;       // the view used for culling and clamping, -1 for point lights
+};
+
+class VolumeTechnique final : public Technique {
+public:
+    VolumeTechnique(gpu::ProgramManager& programs, const Properties& p)
+        : programs_(programs), depth_(programs), bias_(p.getFloat("bias")),
+          pcfRadius_(p.getInt("pcf_radius")), casterCulling_(p.getBool("caster_culling")),
+          receiverCulling_(p.getBool("receiver_culling")), clamping_(p.getBool("clamping")),
+          grid_(p.getInt("grid")), slices_(p.getInt("slices")), measure_(p.getBool("measure")) {
+        gpu::ProgramDesc volume;
+        volume.stages = {{GL_VERTEX_SHADER, "shadows/volume/volume.vert"},
+                         {GL_GEOMETRY_SHADER, "shadows/volume/volume.geom"},
+                         {GL_FRAGMENT_SHADER, "shadows/volume/empty.frag"}};
+        volumeProgram_ = programs.add(volume);
+        resolveProgram_ = programs.add(
+            gpu::ProgramDesc::graphics("volume/fullscreen.vert", "shadows/volume/resolve.frag"));
+        receiversProgram_ =
+            programs.add(gpu::ProgramDesc::compute("shadows/volume/receivers.comp"));
+        occludersProgram_ =
+            programs.add(gpu::ProgramDesc::compute("shadows/volume/occluders.comp"));
+        classifyProgram_ = programs.add(gpu::ProgramDesc::compute("shadows/volume/classify.comp"));
+        rawDepth_.parameter(GL_TEXTURE_COMPARE_MODE, GL_NONE)
+            .parameter(GL_TEXTURE_MIN_FILTER, GL_NEAREST)
+            .parameter(GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    }
+
+    std::string name() const override { return "volume"; }
+    std::filesystem::path visibilityInclude() const override {
+        return "shadows/volume/visibility.glsl";
+    }
+    void resize(int mapSize, int viewCount) override { depth_.resize(mapSize, viewCount); }
+    std::vector<ShadowPass> passes() override {
+        return {{"", {}, {"shadow.depth"}, [this](const ShadowFrame& f) { depth_.render(f); }},
+                {"volume", {"shadow.depth"}, {"shadow.volume"}, [this](const ShadowFrame& f) {
+                     render(f);
+                 }}};
+    }
+    std::vector<std::string> receiverResources() const override {
+        return {"shadow.depth", "shadow.volume"};
+    }
+    void bindForReceivers() const override {
+        depth_.bind();
+        if (visibility_) visibility_.bind(VEIL_TEX_SHADOW1);
+    }
+    void fillParams(ShadowsBlock& block) const override {
+        block.params[0] = glm::vec4(bias_, static_cast<float>(pcfRadius_), 0.0f, 0.0f);
+        // Layers in light order: the lights with views, as the passes number them.
+        int layer = 0;
+        for (int i = 0; i < VEIL_MAX_LIGHTS; ++i)
+            block.params[1 + i / 4][i % 4] = block.lights[i].x >= 0 ? float(layer++) : -1.0f;
+    }
+    const gpu::Texture* resourceTexture(const std::string& name) const override {
+        if (name == "shadow.depth") return &depth_.texture();
+        if (name == "shadow.volume") return visibility_ ? &visibility_ : nullptr;
+        return nullptr;
+    }
+    std::size_t gpuBytes() const override {
+        std::size_t screen = std::size_t(width_) * height_;
+        return depth_.gpuBytes() + screen * (5 + std::size_t(slots_)) + receivers_.size() +
+               occluders_.size() + casters_.size();
+    }
+    nlohmann::json stats() const override { return stats_; }
+
+private:
+    void prepare(const ShadowFrame& frame);
+    void render(const ShadowFrame& frame);
+    void classify(const ShadowFrame& frame, const std::vector<int>& casters);
+    void drawVolumes(const ShadowFrame& frame, const gpu::Program& program,
+                     const std::vector<int>& casters, int slot) const;
+
+    gpu::ProgramManager& programs_;
+    DepthMaps depth_;
+    float bias_;
+    int pcfRadius_;
+    bool casterCulling_, receiverCulling_, clamping_;
+    int grid_, slices_;
+    bool measure_;
+    gpu::ProgramHandle volumeProgram_, resolveProgram_, receiversProgram_, occludersProgram_,
+        classifyProgram_;
+    gpu::Sampler rawDepth_;
+
+    const scene::Scene* scene_ = nullptr;
+    std::vector<VolumeMesh> meshes_;
+    float sceneRadius_ = 1.0f;
+    int width_ = 0, height_ = 0, slots_ = 0;
+    gpu::Texture depthStencil_{gpu::NoCreate}, visibility_{gpu::NoCreate};
+    gpu::Framebuffer fbo_{gpu::NoCreate};
+    gpu::VertexArray emptyVao_{gpu::NoCreate};
+    gpu::Buffer receivers_{gpu::NoCreate}, occluders_{gpu::NoCreate}, casters_{gpu::NoCreate},
+        bounds_{gpu::NoCreate};
+    std::vector<VolumeLight> lights_;
+    nlohmann::json stats_ = nlohmann::json::object();
+};
+
+// Builds the meshes at the first frame (the scene arrives with the frame) and refuses what
+// shadow volumes cannot cast.
+void VolumeTechnique::prepare(const ShadowFrame& frame) {
+    if (scene_ != frame.scene) {
+        scene_ = frame.scene;
+        meshes_.clear();
+        std::vector<bool> used(scene_->meshes.size(), false), casts(scene_->meshes.size(), false);
+        for (const auto& object : scene_->objects) {
+            if (scene_->materials.at(object.material).isTransparent()) continue;
+            used.at(object.mesh) = true;
+            if (!object.castShadows) continue;
+            casts[object.mesh] = true;
+            VEIL_CHECK(!scene_->meshes[object.mesh].billboard,
+                       "{}: shadows 'volume': object '{}' casts shadows with a particle mesh "
+                       "('{}'); shadow volumes need triangle meshes (set \"shadows\": false on "
+                       "it or use another shadow technique)",
+                       scene_->sourcePath.empty() ? "<scene>" : scene_->sourcePath.string(),
+                       object.name, scene_->meshes[object.mesh].name);
+        }
+        for (std::size_t m = 0; m < scene_->meshes.size(); ++m) {
+            const scene::MeshData& data = scene_->meshes[m];
+            VolumeMesh& vm = meshes_.emplace_back();
+            if (!used[m] || data.billboard) continue;
+            const Adjacency adj = buildAdjacency(data.positions, data.indices);
+            vm.closed = adj.closed;
+            if (casts[m] && !adj.closed)
+                log::warn("shadows 'volume': mesh '{}' is not a closed 2-manifold ({}; {} open, "
+                          "{} non-manifold edges): its triangles are extruded one by one",
+                          data.name, adj.reason, adj.boundaryEdges, adj.nonManifoldEdges);
+            vm.positions = gpu::Buffer();
+            vm.positions.setStorage(std::span<const glm::vec3>(data.positions), 0);
+            vm.indices = gpu::Buffer();
+            vm.indices.setStorage(std::span<const std::uint32_t>(adj.indices), 0);
+            vm.vao = gpu::VertexArray();
+            vm.vao.attribute(VEIL_ATTR_POSITION, 0, vm.positions, 3, sizeof(glm::vec3))
+                .indexBuffer(vm.indices);
+            vm.indexCount = static_cast<GLsizei>(adj.indices.size());
+            data.bounds(vm.lo, vm.hi);
+        }
+        glm::vec3 lo, hi;
+        scene_->bounds(lo, hi);
+        sceneRadius_ = std::max(glm::length(hi - lo), 1e-3f);
+    }
+    // Lights in layer order: the first view of each shadowed light.
+    lights_.clear();
+    for (const LightView& view : *frame.views) {
+        if (!lights_.empty() && lights_.back().light == view.light) continue;
+        VolumeLight l;
+        l.light = view.light;
+        const scene::Light& light = scene_->lights.at(view.light);
+        if (light.type == scene::LightType::Directional) {
+            l.position = glm::vec4(glm::normalize(light.direction), 0.0f);
+            l.clampView = view.layer;
+        } else {
+            l.position = glm::vec4(light.position, 1.0f);
+            l.clampView = light.type == scene::LightType::Spot ? view.layer : -1;
+        }
+        lights_.push_back(l);
+    }
+    const int slots = static_cast<int>(lights_.size());
+    if (frame.width != width_ || frame.height != height_ || slots != slots_) {
+        width_ = frame.width;
+        height_ = frame.height;
+        slots_ = slots;
+        depthStencil_ = gpu::Texture(GL_TEXTURE_2D);
+        depthStencil_.storage2D(1, GL_DEPTH32F_STENCIL8, width_, height_)
+            .parameter(GL_TEXTURE_MIN_FILTER, GL_NEAREST)
+            .parameter(GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        visibility_ = gpu::Texture(GL_TEXTURE_2D_ARRAY);
+        visibility_.storage3D(1, GL_R8, width_, height_, std::max(slots_, 1))
+            .parameter(GL_TEXTURE_MIN_FILTER, GL_NEAREST)
+            .parameter(GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        fbo_ = gpu::Framebuffer();
+        fbo_.attach(GL_DEPTH_STENCIL_ATTACHMENT, depthStencil_);
+        emptyVao_ = gpu::VertexArray();
+        const std::size_t columns = std::size_t(grid_) * grid_ * std::max(slots_, 1);
+        receivers_ = gpu::Buffer();
+        receivers_.setStorage((VEIL_MAX_LIGHTS + columns * ((slices_ + 31) / 32)) * 4, nullptr);
+        occluders_ = gpu::Buffer();
+        occluders_.setStorage(columns * 4, nullptr);
+    }
+}
+
+// The opaque casters of the scene (object indices).
+std::vector<int> opaqueCasters(const scene::Scene& scene) {
+    std::vector<int> casters;
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const scene::Object& o = scene.objects[i];
+        if (o.castShadows && !scene.materials.at(o.material).isTransparent())
+            casters.push_back(static_cast<int>(i));
+    }
+    return casters;
+}
+
+void setSlotViews(const gpu::Program& program, const std::vector<VolumeLight>& lights) {
+    for (int s = 0; s < VEIL_MAX_LIGHTS; ++s) {
+        const std::string name = fmt::format("uSlotView[{}]", s);
+        program.set(name.c_str(), s < int(lights.size()) ? lights[s].clampView : -1);
+    }
+}
+
+// 003 Sec. 3.2: the receivers into each light's slice map, the occluders' far depth per
+// column, and per caster and light: culled, clamped or infinite (casters_).
+void VolumeTechnique::classify(const ShadowFrame& frame, const std::vector<int>& casters) {
+    const bool any = casterCulling_ || receiverCulling_ || clamping_;
+    const std::size_t entries = std::max<std::size_t>(casters.size() * slots_, 1);
+    if (casters_.size() < entries * 4) {
+        casters_ = gpu::Buffer();
+        casters_.setStorage(entries * 4, nullptr);
+        bounds_ = gpu::Buffer();
+        bounds_.setStorage(std::max<std::size_t>(casters.size(), 1) * 32, nullptr);
+    }
+    const float zero = 0.0f;
+    glClearNamedBufferData(casters_.id(), GL_R32F, GL_RED, GL_FLOAT, &zero);
+    bool clampable = false;
+    for (const VolumeLight& l : lights_)
+        clampable |= l.clampView >= 0;
+    if (!any || !clampable || casters.empty()) return;
+
+    std::vector<glm::vec4> bounds;
+    for (int c : casters) {
+        const scene::Object& o = scene_->objects[c];
+        const VolumeMesh& m = meshes_[o.mesh];
+        glm::vec3 lo(1e30f), hi(-1e30f);
+        for (int k = 0; k < 8; ++k) {
+            const glm::vec3 corner(k & 1 ? m.hi.x : m.lo.x, k & 2 ? m.hi.y : m.lo.y,
+                                   k & 4 ? m.hi.z : m.lo.z);
+            const glm::vec3 w = glm::vec3(o.transform * glm::vec4(corner, 1.0f));
+            lo = glm::min(lo, w);
+            hi = glm::max(hi, w);
+        }
+        bounds.emplace_back(lo, 0.0f);
+        bounds.emplace_back(hi, 0.0f);
+    }
+    bounds_.setSubData(0, bounds.size() * sizeof(glm::vec4), bounds.data());
+    const std::uint32_t none = 0;
+    glClearNamedBufferData(receivers_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
+    receivers_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_VOLUME_RECEIVERS);
+    occluders_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_VOLUME_OCCLUDERS);
+    casters_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_VOLUME_CASTERS);
+    bounds_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_VOLUME_BOUNDS);
+    frame.state->apply(gpu::PipelineState{});
+
+    if (receiverCulling_ || clamping_) { // the camera's depth voxelized into the slice maps
+        const gpu::Program& p = programs_.get(receiversProgram_);
+        p.use();
+        setSlotViews(p, lights_);
+        p.set("uGrid", grid_)
+            .set("uSlices", slices_)
+            .set("invViewProjection", glm::inverse(frame.cameraViewProjection))
+            .set("screenSize", glm::ivec2(width_, height_))
+            .set("slotCount", slots_);
+        depthStencil_.bind(VEIL_TEX_SHADOW2);
+        glDispatchCompute((width_ + 7) / 8, (height_ + 7) / 8, 1);
+    }
+    if (casterCulling_) { // the opaque map's far depth per column
+        const gpu::Program& p = programs_.get(occludersProgram_);
+        p.use();
+        setSlotViews(p, lights_);
+        p.set("uGrid", grid_).set("uSlices", slices_).set("mapSize", depth_.size());
+        depth_.texture().bind(VEIL_TEX_SHADOW3);
+        rawDepth_.bind(VEIL_TEX_SHADOW3);
+        for (int s = 0; s < slots_; ++s) {
+            if (lights_[s].clampView < 0) continue;
+            p.set("slot", s);
+            glDispatchCompute((grid_ + 7) / 8, (grid_ + 7) / 8, 1);
+        }
+    }
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    const gpu::Program& p = programs_.get(classifyProgram_);
+    p.use();
+    setSlotViews(p, lights_);
+    p.set("uGrid", grid_)
+        .set("uSlices", slices_)
+        .set("casterCount", static_cast<int>(casters.size()))
+        .set("slotCount", slots_);
+    glUniform3i(p.uniformLocation("uEnable"), casterCulling_, receiverCulling_, clamping_);
+    glDispatchCompute(static_cast<GLuint>(casters.size() * slots_), 1, 1); // a group each
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glBindSampler(VEIL_TEX_SHADOW3, 0);
+}
+
+void VolumeTechnique::drawVolumes(const ShadowFrame& frame, const gpu::Program& program,
+                                  const std::vector<int>& casters, int slot) const {
+    const VolumeLight& l = lights_[slot];
+    program.set("lightPos", l.position)
+        .set("lightView", l.clampView)
+        .set("finiteExtrude", frame.orthographicCamera ? 1000.0f * sceneRadius_ : 0.0f);
+    for (std::size_t c = 0; c < casters.size(); ++c) {
+        const scene::Object& o = scene_->objects[casters[c]];
+        const VolumeMesh& m = meshes_[o.mesh];
+        program.set("model", o.transform)
+            .set("mode", m.closed ? 1 : 2)
+            .set("casterSlot", static_cast<int>(c) * slots_ + slot);
+        m.vao.bind();
+        glDrawElements(GL_TRIANGLES_ADJACENCY, m.indexCount, GL_UNSIGNED_INT, nullptr);
+    }
+}
+
+void VolumeTechnique::render(const ShadowFrame& frame) {
+    prepare(frame);
+    const std::vector<int> casters = opaqueCasters(*scene_);
+    const gpu::Program& program = programs_.get(volumeProgram_);
+
+    // The receivers' depth: every opaque object, with the invariant positions of the caps.
+    fbo_.attach(GL_DEPTH_STENCIL_ATTACHMENT, depthStencil_).drawBuffers({GL_NONE});
+    fbo_.bind();
+    gpu::PipelineState pre;
+    pre.view(width_, height_).depth(GL_LESS, true);
+    pre.depthClamp = true;
+    pre.colorMask.fill(glm::bvec4(false));
+    frame.state->apply(pre);
+    const float one = 1.0f;
+    glClearNamedFramebufferfi(fbo_.id(), GL_DEPTH_STENCIL, 0, one, 0);
+    program.use();
+    program.set("mode", 0);
+    for (const auto& object : scene_->objects) {
+        if (scene_->materials.at(object.material).isTransparent()) continue;
+        const VolumeMesh& m = meshes_[object.mesh];
+        if (m.indexCount == 0) continue;
+        program.set("model", object.transform);
+        m.vao.bind();
+        glDrawElements(GL_TRIANGLES_ADJACENCY, m.indexCount, GL_UNSIGNED_INT, nullptr);
+    }
+
+    classify(frame, casters);
+    casters_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_VOLUME_CASTERS);
+
+    // Per light: the stencil count of the volumes (depth-fail), then the visibility layer.
+    gpu::PipelineState volume = pre;
+    volume.depthWrite = false;
+    volume.stencilTest = true;
+    volume.stencilFront.depthFail = GL_DECR_WRAP; // front faces behind the receiver: leave
+    volume.stencilBack.depthFail = GL_INCR_WRAP;  // back faces behind the receiver: enter
+    gpu::PipelineState resolve;
+    resolve.view(width_, height_);
+    resolve.stencilTest = true;
+    resolve.stencilFront.func = resolve.stencilBack.func = GL_EQUAL; // count == 0: lit
+    gpu::PipelineState fill = pre; // every rasterized volume fragment counts
+    fill.depthTest = false;
+    fill.depthWrite = false;
+
+    gpu::Query primitives(GL_PRIMITIVES_GENERATED), samples(GL_SAMPLES_PASSED);
+    std::uint64_t triangles = 0, fragments = 0;
+    for (int slot = 0; slot < slots_; ++slot) {
+        fbo_.drawBuffers({GL_NONE});
+        frame.state->apply(volume);
+        const GLint zero = 0;
+        glClearNamedFramebufferiv(fbo_.id(), GL_STENCIL, 0, &zero);
+        program.use();
+        if (measure_) glBeginQuery(GL_PRIMITIVES_GENERATED, primitives.id());
+        drawVolumes(frame, program, casters, slot);
+        if (measure_) {
+            glEndQuery(GL_PRIMITIVES_GENERATED);
+            triangles += primitives.result();
+        }
+
+        fbo_.attachLayer(GL_COLOR_ATTACHMENT0, visibility_, slot)
+            .drawBuffers({GL_COLOR_ATTACHMENT0});
+        frame.state->apply(resolve);
+        const float black[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, black);
+        programs_.get(resolveProgram_).use();
+        emptyVao_.bind();
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+
+        if (measure_) { // the stencil fill: the same volumes without depth test
+            fbo_.drawBuffers({GL_NONE});
+            frame.state->apply(fill);
+            program.use();
+            glBeginQuery(GL_SAMPLES_PASSED, samples.id());
+            drawVolumes(frame, program, casters, slot);
+            glEndQuery(GL_SAMPLES_PASSED);
+            fragments += samples.result();
+        }
+    }
+    glBindVertexArray(0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+
+    stats_ = nlohmann::json::object();
+    stats_["casters"] = casters.size();
+    stats_["lights"] = slots_;
+    if (measure_) {
+        stats_["volume_triangles"] = triangles;
+        stats_["stencil_fragments"] = fragments;
+        std::vector<float> clamp(casters.size() * slots_);
+        if (!clamp.empty())
+            glGetNamedBufferSubData(casters_.id(), 0, clamp.size() * 4, clamp.data());
+        stats_["culled"] = std::count_if(clamp.begin(), clamp.end(), [](float v) { return v < 0; });
+        stats_["clamped"] =
+            std::count_if(clamp.begin(), clamp.end(), [](float v) { return v > 0; });
+        // Lights whose receivers left the slice map's grid: neither clamped nor receiver-culled.
+        std::uint32_t unbounded[VEIL_MAX_LIGHTS] = {};
+        if (receiverCulling_ || clamping_)
+            glGetNamedBufferSubData(receivers_.id(), 0, sizeof unbounded, unbounded);
+        stats_["unbounded_lights"] = std::count_if(std::begin(unbounded), std::end(unbounded),
+                                                   [](std::uint32_t u) { return u != 0; });
+    }
+}
+
+} // namespace
+
+void registerVolume(Registry& registry) {
+    PropertySchema schema = commonProperties();
+    addOpaqueMapProperties(schema);
+    schema.boolean("caster_culling", true,
+                   "casters whose light-space footprint lies behind other opaque casters in the "
+                   "opaque map (their volume is inside the others' shadow) draw no volume",
+                   "003 sec. 3.2 (Fig. 6a)");
+    schema.boolean("receiver_culling", true,
+                   "casters with no camera-visible receiver behind them in the light's slice map "
+                   "draw no volume",
+                   "003 sec. 3.2 (Fig. 6c)");
+    schema.boolean("clamping", true,
+                   "each volume ends one slice past the farthest camera-visible receiver behind "
+                   "its caster (the camera depth voxelized into the light's slice map) instead "
+                   "of at infinity",
+                   "003 sec. 3.2 (Fig. 6b)");
+    schema.integer("grid", 256, 8, 4096,
+                   "columns per side of each light's slice map of the receivers (culling and "
+                   "clamping)",
+                   "003 sec. 3.2");
+    schema.integer("slices", 128, 1, 1024, "slices per column of the receivers' slice map",
+                   "003 sec. 2, 3.2");
+    schema.boolean("measure", true,
+                   "count the volume triangles (GL_PRIMITIVES_GENERATED) and the stencil fill "
+                   "(GL_SAMPLES_PASSED of the volumes redrawn without depth test) every frame, "
+                   "for stats() and --report; costs a second volume draw and a GPU wait");
+    registry.add({"volume",
+                  "stencil shadow volumes (depth-fail, caps, infinite extrusion with depth clamp) "
+                  "of the opaque casters, exact per pixel for opaque receivers, culled and "
+                  "clamped with the light's slice map of the visible receivers (003 sec. 3.2); "
+                  "transparent receivers and fog get the opaque map",
+                  nullptr,
+                  [](gpu::ProgramManager& programs, const Properties& p) {
+                      return std::make_unique<VolumeTechnique>(programs, p);
+                  },
+                  std::move(schema)});
+}
+
+} // namespace veil::shadows

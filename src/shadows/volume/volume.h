@@ -1,0 +1,18 @@
+// `volume`: stencil shadow volumes of the opaque casters (depth-fail, caps, extrusion to
+// infinity with depth clamping), one screen-space visibility layer per shadowed light, with
+// the culling and clamping of 003 Sec. 3.2 driven by the light's slice map of the receivers
+// the camera sees (src/shadows/volume/volume.cpp has the passes).
+//
+// Properties: size, max_lights, bias, pcf_radius (the opaque map: transparent receivers and
+// fog samples, and the occluders of caster culling), caster_culling, receiver_culling,
+// clamping (003 Sec. 3.2, each on by default), grid (columns per side of the light's slice
+// map, 256), slices (128), measure (stencil fill and volume triangles per frame, true).
+#pragma once
+
+#include "shadows/technique.h"
+
+namespace veil::shadows {
+
+void registerVolume(Registry& registry);
+
+} // namespace veil::shadows
