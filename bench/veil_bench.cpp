@@ -1,6 +1,7 @@
 // veil-bench: renders a scene N frames after warm-up and writes per-pass median/min/max GPU
 // times as JSON. Links the core only (no OpenImageIO, no VTK) so it travels to the GPU
 // machine (GPU-DEVICE.md). Times are GL_TIME_ELAPSED queries where the driver has them.
+#include "app/view_session.h"
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "frame/renderer.h"
@@ -12,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -28,6 +30,7 @@ namespace {
 void usage() {
     std::puts("usage: veil-bench <scene.json> [--width W] [--height H] [--frames N] [--warmup N]\n"
               "                  [--oit NAME] [--set key=value]... [--json out.json]\n"
+              "                  [--viewer]  (the frames of `veil view`, windowless)\n"
               "                  [--cpu-fog W H]  also time the CPU fog reference (double\n"
               "                                   precision, all cores) on the same view at W x H\n"
               "                  [--error-vs NAME] also render the last frame with OIT technique\n"
@@ -42,12 +45,108 @@ double median(std::vector<double> v) {
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+double wallMs(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// --viewer: the frames of `veil view` without its window (app/view_session.h): each frame is
+// ViewSession::renderFrame() (the renderer's passes and the copy into the shown image),
+// timed by GL timer queries per pass and by the CPU clock around the frame with glFinish;
+// the same CPU clock around Renderer::render() alone in the same run gives the viewer's
+// overhead as a ratio. Then the cost of the panel's edits: a volume's density (live), the
+// OIT technique (the technique alone) and the fog resolution (a new renderer).
+int viewerBench(const std::string& scenePath, const std::vector<std::string>& overrides, int width,
+                int height, int frames, int warmup, const std::string& jsonPath) {
+    veil::gpu::HeadlessContext context;
+    veil::app::ViewSession session(context.info(), scenePath, overrides, "", width, height);
+    for (int i = 0; i < warmup; ++i) {
+        session.renderFrame();
+        glFinish();
+    }
+    std::map<std::string, std::vector<double>> samples;
+    std::vector<std::string> order;
+    std::vector<double> gpuTotals, viewerWall, rendererWall;
+    for (int i = 0; i < frames; ++i) {
+        auto t0 = std::chrono::steady_clock::now();
+        VEIL_CHECK(session.renderFrame(), "viewer frame failed: {}", session.lastError());
+        glFinish();
+        viewerWall.push_back(wallMs(t0));
+        double total = 0.0;
+        for (const auto& p : session.renderer().passTimes()) {
+            if (!samples.count(p.name)) order.push_back(p.name);
+            samples[p.name].push_back(p.milliseconds);
+            total += p.milliseconds;
+        }
+        gpuTotals.push_back(total);
+        t0 = std::chrono::steady_clock::now();
+        session.renderer().render();
+        glFinish();
+        rendererWall.push_back(wallMs(t0));
+    }
+    nlohmann::json out;
+    out["mode"] = "viewer frame path (ViewSession::renderFrame, no window)";
+    out["scene"] = scenePath;
+    out["width"] = width;
+    out["height"] = height;
+    out["frames"] = frames;
+    out["warmup"] = warmup;
+    out["oit"] = session.renderer().oitName();
+    out["shadows"] = session.renderer().shadowTechnique().name();
+    out["overrides"] = session.overrides();
+    out["renderer"] = context.info().renderer;
+    nlohmann::json passes = nlohmann::json::array();
+    for (const auto& name : order)
+        passes.push_back({{"name", name}, {"median_ms", median(samples[name])}});
+    out["passes"] = passes;
+    out["gpu_total_median_ms"] = median(gpuTotals);
+    out["viewer_frame_wall_median_ms"] = median(viewerWall);
+    out["renderer_frame_wall_median_ms"] = median(rendererWall);
+    out["viewer_over_renderer"] = median(viewerWall) / median(rendererWall);
+    // Edits, each followed by its frame (median of 5 alternations).
+    auto editMs = [&](const std::string& a, const std::string& b) {
+        std::vector<double> v;
+        for (int i = 0; i < 5; ++i) {
+            auto t0 = std::chrono::steady_clock::now();
+            VEIL_CHECK(session.set(i % 2 ? b : a), "{}", session.lastError());
+            glFinish();
+            v.push_back(wallMs(t0));
+            session.renderFrame();
+        }
+        return median(v);
+    };
+    nlohmann::json edits;
+    if (!session.scene().volumes.empty()) {
+        const float d = session.scene().volumes[0].densityScale;
+        edits["volume_density_live_ms"] =
+            editMs(fmt::format("volumes.0.density_scale={}", d * 1.5f),
+                   fmt::format("volumes.0.density_scale={}", d));
+        const int r = session.scene().render.fogResolution;
+        edits["fog_resolution_new_renderer_ms"] =
+            editMs(fmt::format("render.fog_resolution={}", r == 1 ? 2 : 1),
+                   fmt::format("render.fog_resolution={}", r));
+    }
+    const std::string oit = session.renderer().oitName();
+    edits["oit_technique_switch_ms"] =
+        editMs("render.oit={\"type\":\"wboit\"}", "render.oit={\"type\":\"" + oit + "\"}");
+    edits["note"] = "wall clock of ViewSession::set() + glFinish (scene re-parse included)";
+    out["edits"] = edits;
+    const std::string text = out.dump(2);
+    if (!jsonPath.empty())
+        veil::writeFileAtomically(jsonPath, [&](const std::filesystem::path& tmp) {
+            std::ofstream f(tmp);
+            f << text << "\n";
+        });
+    std::cout << text << "\n";
+    return 0;
+}
+
 } // namespace
 
 int main(int argc, char** argv) try {
     std::string scenePath, jsonPath, oit, errorVs;
     int width = 1920, height = 1080, frames = 100, warmup = 20, cpuFogW = 0, cpuFogH = 0;
     bool relight = false;
+    bool viewer = false;
     std::vector<std::string> overrides;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -71,6 +170,8 @@ int main(int argc, char** argv) try {
             relight = true;
         else if (a == "--json")
             jsonPath = next();
+        else if (a == "--viewer")
+            viewer = true;
         else if (a == "--error-vs")
             errorVs = next();
         else if (a == "--cpu-fog") {
@@ -89,6 +190,7 @@ int main(int argc, char** argv) try {
         return 2;
     }
     VEIL_CHECK(frames > 0 && warmup >= 0, "--frames must be > 0 and --warmup >= 0");
+    if (viewer) return viewerBench(scenePath, overrides, width, height, frames, warmup, jsonPath);
     const veil::scene::Scene scene = veil::scene::loadScene(scenePath, overrides);
     veil::gpu::HeadlessContext context;
     veil::frame::Renderer renderer(scene, context.info(), {width, height, {}, oit});

@@ -1,5 +1,7 @@
 #include "app/dump.h"
 
+#include "app/resource_image.h"
+
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "gpu/readback.h"
@@ -14,41 +16,8 @@ namespace veil::app {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-std::string formatName(GLenum format) {
-    switch (format) {
-    case GL_RGBA8:
-        return "GL_RGBA8";
-    case GL_RGBA16F:
-        return "GL_RGBA16F";
-    case GL_RGBA32F:
-        return "GL_RGBA32F";
-    case GL_R16F:
-        return "GL_R16F";
-    case GL_R32F:
-        return "GL_R32F";
-    case GL_R8:
-        return "GL_R8";
-    case GL_DEPTH_COMPONENT32F:
-        return "GL_DEPTH_COMPONENT32F";
-    case GL_DEPTH_COMPONENT24:
-        return "GL_DEPTH_COMPONENT24";
-    case GL_DEPTH_COMPONENT16:
-        return "GL_DEPTH_COMPONENT16";
-    default:
-        return fmt::format("0x{:04x}", format);
-    }
-}
-
-bool isDepth(GLenum f) {
-    return f == GL_DEPTH_COMPONENT32F || f == GL_DEPTH_COMPONENT24 || f == GL_DEPTH_COMPONENT16;
-}
-
-bool isSingleChannel(GLenum f) { return f == GL_R16F || f == GL_R32F || f == GL_R8; }
-
 // What the values mean, per resource (renderer.h lists them).
-std::string unitsOf(const std::string& resource) {
+std::string resourceUnits(const std::string& resource) {
     if (resource == "hdr") return "linear HDR radiance, RGBA (A unused)";
     if (resource == "ldr") return "tone-mapped, sRGB-encoded display values in [0, 1]";
     if (resource == "depth")
@@ -67,6 +36,10 @@ std::string unitsOf(const std::string& resource) {
                "volume's light-space grid (spacing and origin in texels)";
     return "raw texel values";
 }
+
+namespace {
+
+std::string unitsOf(const std::string& resource) { return resourceUnits(resource); }
 
 // A single-channel texture (depth or red) as floats, row 0 = top for 2D.
 std::vector<float> readRed(const gpu::Texture& t, GLenum format) {
@@ -140,16 +113,12 @@ nlohmann::json dumpFrame(const frame::Renderer& renderer, const fs::path& dir) {
             e["type"] = "float32 VTK ImageData (vtkXMLImageDataWriter), one scalar per texel";
             e["dumpable"] = true;
         } else if (t->target() == GL_TEXTURE_2D) {
+            const ResourceImage img = readResourceImage(*t);
             io::ExrImage exr;
-            exr.width = t->width();
-            exr.height = t->height();
-            if (isDepth(f) || isSingleChannel(f)) {
-                exr.channels = {isDepth(f) ? "Z" : "Y"};
-                exr.pixels = readRed(*t, isDepth(f) ? GL_DEPTH_COMPONENT : GL_RED);
-            } else {
-                exr.channels = {"R", "G", "B", "A"};
-                exr.pixels = gpu::readTexture(*t, 4).pixels;
-            }
+            exr.width = img.width;
+            exr.height = img.height;
+            exr.channels = img.channels;
+            exr.pixels = img.pixels;
             exr.strings = {{"veil:resource", name},
                            {"veil:format", formatName(f)},
                            {"veil:units", unitsOf(name)}};
@@ -161,31 +130,15 @@ nlohmann::json dumpFrame(const frame::Renderer& renderer, const fs::path& dir) {
             e["dumpable"] = true;
         } else if (t->target() == GL_TEXTURE_2D_ARRAY && f != GL_R32UI && f != GL_RGBA32UI) {
             // One EXR per layer (a shadow technique's maps: one layer per light view).
-            const int layers = std::max(1, t->depth());
-            std::vector<float> all;
-            int channels = 4;
-            if (isDepth(f) || isSingleChannel(f)) {
-                channels = 1;
-                all = readRed(*t, isDepth(f) ? GL_DEPTH_COMPONENT : GL_RED);
-            } else {
-                all.resize(std::size_t(t->width()) * t->height() * layers * 4);
-                glPixelStorei(GL_PACK_ALIGNMENT, 1);
-                glGetTextureImage(t->id(), 0, GL_RGBA, GL_FLOAT,
-                                  static_cast<GLsizei>(all.size() * sizeof(float)), all.data());
-            }
-            const std::size_t row = std::size_t(t->width()) * channels;
-            const std::size_t layerSize = row * t->height();
+            const int layers = resourceLayers(*t);
             nlohmann::json files = nlohmann::json::array();
             for (int k = 0; k < layers; ++k) {
+                const ResourceImage img = readResourceImage(*t, k);
                 io::ExrImage exr;
-                exr.width = t->width();
-                exr.height = t->height();
-                exr.channels = channels == 1 ? std::vector<std::string>{isDepth(f) ? "Z" : "Y"}
-                                             : std::vector<std::string>{"R", "G", "B", "A"};
-                exr.pixels.resize(layerSize);
-                for (int y = 0; y < t->height(); ++y) // row 0 = top
-                    std::copy_n(all.begin() + k * layerSize + (t->height() - 1 - y) * row, row,
-                                exr.pixels.begin() + y * row);
+                exr.width = img.width;
+                exr.height = img.height;
+                exr.channels = img.channels;
+                exr.pixels = img.pixels;
                 exr.strings = {{"veil:resource", name},
                                {"veil:layer", std::to_string(k)},
                                {"veil:format", formatName(f)},

@@ -13,6 +13,9 @@
 
 namespace veil::app {
 
+// What a resource's values mean (manifest "units", the viewer's debug view).
+std::string resourceUnits(const std::string& resource);
+
 // Refuses a DIR that exists and is not a folder, before any rendering.
 void checkDumpDirectory(const std::filesystem::path& dir);
 

@@ -1,19 +1,20 @@
-// `veil view <scene.json>`: explore a scene in a window (GLFW + Dear ImGui): orbit camera,
-// switch OIT techniques, tune exposure, lights and ambient, hot-reload shaders, screenshots.
-// `--frames N --screenshot out.png` renders N frames, saves the last one and exits, so the
-// viewer can be tested (under Xvfb) against `veil render`.
+// `veil view <scene.json|file.vdb>`: explore a scene in a window (GLFW + Dear ImGui). The
+// state is a ViewSession (app/view_session.h), the panel app/view_panel.h, debug views
+// app/debug_view.h. `--script actions.json` drives the same window from a list of actions
+// (app/view_script.h); `--frames N --screenshot out.png` renders N frames without the panel.
 #include "app/commands.h"
-#include "app/property_widgets.h"
+#include "app/debug_view.h"
+#include "app/view_panel.h"
+#include "app/view_script.h"
+#include "app/view_session.h"
 
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "base/log.h"
 #include "base/text.h"
-#include "frame/renderer.h"
+#include "gpu/readback.h"
 #include "gpu/window_context.h"
 #include "io/image_io.h"
-#include "oit/technique.h"
-#include "scene/scene.h"
-#include "shadows/technique.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -21,9 +22,9 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
-#include <glm/gtc/constants.hpp>
-
+#include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <iostream>
 #include <memory>
 
@@ -39,38 +40,49 @@ struct ViewArgs {
     std::string oit;
     std::string shadows;
     std::string screenshot;
+    std::string script;
     int width = 0, height = 0;
-    int frames = 0; // 0 = interactive
+    int windowWidth = 0, windowHeight = 0; // scripted: the window (default: the frame size)
+    int frames = 0;                        // 0 = interactive
     std::vector<std::string> overrides;
 };
 
-// Orbit around the camera's target: yaw/pitch/distance edited by the mouse.
-struct Orbit {
-    glm::vec3 target{0.0f};
-    float yaw = 0.0f, pitch = 0.0f, distance = 1.0f;
-
-    void from(const scene::Camera& c) {
-        target = c.target;
-        const glm::vec3 d = c.position - c.target;
-        distance = glm::length(d);
-        yaw = std::atan2(d.x, d.z);
-        pitch = std::asin(glm::clamp(d.y / distance, -1.0f, 1.0f));
-    }
-    void apply(scene::Camera& c) const {
-        const glm::vec3 dir(std::cos(pitch) * std::sin(yaw), std::sin(pitch),
-                            std::cos(pitch) * std::cos(yaw));
-        c.position = target + dir * distance;
-        c.target = target;
-        c.up = glm::vec3(0, 1, 0);
-    }
-};
+// $XDG_CONFIG_HOME/veil (else ~/.config/veil), created; empty when neither is known.
+fs::path configDirectory() {
+    fs::path base;
+    if (const char* x = std::getenv("XDG_CONFIG_HOME"); x && *x)
+        base = x;
+    else if (const char* h = std::getenv("HOME"); h && *h)
+        base = fs::path(h) / ".config";
+    if (base.empty()) return {};
+    std::error_code ec;
+    fs::create_directories(base / "veil", ec);
+    return ec ? fs::path() : base / "veil";
+}
 
 class ImGuiSession {
 public:
-    explicit ImGuiSession(GLFWwindow* window) {
+    ImGuiSession(GLFWwindow* window, bool keepLayout) {
         IMGUI_CHECKVERSION();
         ImGui::CreateContext();
-        ImGui::GetIO().IniFilename = nullptr;
+        ImGuiIO& io = ImGui::GetIO();
+        // The layout is kept between runs; scripted runs ignore it (same image every time).
+        if (keepLayout) {
+            if (const fs::path dir = configDirectory(); !dir.empty()) {
+                ini_ = (dir / "imgui.ini").string();
+                io.IniFilename = ini_.c_str();
+            } else {
+                io.IniFilename = nullptr;
+            }
+        } else {
+            io.IniFilename = nullptr;
+        }
+        // High-DPI: the monitor's content scale sizes the font and the widgets.
+        float sx = 1.0f, sy = 1.0f;
+        glfwGetWindowContentScale(window, &sx, &sy);
+        const float scale = std::clamp(std::max(sx, sy), 1.0f, 4.0f);
+        ImGui::GetStyle().ScaleAllSizes(scale);
+        io.FontGlobalScale = scale;
         ImGui_ImplGlfw_InitForOpenGL(window, true);
         ImGui_ImplOpenGL3_Init("#version 450 core");
     }
@@ -81,203 +93,305 @@ public:
     }
     ImGuiSession(const ImGuiSession&) = delete;
     ImGuiSession& operator=(const ImGuiSession&) = delete;
+
+private:
+    std::string ini_;
 };
+
+// Files dropped on the window (GLFW calls back without a user pointer of ours).
+std::vector<std::string>& droppedFiles() {
+    static std::vector<std::string> files;
+    return files;
+}
+void onDrop(GLFWwindow*, int count, const char** paths) {
+    for (int i = 0; i < count; ++i)
+        droppedFiles().emplace_back(paths[i]);
+}
+
+// The first scene's frame size (its render.width/height) for the window.
+void sceneSize(const ViewArgs& args, int& w, int& h) {
+    w = args.width;
+    h = args.height;
+    if (w > 0 && h > 0) return;
+    int sw = 640, sh = 360;
+    if (lowerExtension(args.scene) != ".vdb") {
+        const scene::Scene s = scene::loadScene(args.scene, args.overrides);
+        sw = s.render.width;
+        sh = s.render.height;
+    } else {
+        sw = sh = 512;
+    }
+    if (w <= 0) w = sw;
+    if (h <= 0) h = sh;
+}
+
+// Writes what an output action asks for, after the frame of its iteration.
+void scriptOutput(const ScriptAction& a, ViewSession& session, const DebugView& view,
+                  const std::string& scriptPath) {
+    const std::string path = a.value.get<std::string>();
+    const std::string what = fmt::format("{}: action {} ({})", scriptPath, a.index, a.kind);
+    checkOutputPath(path, what.c_str(), {scriptPath, session.scenePath()});
+    if (a.kind == "screenshot") {
+        const std::string ext = lowerExtension(path);
+        VEIL_CHECK(ext == ".png" || ext == ".exr", "{}: '{}' must end in .png or .exr", what, path);
+        writeShownImage(session, view, path);
+    } else if (a.kind == "window_screenshot") {
+        int w = 0, h = 0;
+        glfwGetFramebufferSize(glfwGetCurrentContext(), &w, &h);
+        ImageF img(w, h, 4);
+        std::vector<float> rows(img.pixels.size());
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        glReadBuffer(GL_BACK);
+        glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, rows.data());
+        const std::size_t row = std::size_t(w) * 4;
+        for (int y = 0; y < h; ++y)
+            std::copy_n(rows.begin() + (h - 1 - y) * row, row, img.pixels.begin() + y * row);
+        for (std::size_t i = 3; i < img.pixels.size(); i += 4)
+            img.pixels[i] = 1.0f;
+        io::writeImage(path, img);
+    } else if (a.kind == "copy_command") {
+        const std::string output =
+            a.action.contains("output") ? a.action["output"].get<std::string>() : "out.png";
+        nlohmann::json j = {{"line", session.renderCommand(output)},
+                            {"arguments", session.renderArguments(output)}};
+        writeTextFileAtomically(path, j.dump(2) + "\n");
+    } else if (a.kind == "status") {
+        const frame::Renderer& r = session.renderer();
+        nlohmann::json j = {{"errors", session.errors()},
+                            {"last_error", session.lastError()},
+                            {"frame_failed", session.frameFailed()},
+                            {"scene", session.scenePath().string()},
+                            {"camera", session.cameraName()},
+                            {"oit", r.oitName()},
+                            {"oit_stats", r.technique().stats()},
+                            {"shadows", r.shadowTechnique().name()},
+                            {"debug_view", view.resource()},
+                            {"width", r.width()},
+                            {"height", r.height()},
+                            {"overrides", session.overrides()},
+                            {"renderer", session.context().renderer}};
+        writeTextFileAtomically(path, j.dump(2) + "\n");
+    }
+    std::cout << "wrote " << path << "\n";
+}
+
+// Applies a state-changing action; returns the frames it asks to wait (frames action).
+int scriptApply(const ScriptAction& a, ViewSession& s, DebugView& view, PanelState& panel) {
+    const nlohmann::json& v = a.value;
+    if (a.kind == "set" && v.is_array())
+        for (const auto& kv : v)
+            s.set(kv.get<std::string>());
+    else if (a.kind == "set")
+        s.set(v.get<std::string>());
+    else if (a.kind == "oit")
+        s.selectOit(v.get<std::string>());
+    else if (a.kind == "shadows")
+        s.selectShadows(v.get<std::string>());
+    else if (a.kind == "camera")
+        s.selectCamera(v.get<std::string>());
+    else if (a.kind == "reset_camera")
+        s.resetCamera();
+    else if (a.kind == "orbit")
+        s.orbitBy(v[0].get<float>(), v[1].get<float>(),
+                  a.action.contains("zoom") ? a.action["zoom"].get<float>() : 1.0f);
+    else if (a.kind == "pan")
+        s.panBy(v[0].get<float>(), v[1].get<float>());
+    else if (a.kind == "view") {
+        const std::string name = v.get<std::string>();
+        view.select(name == "frame" ? "" : name,
+                    a.action.contains("layer") ? a.action["layer"].get<int>() : 0);
+    } else if (a.kind == "open")
+        s.open(v.get<std::string>());
+    else if (a.kind == "resize")
+        s.resize(v[0].get<int>(), v[1].get<int>());
+    else if (a.kind == "reload_shaders")
+        s.reloadShaders();
+    else if (a.kind == "expand") {
+        panel.expand.clear();
+        for (const auto& name : v)
+            panel.expand.insert(name.get<std::string>());
+    } else if (a.kind == "frames")
+        return v.get<int>();
+    return 1;
+}
+
+bool isOutput(const std::string& kind) {
+    return kind == "screenshot" || kind == "window_screenshot" || kind == "copy_command" ||
+           kind == "save_scene" || kind == "status";
+}
 
 void runView(const ViewArgs& args) {
     if (!args.screenshot.empty()) {
+        VEIL_CHECK(args.frames > 0, "--screenshot needs --frames (or use a --script)");
         const std::string ext = lowerExtension(args.screenshot);
         VEIL_CHECK(ext == ".png" || ext == ".exr", "--screenshot '{}' must end in .png or .exr",
                    args.screenshot);
         checkOutputPath(args.screenshot, "--screenshot", {args.scene});
     }
-    scene::Scene scene = scene::loadScene(args.scene, args.overrides);
-    const int width = args.width > 0 ? args.width : scene.render.width;
-    const int height = args.height > 0 ? args.height : scene.render.height;
-    gpu::WindowContext window(width, height, "veil view: " + args.scene);
-    std::string oitName = args.oit.empty() ? scene.render.oit : args.oit;
-    scene::Camera camera = scene.camera(args.camera.empty() ? scene.render.camera : args.camera);
-    Orbit orbit;
-    orbit.from(camera);
+    VEIL_CHECK(args.script.empty() || args.frames == 0, "--script and --frames exclude each other");
+    std::vector<ScriptAction> script;
+    if (!args.script.empty()) script = loadViewScript(args.script);
+    const bool scripted = args.frames > 0 || !args.script.empty();
 
-    // The technique's property values shown in the panel: the scene's for the scene's
-    // technique, else the defaults; reset to the defaults when the technique changes.
-    const auto& registry = oit::Registry::instance();
-    auto valuesFor = [&](const std::string& name) {
-        return registry
-            .resolve(name, name == scene.render.oit ? scene.render.oitProperties : nullptr,
-                     name == scene.render.oit ? scene.render.oitWhere : "--oit")
-            .values();
-    };
-    nlohmann::json oitValues = valuesFor(oitName);
-    // The same for the shadow technique.
-    std::string shadowName = args.shadows.empty() ? scene.render.shadows : args.shadows;
-    const auto& shadowRegistry = shadows::Registry::instance();
-    auto shadowValuesFor = [&](const std::string& name) {
-        const bool own = name == scene.render.shadows;
-        return shadowRegistry
-            .resolve(name, own ? scene.render.shadowProperties : nullptr,
-                     own ? scene.render.shadowsWhere : "--shadows")
-            .values();
-    };
-    nlohmann::json shadowValues = shadowValuesFor(shadowName);
-
-    std::unique_ptr<frame::Renderer> renderer;
-    int rw = 0, rh = 0;
-    auto rebuild = [&] {
-        window.framebufferSize(rw, rh);
-        if (args.frames > 0) rw = width, rh = height; // scripted: exactly the asked size
-        renderer = std::make_unique<frame::Renderer>(
-            scene, window.info(),
-            frame::RendererOptions{rw, rh, camera.name, oitName, oitValues, shadowName,
-                                   shadowValues});
-    };
-    rebuild();
-    std::string goodName = oitName;
-    nlohmann::json goodValues = oitValues;
-    std::string goodShadowName = shadowName;
-    nlohmann::json goodShadowValues = shadowValues;
-    gpu::Framebuffer blitSource;
-    auto attachBlit = [&] { blitSource.attach(GL_COLOR_ATTACHMENT0, renderer->ldrTexture()); };
-    attachBlit();
+    int width = 0, height = 0;
+    sceneSize(args, width, height);
+    // Interactive: room for the panel beside a small scene; scripted: the frame size exactly.
+    const int ww = args.windowWidth > 0 ? args.windowWidth
+                   : scripted           ? width
+                                        : std::max(width, 1280);
+    const int wh = args.windowHeight > 0 ? args.windowHeight
+                   : scripted            ? height
+                                         : std::max(height, 720);
+    gpu::WindowContext window(ww, wh, "veil view: " + args.scene);
+    int fw = 0, fh = 0;
+    window.framebufferSize(fw, fh);
+    ViewSession session(window.info(), args.scene, args.overrides, args.camera,
+                        scripted ? width : fw, scripted ? height : fh);
+    // Command-line choices are part of the start: a bad one is the command's error.
+    if (!args.oit.empty() && !session.selectOit(args.oit)) throw Error(session.lastError());
+    if (!args.shadows.empty() && !session.selectShadows(args.shadows))
+        throw Error(session.lastError());
 
     std::unique_ptr<ImGuiSession> gui;
-    if (args.frames == 0) gui = std::make_unique<ImGuiSession>(window.window());
-    const std::vector<std::string> techniques = registry.names();
-    const std::vector<std::string> shadowTechniques = shadowRegistry.names();
+    if (args.frames == 0) gui = std::make_unique<ImGuiSession>(window.window(), !scripted);
+    glfwSetDropCallback(window.window(), onDrop);
+
+    DebugView view;
+    PanelState panel;
+    std::uint64_t renderedVersion = ~std::uint64_t(0);
+    std::string renderedView = "\x01";
+    int renderedLayer = -1;
+    std::size_t next = 0; // script action
+    int wait = 0;         // frames left of a "frames" action
     int frame = 0;
-    std::string status;
+    bool preview = false; // reduced resolution while the camera moves
+    auto lastMove = std::chrono::steady_clock::now();
+    double lastFullMs = 0.0;
     while (!window.shouldClose()) {
         window.pollEvents();
-        int fw = 0, fh = 0;
         window.framebufferSize(fw, fh);
-        if (args.frames == 0 && (fw != rw || fh != rh) && fw > 0 && fh > 0) {
-            rebuild();
-            attachBlit();
+        const ScriptAction* action = nullptr;
+        bool force = false;
+        if (wait > 0) {
+            --wait;
+            force = true;
+        } else if (next < script.size()) {
+            action = &script[next++];
+            if (!isOutput(action->kind))
+                wait = scriptApply(*action, session, view, panel) - 1;
+            else if (action->kind == "save_scene")
+                session.saveSceneAs(action->value.get<std::string>());
         }
-        bool changed = false;
         if (gui) {
             ImGui_ImplOpenGL3_NewFrame();
             ImGui_ImplGlfw_NewFrame();
             ImGui::NewFrame();
             ImGuiIO& io = ImGui::GetIO();
-            if (!io.WantCaptureMouse) {
+            bool moving = false;
+            if (!scripted && !io.WantCaptureMouse) {
                 if (ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
-                    orbit.yaw -= io.MouseDelta.x * 0.01f;
-                    orbit.pitch = glm::clamp(orbit.pitch + io.MouseDelta.y * 0.01f, -1.5f, 1.5f);
+                    session.orbitBy(-io.MouseDelta.x * 0.01f, io.MouseDelta.y * 0.01f, 1.0f);
+                    moving = true;
                 }
-                if (io.MouseWheel != 0.0f) orbit.distance *= std::pow(0.9f, io.MouseWheel);
-            }
-            ImGui::Begin("Veil");
-            ImGui::Text("%s", window.info().renderer.c_str());
-            for (const auto& p : renderer->passTimes())
-                ImGui::Text("%-12s %7.3f ms", p.name.c_str(), p.milliseconds);
-            if (ImGui::BeginCombo("OIT", oitName.c_str())) {
-                for (const auto& t : techniques)
-                    if (ImGui::Selectable(t.c_str(), t == oitName) && t != oitName) {
-                        oitName = t;
-                        oitValues = valuesFor(t);
-                        changed = true;
-                    }
-                ImGui::EndCombo();
-            }
-            // Every declared property of the technique, generated from its schema.
-            if (const oit::TechniqueInfo* info = registry.find(oitName);
-                info && !info->properties.empty() &&
-                ImGui::TreeNodeEx("technique properties", ImGuiTreeNodeFlags_DefaultOpen)) {
-                changed = propertyWidgets(info->properties, oitValues) || changed;
-                ImGui::TreePop();
-            }
-            if (ImGui::BeginCombo("shadows", shadowName.c_str())) {
-                for (const auto& t : shadowTechniques)
-                    if (ImGui::Selectable(t.c_str(), t == shadowName) && t != shadowName) {
-                        shadowName = t;
-                        shadowValues = shadowValuesFor(t);
-                        changed = true;
-                    }
-                ImGui::EndCombo();
-            }
-            if (const shadows::TechniqueInfo* info = shadowRegistry.find(shadowName);
-                info && !info->properties.empty() &&
-                ImGui::TreeNodeEx("shadow properties", ImGuiTreeNodeFlags_DefaultOpen)) {
-                changed = propertyWidgets(info->properties, shadowValues) || changed;
-                ImGui::TreePop();
-            }
-            if (ImGui::CollapsingHeader("frame passes")) {
-                for (const frame::Pass& p : renderer->passes().passes()) {
-                    std::string reads, writes;
-                    for (const auto& r : p.reads)
-                        reads += (reads.empty() ? "" : ", ") + r;
-                    for (const auto& w : p.writes)
-                        writes += (writes.empty() ? "" : ", ") + w;
-                    ImGui::Text("%-11s %s -> %s", p.name.c_str(), reads.c_str(), writes.c_str());
+                if (ImGui::IsMouseDragging(ImGuiMouseButton_Right) ||
+                    ImGui::IsMouseDragging(ImGuiMouseButton_Middle)) {
+                    session.panBy(-io.MouseDelta.x * 0.002f, io.MouseDelta.y * 0.002f);
+                    moving = true;
+                }
+                if (io.MouseWheel != 0.0f) {
+                    session.orbitBy(0.0f, 0.0f, std::pow(0.9f, io.MouseWheel));
+                    moving = true;
                 }
             }
-            if (const nlohmann::json stats = renderer->technique().stats(); !stats.empty())
-                ImGui::TextWrapped("stats: %s", stats.dump().c_str());
-            if (const nlohmann::json stats = renderer->shadowTechnique().stats(); !stats.empty())
-                ImGui::TextWrapped("shadow stats: %s", stats.dump().c_str());
-            ImGui::SliderFloat("exposure", &scene.render.exposure, 0.05f, 8.0f, "%.2f",
-                               ImGuiSliderFlags_Logarithmic);
-            ImGui::ColorEdit3("ambient", &scene.render.ambient.x, ImGuiColorEditFlags_Float);
-            for (std::size_t i = 0; i < scene.lights.size(); ++i) {
-                ImGui::PushID(static_cast<int>(i));
-                ImGui::SliderFloat("light intensity", &scene.lights[i].intensity, 0.0f, 500.0f,
-                                   "%.2f", ImGuiSliderFlags_Logarithmic);
-                ImGui::PopID();
+            if (!scripted && !io.WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_R))
+                session.reloadShaders();
+            // Progressive: slow frames (llvmpipe fog) render at 1/4 size while the camera
+            // moves and at full size once it has rested for 0.3 s.
+            const auto now = std::chrono::steady_clock::now();
+            if (moving) lastMove = now;
+            const bool resting = now - lastMove > std::chrono::milliseconds(300);
+            if (!scripted && fw > 0 && fh > 0) {
+                if (moving && lastFullMs > 50.0 && !preview) {
+                    preview = session.resize(std::max(1, fw / 4), std::max(1, fh / 4));
+                } else if (preview && resting) {
+                    preview = false;
+                    session.resize(fw, fh);
+                } else if (!preview) {
+                    session.resize(fw, fh);
+                }
             }
-            if (ImGui::Button("Reload shaders (R)") ||
-                (!io.WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_R))) {
-                const int failed = renderer->reloadShaders();
-                status = failed ? fmt::format("{} program(s) failed: see the log", failed)
-                                : "shaders reloaded";
-            }
-            ImGui::SameLine();
-            if (ImGui::Button("Screenshot")) {
-                const std::string name = fmt::format("veil-{:04d}.png", frame);
-                io::writeImage(name, renderer->readLdr());
-                status = "wrote " + name;
-            }
-            ImGui::TextUnformatted(status.c_str());
-            ImGui::End();
+            drawPanel(window.window(), session, view, panel);
+            for (const std::string& f : droppedFiles())
+                session.open(f);
+            droppedFiles().clear();
         }
-        if (changed) {
+        if (force || session.version() != renderedVersion) {
+            const auto t0 = std::chrono::steady_clock::now();
+            if (session.renderFrame()) {
+                double ms = 0.0;
+                for (const auto& p : session.renderer().passTimes())
+                    ms += p.milliseconds;
+                panel.frameMs.push_back(static_cast<float>(ms));
+                if (panel.frameMs.size() > 240) panel.frameMs.pop_front();
+                if (!preview)
+                    lastFullMs = std::chrono::duration<double, std::milli>(
+                                     std::chrono::steady_clock::now() - t0)
+                                     .count();
+                renderedView = "\x01"; // the debug view reads the new frame
+            }
+            renderedVersion = session.version();
+        }
+        if (view.resource() != renderedView || view.layer() != renderedLayer) {
             try {
-                rebuild();
-                attachBlit();
-                goodName = oitName;
-                goodValues = oitValues;
-                goodShadowName = shadowName;
-                goodShadowValues = shadowValues;
+                view.update(session.renderer());
             } catch (const Error& e) {
-                // Keep rendering (and showing) what last worked.
-                status = e.what();
-                oitName = goodName;
-                oitValues = goodValues;
-                shadowName = goodShadowName;
-                shadowValues = goodShadowValues;
+                session.fail(e.what());
+                view.select("");
             }
+            renderedView = view.resource();
+            renderedLayer = view.layer();
         }
-        orbit.apply(camera);
-        if (args.frames == 0) renderer->setCamera(camera);
-        renderer->render();
+        // The shown image, fitted into the window with its aspect.
+        const gpu::Texture& shown = view.active() ? view.texture() : session.displayTexture();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         glViewport(0, 0, fw, fh);
-        glBlitNamedFramebuffer(blitSource.id(), 0, 0, 0, renderer->width(), renderer->height(), 0,
-                               0, fw, fh, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        const float bg[4] = {0.08f, 0.08f, 0.09f, 1.0f};
+        glClearNamedFramebufferfv(0, GL_COLOR, 0, bg);
+        if (shown) {
+            gpu::Framebuffer source;
+            source.attach(GL_COLOR_ATTACHMENT0, shown);
+            const double s = std::min(double(fw) / shown.width(), double(fh) / shown.height());
+            const int w = int(std::lround(shown.width() * s)),
+                      h = int(std::lround(shown.height() * s));
+            const int x0 = (fw - w) / 2, y0 = (fh - h) / 2;
+            glBlitNamedFramebuffer(source.id(), 0, 0, 0, shown.width(), shown.height(), x0, y0,
+                                   x0 + w, y0 + h, GL_COLOR_BUFFER_BIT,
+                                   view.active() || s == 1.0 ? GL_NEAREST : GL_LINEAR);
+        }
         if (gui) {
             ImGui::Render();
             ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
         }
+        if (action && isOutput(action->kind) && action->kind != "save_scene")
+            scriptOutput(*action, session, view, args.script);
         window.swapBuffers();
         ++frame;
         if (args.frames > 0 && frame >= args.frames) {
             if (!args.screenshot.empty()) {
-                io::writeImage(args.screenshot, renderer->readLdr());
+                writeShownImage(session, view, args.screenshot);
                 std::cout << "wrote " << args.screenshot << "\n";
             }
             break;
         }
+        if (!args.script.empty() && next >= script.size() && wait == 0) break;
+        // Nothing to do: wait for input instead of spinning.
+        if (!scripted && session.version() == renderedVersion && !preview)
+            glfwWaitEventsTimeout(0.1);
     }
+    if (!session.errors().empty() && scripted)
+        std::cout << session.errors().size()
+                  << " error(s) shown in the panel, last: " << session.errors().back() << "\n";
 }
 
 } // namespace
@@ -285,26 +399,43 @@ void runView(const ViewArgs& args) {
 void addViewCommand(CLI::App& app) {
     auto args = std::make_shared<ViewArgs>();
     CLI::App* cmd = app.add_subcommand("view", "Explore a scene in a window (needs a display)");
-    cmd->add_option("scene", args->scene, "Scene file (JSON)")->required();
-    cmd->add_option("--width", args->width, "Window width (default: the scene's)")
+    cmd->add_option("scene", args->scene, "Scene file (JSON) or an OpenVDB file (.vdb)")
+        ->required();
+    cmd->add_option("--width", args->width,
+                    "Frame width (default: the scene's; interactive: the "
+                    "window's)")
         ->check(CLI::Range(1, 16384));
-    cmd->add_option("--height", args->height, "Window height (default: the scene's)")
+    cmd->add_option("--height", args->height, "Frame height (as --width)")
+        ->check(CLI::Range(1, 16384));
+    cmd->add_option("--window-width", args->windowWidth,
+                    "Window width (default: 1280 or the frame's; scripted: the frame's)")
+        ->check(CLI::Range(1, 16384));
+    cmd->add_option("--window-height", args->windowHeight, "Window height (as --window-width)")
         ->check(CLI::Range(1, 16384));
     cmd->add_option("--camera", args->camera, "Camera name");
     cmd->add_option("--oit", args->oit, "Transparency technique");
     cmd->add_option("--shadows", args->shadows, "Shadow technique");
     cmd->add_option("--set", args->overrides, "Override a scene value: key=value");
+    cmd->add_option("--script", args->script,
+                    "Run the actions of this JSON file in the window, then exit (docs/viewer.md)");
     cmd->add_option("--frames", args->frames,
-                    "Render this many frames without the GUI, then exit (for tests)");
-    cmd->add_option("--screenshot", args->screenshot, "With --frames: save the last frame");
+                    "Render this many frames without the GUI, then exit (for tests)")
+        ->check(CLI::Range(1, 100000));
+    cmd->add_option("--screenshot", args->screenshot,
+                    "With --frames: save the last frame (.png; .exr = linear HDR)");
     // What runView() reads from the mouse and keyboard; kept here so --help tells the truth.
     cmd->footer("Key bindings:\n"
-                "  left drag    orbit the camera around the scene\n"
-                "  wheel        zoom (orbit distance)\n"
-                "  R            reload shaders from disk (failing programs keep the last good)\n"
-                "  window close quit\n"
-                "The panel switches techniques, edits their properties, exposure, ambient and "
-                "lights, and takes screenshots (veil-NNNN.png).");
+                "  left drag          orbit the camera around its target\n"
+                "  right/middle drag  pan\n"
+                "  wheel              zoom (orbit distance)\n"
+                "  R                  reload shaders from disk (failing programs keep the last "
+                "good)\n"
+                "  drop a file        open a scene (.json) or .vdb\n"
+                "  window close       quit\n"
+                "The panel (docs/viewer.md) edits every technique property, the fog, volumes, "
+                "lights and camera, shows debug views of every frame resource, frame and pass "
+                "times, and copies the `veil render` command of the view. The layout is kept "
+                "in $XDG_CONFIG_HOME/veil/imgui.ini.");
     cmd->callback([args] { runView(*args); });
 }
 

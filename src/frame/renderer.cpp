@@ -89,13 +89,6 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
     const gpu::IncludeAliases visibility{{"veil:light_visibility", shadows_->visibilityInclude()}};
     opaqueProgram_ = programs_.add(
         ProgramDesc::graphics("frame/mesh.vert", "frame/opaque.frag", {}, visibility));
-    for (int pass = 0; pass < oit_->geometryPasses(); ++pass) {
-        std::vector<std::string> defines = oit_->defines(pass);
-        defines.push_back(fmt::format("OIT_PASS {}", pass));
-        transparentPrograms_.push_back(programs_.add(
-            ProgramDesc::graphics("frame/mesh.vert", "frame/transparent.frag", std::move(defines),
-                                  {{"veil:oit_emit", oit_->emitInclude()}, visibility[0]})));
-    }
     tonemapProgram_ = programs_.add(ProgramDesc::compute("frame/tonemap.comp"));
 
     checkFogWork(scene, context_, width_, height_);
@@ -106,34 +99,8 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
         // A technique whose maps hold the volumes' absorbance replaces the fog's own
         // self-shadowing volumes (one answer for every receiver, counted once).
         fog_->setSelfShadowing(!(shadows_->attenuatesMedia() && shadowSet_.viewCount > 0));
-        if (oit_->fogSegments()) {
-            // The fog between the technique's sorted surfaces, piecewise (fog_segments.comp).
-            const int last = oit_->geometryPasses() - 1;
-            std::vector<std::string> defines = oit_->defines(last);
-            defines.push_back(fmt::format("OIT_PASS {}", last));
-            fog_->enableSegments(std::move(defines), oit_->emitInclude());
-        }
-        // Otherwise the fog's one contribution per pixel: from compute where the technique's
-        // emit file writes its targets as images (oit::PerPixelEmit, issue 14), else as a
-        // full-screen fragment; both through the technique's one oitEmit().
-        for (int pass = 0; pass < oit_->geometryPasses(); ++pass) {
-            const oit::PerPixelEmit mode =
-                fog_->segmented() ? oit::PerPixelEmit::None : oit_->perPixelEmit(pass);
-            std::vector<std::string> defines = oit_->defines(pass);
-            defines.push_back(fmt::format("OIT_PASS {}", pass));
-            const gpu::IncludeAliases emit{{"veil:oit_emit", oit_->emitInclude()}};
-            if (mode == oit::PerPixelEmit::Compute) {
-                defines.insert(defines.begin(), "OIT_COMPUTE 1"); // before the technique's
-                fogEmitPrograms_.push_back(programs_.add(
-                    ProgramDesc::compute("volume/fog_emit.comp", std::move(defines), emit)));
-            } else if (mode == oit::PerPixelEmit::Fragments) {
-                fogEmitPrograms_.push_back(programs_.add(ProgramDesc::graphics(
-                    "volume/fullscreen.vert", "volume/fog_emit.frag", std::move(defines), emit)));
-            } else {
-                fogEmitPrograms_.emplace_back();
-            }
-        }
     }
+    addTechniquePrograms();
 
     meshes_.reserve(scene.meshes.size());
     for (const auto& mesh : scene.meshes)
@@ -170,6 +137,97 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
 }
 
 Renderer::~Renderer() = default;
+
+// The fog between the OIT technique's sorted surfaces, piecewise (fog_segments.comp), for a
+// technique with fogSegments() (`reference`); off for the others.
+void Renderer::configureFogSegments() {
+    if (!fog_) return;
+    if (!oit_->fogSegments()) {
+        fog_->disableSegments();
+        return;
+    }
+    const int last = oit_->geometryPasses() - 1;
+    std::vector<std::string> defines = oit_->defines(last);
+    defines.push_back(fmt::format("OIT_PASS {}", last));
+    fog_->enableSegments(std::move(defines), oit_->emitInclude());
+}
+
+// The OIT technique's programs: one transparent-surface and (with fog) one fog-emission
+// program per geometry pass, each with the technique's emit include.
+void Renderer::addTechniquePrograms() {
+    using gpu::ProgramDesc;
+    configureFogSegments();
+    const gpu::IncludeAliases visibility{{"veil:light_visibility", shadows_->visibilityInclude()}};
+    std::vector<gpu::ProgramHandle> transparent, fogEmit;
+    for (int pass = 0; pass < oit_->geometryPasses(); ++pass) {
+        std::vector<std::string> defines = oit_->defines(pass);
+        defines.push_back(fmt::format("OIT_PASS {}", pass));
+        transparent.push_back(programs_.add(
+            ProgramDesc::graphics("frame/mesh.vert", "frame/transparent.frag", defines,
+                                  {{"veil:oit_emit", oit_->emitInclude()}, visibility[0]})));
+        if (!fog_) continue;
+        // The fog's one contribution per pixel: from compute where the technique's emit file
+        // writes its targets as images (oit::PerPixelEmit, issue 14), else as a full-screen
+        // fragment; both through the technique's one oitEmit(). A technique with
+        // fogSegments() gets the fog piecewise instead (configureFogSegments()).
+        const oit::PerPixelEmit mode =
+            fog_->segmented() ? oit::PerPixelEmit::None : oit_->perPixelEmit(pass);
+        const gpu::IncludeAliases emit{{"veil:oit_emit", oit_->emitInclude()}};
+        if (mode == oit::PerPixelEmit::Compute) {
+            std::vector<std::string> computeDefines = defines;
+            computeDefines.insert(computeDefines.begin(),
+                                  "OIT_COMPUTE 1"); // before the technique's
+            fogEmit.push_back(programs_.add(
+                ProgramDesc::compute("volume/fog_emit.comp", std::move(computeDefines), emit)));
+        } else if (mode == oit::PerPixelEmit::Fragments) {
+            fogEmit.push_back(programs_.add(ProgramDesc::graphics(
+                "volume/fullscreen.vert", "volume/fog_emit.frag", defines, emit)));
+        } else {
+            fogEmit.emplace_back();
+        }
+    }
+    transparentPrograms_ = std::move(transparent);
+    fogEmitPrograms_ = std::move(fogEmit);
+}
+
+void Renderer::setOitTechnique(const std::string& name, const nlohmann::json& properties,
+                               const std::string& where) {
+    // Built aside first: a failure leaves the current technique and programs in place.
+    std::unique_ptr<oit::Technique> next =
+        oit::Registry::instance().create(name, context_, programs_, properties, where);
+    std::swap(oit_, next);
+    const std::string previousName = oitName_;
+    const std::vector<gpu::ProgramHandle> transparent = transparentPrograms_,
+                                          fogEmit = fogEmitPrograms_;
+    oitName_ = name;
+    try {
+        addTechniquePrograms();
+        oit_->resize(targets_);
+    } catch (...) {
+        std::swap(oit_, next);
+        oitName_ = previousName;
+        transparentPrograms_ = transparent;
+        fogEmitPrograms_ = fogEmit;
+        configureFogSegments(); // the previous technique's (its program is already built)
+        throw;
+    }
+}
+
+void Renderer::resize(int width, int height) {
+    VEIL_CHECK(width > 0 && height > 0 && width <= 16384 && height <= 16384,
+               "image size {}x{} out of range 1..16384", width, height);
+    if (width == width_ && height == height_) return;
+    checkFogWork(scene_, context_, width, height);
+    width_ = width;
+    height_ = height;
+    shadowFrame_.width = width_; // screen-space shadow techniques
+    shadowFrame_.height = height_;
+    createTargets(); // the OIT technique's targets too; the fog resizes in march()
+}
+
+void Renderer::sceneValuesChanged() {
+    if (fog_) fog_->invalidateLightVolumes();
+}
 
 void Renderer::createTargets() {
     hdr_ = gpu::Texture(GL_TEXTURE_2D);

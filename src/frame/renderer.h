@@ -88,12 +88,30 @@ public:
     // arrays with one layer per light view, fog.radiance, fog.light_transmittance of the first
     // volume), or null when it has no texture.
     const gpu::Texture* resourceTexture(const std::string& name) const;
-    // Recompiles every shader from disk; failing programs keep their previous version.
-    int reloadShaders() { return programs_.reloadAll(); }
+    // Recompiles every shader from disk; failing programs keep their previous version (their
+    // messages go to `errors` when given).
+    int reloadShaders(std::vector<std::string>* errors = nullptr) {
+        return programs_.reloadAll(errors);
+    }
+
+    // Changes that rebuild only what depends on them (the viewer; DESIGN.md "derived
+    // structures are rebuilt when what they depend on changed"):
+    // Another OIT technique (or other property values): the technique, its transparent and
+    // fog-emission programs and its targets. Meshes, volumes, shadow maps stay. Throws
+    // veil::Error (unknown, unavailable, bad property, shader) and then changes nothing.
+    void setOitTechnique(const std::string& name, const nlohmann::json& properties,
+                         const std::string& where = "OIT properties");
+    // Another frame size: the frame targets and the technique's; the fog resizes its own.
+    void resize(int width, int height);
+    // The scene's volume or light values changed in place (density scale, albedo, a light
+    // moved): the fog's light transmittance volumes are recomputed at the next frame.
+    void sceneValuesChanged();
 
 private:
     void createTargets();
     void buildPasses();
+    void addTechniquePrograms();
+    void configureFogSegments();
     void updateUniforms();
     enum class Subset { Opaque, Transparent, OpaqueCasters, TransparentCasters };
     void drawObjects(const gpu::Program& program, Subset subset) const;

@@ -262,7 +262,7 @@ const Program& ProgramManager::get(ProgramHandle handle) const {
     return programs_[handle.index].second;
 }
 
-int ProgramManager::reloadAll() {
+int ProgramManager::reloadAll(std::vector<std::string>* errors) {
     int failed = 0;
     for (auto& [desc, program] : programs_) {
         try {
@@ -270,6 +270,7 @@ int ProgramManager::reloadAll() {
         } catch (const Error& e) {
             ++failed;
             log::error("reload kept the previous program: {}", e.what());
+            if (errors) errors->push_back(e.what());
         }
     }
     return failed;

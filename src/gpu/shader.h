@@ -93,7 +93,7 @@ public:
     const Program& get(ProgramHandle handle) const;
     // Recompiles every program from its files. A program that fails keeps its previous
     // version; returns the number that failed (their errors are logged).
-    int reloadAll();
+    int reloadAll(std::vector<std::string>* errors = nullptr);
     // What every program was built from, in order of add() (tests: which files are compiled).
     std::vector<ProgramDesc> descriptions() const {
         std::vector<ProgramDesc> d;

@@ -61,6 +61,7 @@ public:
     // marchSegments() after the surfaces of the last geometry pass instead of drawEmit().
     void enableSegments(std::vector<std::string> oitDefines,
                         const std::filesystem::path& oitEmitInclude);
+    void disableSegments() { segmentsEnabled_ = false; }
     bool segmented() const { return segmentsEnabled_; }
     // Marches every full-resolution pixel piecewise between the surfaces the technique has
     // stored and emits one contribution per segment; `prepareOit` sets the technique's
@@ -74,8 +75,9 @@ public:
     // False when the shadow technique's maps already hold the volumes' absorbance toward
     // every light: the marcher then skips its own self-shadowing volumes.
     void setSelfShadowing(bool on) { selfShadowing_ = on; }
-    // The next march() recomputes the light transmittance volumes even if the light did not
-    // move (benchmarks that compare with renderers shadowing every frame: veil-bench --relight).
+    // The next march() recomputes the light transmittance volumes: the volumes' values
+    // (density scale, albedo) or a light changed in the scene, or a benchmark compares with
+    // renderers that shadow every frame (veil-bench --relight).
     void invalidateLightVolumes() { lightValid_ = false; }
     // The march's results at 1/divisor() resolution (frame resource "fog.radiance"): rgb
     // in-scattered radiance (a: its mean depth) and rgb transmittance (a: opaque view depth).

@@ -91,17 +91,22 @@ void ReferenceTechnique::endAccumulate(int) {
 bool ReferenceTechnique::repeatAccumulation() {
     GLuint requested = 0;
     glGetNamedBufferSubData(counters_.id(), 0, sizeof(GLuint), &requested);
-    if (requested <= stats_.poolNodes) {
-        stats_.fragments = requested;
+    const bool atCap = stats_.poolNodes >= maxPoolNodes_;
+    if (requested <= stats_.poolNodes || (limits_.dropPastCap && atCap)) {
+        // "drop": the pool is at its cap; emit.glsl skipped the nodes past it (counted only).
+        stats_.poolDroppedFragments =
+            requested > stats_.poolNodes ? requested - stats_.poolNodes : 0;
+        stats_.fragments = requested - stats_.poolDroppedFragments;
         stats_.accumulationRepeats = repeatsThisFrame_;
         repeatsThisFrame_ = 0;
         return false;
     }
     // The counter kept counting past the pool: it is the exact node count this frame needs.
-    VEIL_CHECK(requested <= maxPoolNodes_,
+    VEIL_CHECK(requested <= maxPoolNodes_ || limits_.dropPastCap,
                "reference OIT: the frame has {} transparent fragments ({:.1f} MiB of nodes) but "
                "the node pool is capped at {} nodes ({:.1f} MiB); lower the resolution or the "
-               "transparent depth complexity, or raise render.oit.max_pool_mib",
+               "transparent depth complexity, raise render.oit.max_pool_mib, or set "
+               "render.oit.pool_overflow=drop",
                requested, mib(std::uint64_t(requested) * kNodeBytes), maxPoolNodes_,
                mib(maxPoolNodes_ * kNodeBytes));
     const std::uint64_t grown = std::min(nextPowerOfTwo(requested), maxPoolNodes_);
@@ -153,7 +158,8 @@ nlohmann::json ReferenceTechnique::stats() const {
             {"accumulation_repeats", stats_.accumulationRepeats},
             {"pixel_overflow_fragments", stats_.pixelOverflowFragments},
             {"max_list_length", stats_.maxListLength},
-            {"max_fragments_per_pixel", limits_.maxFragmentsPerPixel}};
+            {"max_fragments_per_pixel", limits_.maxFragmentsPerPixel},
+            {"pool_dropped_fragments", stats_.poolDroppedFragments}};
 }
 
 void registerReference(Registry& registry) {
@@ -164,9 +170,12 @@ void registerReference(Registry& registry) {
         .real("max_pool_mib", 1024.0, 1.0 / 1024.0, 65536.0,
               "cap on the node pool in MiB (also capped by GL_MAX_SHADER_STORAGE_BLOCK_SIZE)")
         .integer("max_fragments_per_pixel", ReferenceTechnique::kDefaultMaxFragmentsPerPixel, 1,
-                 4096,
+                 512,
                  "fragments per pixel the resolve sorts (its local array); deeper pixels keep "
-                 "the nearest and the rest are counted as dropped");
+                 "the nearest and the rest are counted as dropped")
+        .choice("pool_overflow", "error", {"error", "drop"},
+                "past the cap: an error, or keep the capped pool and leave out (and count) the "
+                "fragments that do not fit");
     registry.add({"reference",
                   "exact per-pixel sorted compositing (per-pixel linked lists, compute resolve)",
                   nullptr,
@@ -177,6 +186,7 @@ void registerReference(Registry& registry) {
                       limits.maxPoolBytes =
                           static_cast<std::uint64_t>(p.getDouble("max_pool_mib") * 1024.0 * 1024.0);
                       limits.maxFragmentsPerPixel = p.getInt("max_fragments_per_pixel");
+                      limits.dropPastCap = p.getString("pool_overflow") == "drop";
                       return std::make_unique<ReferenceTechnique>(programs, limits);
                   },
                   std::move(schema)});

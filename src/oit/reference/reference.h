@@ -13,6 +13,10 @@
 //                                 128 dropped 240,115 there); each doubling costs the resolve
 //                                 time (H200, default.json 1080p: 3.25 ms at 128, 5.74 at
 //                                 512); NVIDIA's compiler refuses 2048 (bench/RESULTS.md).
+//   pool_overflow           [error] past the cap: "error" (veil::Error, `veil render`) or
+//                                  "drop" (the pool stays at the cap, the fragments that do
+//                                  not fit are left out and counted in stats().
+//                                  pool_dropped_fragments; the viewer's default)
 // Storage: an r32ui head-pointer image, a node pool SSBO of 32-byte nodes (premultiplied
 // radiance rgb, view depth, modulation rgb = 1 - a + a T (000 Eq. 2), next index) and a
 // counter SSBO {nodes requested, fragments dropped by the resolve}.
@@ -34,6 +38,7 @@ struct ReferenceLimits {
     std::uint64_t initialNodesPerPixel = 4;
     std::uint64_t maxPoolBytes = std::uint64_t(1) << 30;
     int maxFragmentsPerPixel = 256; // ReferenceTechnique::kDefaultMaxFragmentsPerPixel
+    bool dropPastCap = false;       // pool_overflow = "drop"
 };
 
 struct ReferenceStats {
@@ -43,6 +48,7 @@ struct ReferenceStats {
     int accumulationRepeats = 0;              // extra accumulations in the last frame
     std::uint64_t pixelOverflowFragments = 0; // dropped by the resolve's local array, last frame
     std::uint64_t maxListLength = 0;          // deepest per-pixel list of the last frame
+    std::uint64_t poolDroppedFragments = 0;   // did not fit the capped pool, last frame ("drop")
 };
 
 class ReferenceTechnique final : public Technique {

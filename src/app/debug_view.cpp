@@ -1,0 +1,94 @@
+#include "app/debug_view.h"
+
+#include "base/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace veil::app {
+
+std::vector<DebugViewEntry> debugViewEntries(const frame::Renderer& renderer) {
+    std::vector<DebugViewEntry> out;
+    for (const std::string& name : renderer.passes().resources()) {
+        DebugViewEntry e;
+        e.resource = name;
+        const gpu::Texture* t = renderer.resourceTexture(name);
+        if (!t || !*t) {
+            e.reason = name.rfind("oit.", 0) == 0 ? "inside the OIT technique '" +
+                                                        renderer.oitName() + "' (no frame texture)"
+                                                  : "no texture behind this resource";
+            if (name.rfind("oit.", 0) == 0)
+                e.bytes = std::size_t(renderer.width()) * renderer.height() *
+                          renderer.technique().bytesPerPixel();
+        } else {
+            e.reason = whyNotReadable(*t);
+            e.layers = resourceLayers(*t);
+            e.format = formatName(t->format());
+            e.bytes = std::size_t(t->width()) * t->height() * e.layers * bytesPerTexel(t->format());
+        }
+        out.push_back(std::move(e));
+    }
+    return out;
+}
+
+void DebugView::select(std::string resource, int layer) {
+    resource_ = std::move(resource);
+    layer_ = std::max(0, layer);
+}
+
+void DebugView::update(const frame::Renderer& renderer) {
+    if (!active()) return;
+    const gpu::Texture* t = renderer.resourceTexture(resource_);
+    VEIL_CHECK(t && *t, "debug view '{}': the frame has no texture for it", resource_);
+    layer_ = std::min(layer_, resourceLayers(*t) - 1);
+    raw_ = readResourceImage(*t, layer_);
+    const std::size_t texels = std::size_t(raw_.width) * raw_.height;
+    const int c = static_cast<int>(raw_.channels.size());
+    // The finite range of the shown channels (RGB of colour; depth without the cleared 1).
+    float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+    for (std::size_t i = 0; i < texels; ++i)
+        for (int k = 0; k < std::min(c, 3); ++k) {
+            const float v = raw_.pixels[i * c + k];
+            if (!std::isfinite(v) || (raw_.depth && v >= 1.0f)) continue;
+            lo = std::min(lo, v);
+            hi = std::max(hi, v);
+        }
+    if (!(lo <= hi)) lo = 0.0f, hi = 1.0f;
+    if (c == 4) lo = std::min(lo, 0.0f); // colours from black
+    if (hi - lo < 1e-30f) {              // a constant: shown against [0, max(1, value)]
+        lo = std::min(lo, 0.0f);
+        hi = std::max(hi, 1.0f);
+    }
+    lo_ = lo;
+    hi_ = hi;
+    rgba_.assign(texels * 4, 1.0f);
+    for (std::size_t i = 0; i < texels; ++i)
+        for (int k = 0; k < 3; ++k) {
+            const float v = raw_.pixels[i * c + (c == 1 ? 0 : k)];
+            rgba_[i * 4 + k] = std::isfinite(v) ? std::clamp((v - lo) / (hi - lo), 0.0f, 1.0f)
+                                                : (k == 0 ? 1.0f : 0.0f); // NaN/inf in red
+        }
+    if (!texture_ || texture_.width() != raw_.width || texture_.height() != raw_.height) {
+        texture_ = gpu::Texture(GL_TEXTURE_2D);
+        texture_.storage2D(1, GL_RGBA8, raw_.width, raw_.height)
+            .parameter(GL_TEXTURE_MIN_FILTER, GL_NEAREST)
+            .parameter(GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    }
+    // Row 0 of the upload is GL's bottom row.
+    std::vector<float> flipped(rgba_.size());
+    const std::size_t row = std::size_t(raw_.width) * 4;
+    for (int y = 0; y < raw_.height; ++y)
+        std::copy_n(rgba_.begin() + (raw_.height - 1 - y) * row, row, flipped.begin() + y * row);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(texture_.id(), 0, 0, 0, raw_.width, raw_.height, GL_RGBA, GL_FLOAT,
+                        flipped.data());
+}
+
+ImageF DebugView::visualized() const {
+    ImageF img(raw_.width, raw_.height, 4);
+    img.pixels = rgba_;
+    return img;
+}
+
+} // namespace veil::app

@@ -1,0 +1,414 @@
+#include "app/view_panel.h"
+
+#include "app/dump.h"
+#include "app/exr_output.h"
+#include "app/property_widgets.h"
+
+#include "base/error.h"
+#include "gpu/readback.h"
+#include "io/exr_writer.h"
+#include "io/image_io.h"
+#include "oit/technique.h"
+#include "shadows/technique.h"
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <fmt/format.h>
+#include <imgui.h>
+#include <imgui_stdlib.h>
+
+#include <algorithm>
+#include <filesystem>
+
+namespace veil::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const ImVec4 kErrorColour(1.0f, 0.45f, 0.35f, 1.0f);
+
+void tip(const char* text) {
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("%s", text);
+}
+
+bool section(const char* name, const PanelState& state, bool defaultOpen = false) {
+    // A script's {"expand": [...]} opens exactly the sections it lists.
+    if (!state.expand.empty()) ImGui::SetNextItemOpen(state.expand.count(name) > 0);
+    return ImGui::CollapsingHeader(name, defaultOpen ? ImGuiTreeNodeFlags_DefaultOpen : 0);
+}
+
+std::string jsonFloat(float f) { return nlohmann::json(static_cast<double>(f)).dump(); }
+std::string jsonVec(const glm::vec3& v) {
+    return nlohmann::json::array({double(v.x), double(v.y), double(v.z)}).dump();
+}
+
+// One scalar scene value as a widget; an edit becomes the override `key=value`.
+void sceneFloat(ViewSession& s, const std::string& key, const char* label, float value, float lo,
+                float hi, const char* doc, bool logarithmic = false) {
+    if (ImGui::SliderFloat(label, &value, lo, hi, "%.4g",
+                           logarithmic ? ImGuiSliderFlags_Logarithmic : 0))
+        s.set(key + "=" + jsonFloat(value));
+    tip(doc);
+}
+
+void sceneColour(ViewSession& s, const std::string& key, const char* label, glm::vec3 value,
+                 const char* doc) {
+    if (ImGui::ColorEdit3(label, &value.x, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR))
+        s.set(key + "=" + jsonVec(value));
+    tip(doc);
+}
+
+void sceneVec(ViewSession& s, const std::string& key, const char* label, glm::vec3 value,
+              const char* doc) {
+    if (ImGui::DragFloat3(label, &value.x, 0.02f)) s.set(key + "=" + jsonVec(value));
+    tip(doc);
+}
+
+// The generated widgets of a technique's schema; each changed key is set as prefix.KEY.
+void techniqueProperties(ViewSession& s, const PropertySchema& schema, const Properties& current,
+                         const std::string& prefix) {
+    if (schema.empty()) return;
+    nlohmann::json values = current.values();
+    const nlohmann::json before = values;
+    if (propertyWidgets(schema, values))
+        for (const auto& [key, v] : values.items())
+            if (!before.contains(key) || before[key] != v)
+                s.set(prefix + "." + key + "=" + v.dump());
+}
+
+template <class Registry>
+void techniqueCombo(ViewSession& s, const char* label, const Registry& registry,
+                    const std::string& rendering, bool isOit) {
+    if (!ImGui::BeginCombo(label, rendering.c_str())) return;
+    for (const auto& t : registry.all()) {
+        const bool available = isOit ? s.oitAvailable(t.name) : s.shadowsAvailable(t.name);
+        ImGui::BeginDisabled(!available);
+        if (ImGui::Selectable(t.name.c_str(), t.name == rendering) && t.name != rendering)
+            isOit ? s.selectOit(t.name) : s.selectShadows(t.name);
+        ImGui::EndDisabled();
+        const std::string why = available ? t.description
+                                          : fmt::format("not available on this GL driver ({}): {}",
+                                                        s.context().renderer, t.description);
+        tip(why.c_str());
+    }
+    ImGui::EndCombo();
+}
+
+void fileSection(GLFWwindow* window, ViewSession& s, const DebugView& view, PanelState& st) {
+    if (!section("File", st, true)) return;
+    ImGui::TextWrapped("%s", s.scenePath().string().c_str());
+    if (ImGui::Button("Open...")) st.openDialog.open(fs::absolute(s.scenePath()).parent_path());
+    tip("a scene (.json) or an OpenVDB file (.vdb); files dropped on the window open too");
+    ImGui::SameLine();
+    if (ImGui::Button("Reload shaders (R)")) s.reloadShaders();
+    ImGui::SameLine();
+    if (ImGui::Button("Copy render command")) {
+        st.copiedCommand = s.renderCommand();
+        glfwSetClipboardString(window, st.copiedCommand.c_str());
+    }
+    tip("the `veil render` line of this view: --set overrides for every edit and the camera");
+    if (!st.copiedCommand.empty()) ImGui::TextWrapped("%s", st.copiedCommand.c_str());
+    ImGui::InputText("##saveas", &st.saveAs);
+    ImGui::SameLine();
+    if (ImGui::Button("Save scene as")) s.saveSceneAs(st.saveAs);
+    ImGui::InputText("##shots", &st.screenshotFolder);
+    ImGui::SameLine();
+    if (ImGui::Button("Screenshot")) {
+        try {
+            s.setStatus("wrote " +
+                        screenshotPair(s, view, st.screenshotFolder, st.screenshotCount++));
+        } catch (const Error& e) {
+            s.fail(e.what());
+        }
+    }
+    tip("PNG of the shown image and EXR beside it (linear HDR, or a debug view's raw values)");
+}
+
+void cameraSection(ViewSession& s, const PanelState& st) {
+    if (!section("Camera", st)) return;
+    const scene::Scene& sc = s.scene();
+    if (ImGui::BeginCombo("camera", s.cameraName().c_str())) {
+        for (const auto& c : sc.cameras)
+            if (ImGui::Selectable(c.name.c_str(), c.name == s.cameraName())) s.selectCamera(c.name);
+        ImGui::EndCombo();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Reset")) s.resetCamera();
+    std::size_t index = 0;
+    for (std::size_t i = 0; i < sc.cameras.size(); ++i)
+        if (sc.cameras[i].name == s.cameraName()) index = i;
+    const scene::Camera& c = sc.cameras[index];
+    const std::string key = fmt::format("cameras.{}.", index);
+    if (c.type == scene::CameraType::Perspective)
+        sceneFloat(s, key + "fov_y", "fov y", c.fovYDegrees, 1.0f, 170.0f,
+                   "full vertical field of view, degrees");
+    else
+        sceneFloat(s, key + "ortho_height", "ortho height", c.orthoHeight, 0.01f, 1000.0f,
+                   "full height of the view volume, world units", true);
+    sceneFloat(s, key + "near", "near", c.nearPlane, 1e-4f, 100.0f, "near plane", true);
+    sceneFloat(s, key + "far", "far", c.farPlane, 0.1f, 1e5f, "far plane", true);
+    ImGui::TextDisabled("left drag: orbit, right/middle drag: pan, wheel: zoom");
+}
+
+void renderSection(ViewSession& s, const PanelState& st) {
+    if (!section("Render", st)) return;
+    const scene::RenderSettings& r = s.scene().render;
+    sceneFloat(s, "render.exposure", "exposure", r.exposure, 0.05f, 16.0f,
+               "multiplies the linear radiance before the tone map", true);
+    sceneColour(s, "render.ambient", "ambient", r.ambient,
+                "constant ambient irradiance (times the base colour)");
+    sceneColour(s, "render.background", "background", r.background,
+                "radiance where nothing is drawn");
+    const char* ops[] = {"aces", "clamp"};
+    int op = r.tonemap == "clamp" ? 1 : 0;
+    if (ImGui::Combo("tone map", &op, ops, 2)) s.set(std::string("render.tonemap=") + ops[op]);
+    tip("aces: Narkowicz's ACES fit; clamp: none");
+}
+
+void techniqueSections(ViewSession& s, const PanelState& st) {
+    const frame::Renderer& r = s.renderer();
+    if (section("Transparency (OIT)", st, true)) {
+        techniqueCombo(s, "OIT", oit::Registry::instance(), r.oitName(), true);
+        if (const oit::TechniqueInfo* info = oit::Registry::instance().find(r.oitName()))
+            techniqueProperties(s, info->properties, r.technique().properties(), "render.oit");
+        if (const nlohmann::json stats = r.technique().stats(); !stats.empty())
+            ImGui::TextWrapped("stats: %s", stats.dump().c_str());
+    }
+    if (section("Shadows", st)) {
+        const std::string name = r.shadowTechnique().name();
+        techniqueCombo(s, "shadows", shadows::Registry::instance(), name, false);
+        if (const shadows::TechniqueInfo* info = shadows::Registry::instance().find(name))
+            techniqueProperties(s, info->properties, r.shadowTechnique().properties(),
+                                "render.shadows");
+        if (const nlohmann::json stats = r.shadowTechnique().stats(); !stats.empty())
+            ImGui::TextWrapped("stats: %s", stats.dump().c_str());
+    }
+}
+
+void fogSections(ViewSession& s, const PanelState& st) {
+    const scene::Scene& sc = s.scene();
+    if (sc.volumes.empty()) return;
+    if (section("Fog marcher", st)) {
+        int steps = sc.render.fogSteps;
+        if (ImGui::SliderInt("steps", &steps, 1, 1024, "%d", ImGuiSliderFlags_Logarithmic))
+            s.set(fmt::format("render.fog_steps={}", steps));
+        tip("ray-march steps per ray through the volumes' bounds (render.fog_steps)");
+        const char* res[] = {"1 (full)", "2 (half)", "4 (quarter)"};
+        int ri = sc.render.fogResolution == 4 ? 2 : sc.render.fogResolution == 2 ? 1 : 0;
+        if (ImGui::Combo("resolution", &ri, res, 3))
+            s.set(fmt::format("render.fog_resolution={}", 1 << ri));
+        tip("marching resolution divisor, joint-bilateral upsampled on depth [000 sec. 5]");
+        bool jitter = sc.render.fogJitter;
+        if (ImGui::Checkbox("jitter", &jitter))
+            s.set(fmt::format("render.fog_jitter={}", jitter ? "true" : "false"));
+        tip("per-pixel random start offset of the march (seeded by render.seed)");
+    }
+    if (section("Volumes", st)) {
+        for (std::size_t i = 0; i < sc.volumes.size(); ++i) {
+            const scene::VolumeRef& v = sc.volumes[i];
+            ImGui::PushID(static_cast<int>(i));
+            const std::string key = fmt::format("volumes.{}.", i);
+            ImGui::Separator();
+            ImGui::TextUnformatted(v.name.empty() ? key.c_str() : v.name.c_str());
+            sceneFloat(s, key + "density_scale", "density scale", v.densityScale, 1e-4f, 1e3f,
+                       "extinction coefficient per unit density (sigma_t = scale x density)", true);
+            sceneColour(s, key + "albedo", "albedo", v.albedo,
+                        "single-scattering albedo sigma_s / sigma_t");
+            sceneFloat(s, key + "anisotropy", "anisotropy g", v.anisotropy, -0.99f, 0.99f,
+                       "Henyey-Greenstein phase function g [HG 1941]");
+            sceneColour(s, key + "emission", "emission", v.emission,
+                        "emitted radiance per unit density");
+            ImGui::PopID();
+        }
+    }
+}
+
+void lightSection(ViewSession& s, const PanelState& st) {
+    const scene::Scene& sc = s.scene();
+    if (sc.lights.empty() || !section("Lights", st)) return;
+    const nlohmann::json& doc = s.sourceDocument();
+    for (std::size_t i = 0; i < sc.lights.size(); ++i) {
+        const scene::Light& l = sc.lights[i];
+        ImGui::PushID(static_cast<int>(i));
+        const std::string key = fmt::format("lights.{}.", i);
+        ImGui::Separator();
+        ImGui::TextUnformatted(l.name.empty() ? key.c_str() : l.name.c_str());
+        sceneColour(s, key + "color", "colour", l.color, "light colour (times intensity)");
+        sceneFloat(s, key + "intensity", "intensity", l.intensity, 0.0f, 1e4f,
+                   "directional: irradiance; spot/point: radiant intensity (1/d^2)", true);
+        if (l.type != scene::LightType::Directional)
+            sceneVec(s, key + "position", "position", l.position, "world position");
+        if (l.type != scene::LightType::Point) {
+            // The document names the aim as a target or a direction; the edit keeps its form.
+            const bool hasTarget = doc.is_object() && doc.contains("lights") &&
+                                   doc["lights"].is_array() && i < doc["lights"].size() &&
+                                   doc["lights"][i].is_object() &&
+                                   doc["lights"][i].contains("target");
+            glm::vec3 dir = l.direction;
+            if (ImGui::DragFloat3("direction", &dir.x, 0.01f) && glm::length(dir) > 1e-6f) {
+                dir = glm::normalize(dir);
+                if (hasTarget)
+                    s.set(key + "target=" + jsonVec(l.position + dir));
+                else
+                    s.set(key + "direction=" + jsonVec(dir));
+            }
+            tip("direction the light travels (a move recomputes its shadow maps and the fog's "
+                "light transmittance volumes)");
+        }
+        if (l.type == scene::LightType::Spot) {
+            sceneFloat(s, key + "inner_cone", "inner cone", l.innerConeDegrees, 0.0f, 89.0f,
+                       "half-angle of full intensity, degrees");
+            sceneFloat(s, key + "outer_cone", "outer cone", l.outerConeDegrees, 0.0f, 89.9f,
+                       "half-angle where the intensity reaches zero, degrees");
+        }
+        ImGui::PopID();
+    }
+}
+
+void debugSection(ViewSession& s, DebugView& view, const PanelState& st) {
+    if (!section("Debug view", st, true)) return;
+    if (ImGui::RadioButton("frame", !view.active())) view.select("");
+    for (const DebugViewEntry& e : debugViewEntries(s.renderer())) {
+        ImGui::BeginDisabled(!e.reason.empty());
+        if (ImGui::RadioButton(e.resource.c_str(), view.resource() == e.resource))
+            view.select(e.resource, 0);
+        ImGui::EndDisabled();
+        const std::string info =
+            e.reason.empty()
+                ? fmt::format("{} x{} layer(s), {}\n{}", e.format, e.layers,
+                              e.bytes >= 1 << 20 ? fmt::format("{:.1f} MiB", e.bytes / 1048576.0)
+                                                 : fmt::format("{:.1f} KiB", e.bytes / 1024.0),
+                              resourceUnits(e.resource))
+                : e.reason;
+        tip(info.c_str());
+        if (view.resource() == e.resource && e.layers > 1) {
+            int layer = view.layer();
+            ImGui::Indent();
+            if (ImGui::SliderInt("layer / slice", &layer, 0, e.layers - 1))
+                view.select(e.resource, layer);
+            ImGui::Unindent();
+        }
+    }
+    if (view.active())
+        ImGui::Text("shown range [%.4g, %.4g] -> black..white", view.lo(), view.hi());
+}
+
+void frameSection(ViewSession& s, PanelState& st) {
+    if (!section("Frame", st, true)) return;
+    const frame::Renderer& r = s.renderer();
+    ImGui::TextWrapped("%s", s.context().renderer.c_str());
+    ImGui::Text("%d x %d, timer: %s", r.width(), r.height(),
+                r.timerMode() == gpu::GpuTimer::Mode::Query ? "GL_TIME_ELAPSED"
+                                                            : "glFinish + CPU clock");
+    if (!st.frameMs.empty()) {
+        const std::vector<float> v(st.frameMs.begin(), st.frameMs.end());
+        const float last = v.back();
+        ImGui::PlotLines("##frame", v.data(), static_cast<int>(v.size()), 0,
+                         fmt::format("{:.2f} ms", last).c_str(), 0.0f,
+                         *std::max_element(v.begin(), v.end()) * 1.1f,
+                         ImVec2(0, ImGui::GetFontSize() * 3));
+    }
+    if (ImGui::BeginTable("passes", 2, ImGuiTableFlags_SizingStretchProp)) {
+        for (const auto& p : r.passTimes()) {
+            ImGui::TableNextRow();
+            ImGui::TableNextColumn();
+            ImGui::TextUnformatted(p.name.c_str());
+            ImGui::TableNextColumn();
+            ImGui::Text("%8.3f ms", p.milliseconds);
+        }
+        ImGui::EndTable();
+    }
+    if (ImGui::TreeNode("gpu memory", "GPU memory %.1f MiB", r.gpuBytes() / 1048576.0)) {
+        for (const DebugViewEntry& e : debugViewEntries(r))
+            if (e.bytes > 0) ImGui::Text("%-26s %9.1f KiB", e.resource.c_str(), e.bytes / 1024.0);
+        if (const volume::FogPass* fog = r.fog())
+            for (std::size_t i = 0; i < fog->stats().size(); ++i)
+                ImGui::Text("volume %-19zu %9.1f KiB", i, fog->stats()[i].gpuBytes / 1024.0);
+        ImGui::TreePop();
+    }
+    if (ImGui::TreeNode("passes and resources")) {
+        for (const frame::Pass& p : r.passes().passes()) {
+            std::string reads, writes;
+            for (const auto& x : p.reads)
+                reads += (reads.empty() ? "" : ", ") + x;
+            for (const auto& x : p.writes)
+                writes += (writes.empty() ? "" : ", ") + x;
+            ImGui::TextWrapped("%s: %s -> %s", p.name.c_str(), reads.c_str(), writes.c_str());
+        }
+        ImGui::TreePop();
+    }
+}
+
+} // namespace
+
+void writeShownImage(const ViewSession& session, const DebugView& view, const std::string& path) {
+    const bool exr = path.size() > 4 && (path.substr(path.size() - 4) == ".exr" ||
+                                         path.substr(path.size() - 4) == ".EXR");
+    if (!exr) {
+        io::writeImage(path, view.active() ? view.visualized()
+                                           : gpu::readTexture(session.displayTexture()));
+        return;
+    }
+    io::ExrImage img;
+    if (view.active()) {
+        const ResourceImage& raw = view.raw();
+        img.width = raw.width;
+        img.height = raw.height;
+        img.channels = raw.channels;
+        img.pixels = raw.pixels;
+        img.strings = {{"veil:resource", view.resource()},
+                       {"veil:layer", std::to_string(view.layer())}};
+    } else {
+        // What `veil render -o out.exr` writes for this frame: RGB, A, Z and the metadata.
+        const frame::Renderer& r = session.renderer();
+        const FrameExtras extras = captureExtras(r, false);
+        const RenderMetadata meta = describeRender(
+            session.scenePath(), r.oitName(), r.technique().properties().values(), r.camera().name,
+            extras, r.width(), r.height(), session.context().renderer);
+        img = makeExr(r.readHdr(), extras, meta, false);
+    }
+    io::writeExr(path, img);
+}
+
+std::string screenshotPair(const ViewSession& session, const DebugView& view,
+                           const std::string& dir, int number) {
+    VEIL_CHECK(fs::is_directory(dir), "screenshot folder '{}' does not exist", dir);
+    const std::string stem = (fs::path(dir) / fmt::format("veil-{:04d}", number)).string();
+    writeShownImage(session, view, stem + ".png");
+    writeShownImage(session, view, stem + ".exr");
+    return stem + ".png";
+}
+
+void drawPanel(GLFWwindow* window, ViewSession& session, DebugView& view, PanelState& state) {
+    const float em = ImGui::GetFontSize();
+    ImGui::SetNextWindowPos(ImVec2(em * 0.5f, em * 0.5f), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(em * 30, ImGui::GetIO().DisplaySize.y - em),
+                             ImGuiCond_FirstUseEver);
+    ImGui::Begin("Veil");
+    if (!session.lastError().empty()) {
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextColored(kErrorColour, "%s", session.lastError().c_str());
+        ImGui::PopTextWrapPos();
+    } else if (!session.status().empty()) {
+        ImGui::TextWrapped("%s", session.status().c_str());
+    }
+    if (session.errors().size() > 0 &&
+        ImGui::TreeNode("errors", "errors (%zu)", session.errors().size())) {
+        for (const std::string& e : session.errors())
+            ImGui::TextWrapped("%s", e.c_str());
+        ImGui::TreePop();
+    }
+    fileSection(window, session, view, state);
+    techniqueSections(session, state);
+    fogSections(session, state);
+    lightSection(session, state);
+    renderSection(session, state);
+    cameraSection(session, state);
+    debugSection(session, view, state);
+    frameSection(session, state);
+    ImGui::End();
+    if (const auto chosen = state.openDialog.draw()) session.open(*chosen);
+}
+
+} // namespace veil::app

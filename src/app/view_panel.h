@@ -1,0 +1,43 @@
+// The viewer's ImGui panel over a ViewSession: techniques (unavailable ones greyed with the
+// reason; the combo shows what renders), every declared property of the OIT and shadow
+// techniques as generated widgets (app/property_widgets.h), the fog marcher, each volume,
+// light and the camera, the render settings, debug views of every frame resource, frame
+// times, per-pass times, GPU memory per resource, errors, and the file actions (open, save
+// scene as, copy render command, PNG + EXR screenshot into a folder). Every edit goes through
+// ViewSession::set as the `--set` override it is.
+#pragma once
+
+#include "app/debug_view.h"
+#include "app/file_dialog.h"
+#include "app/view_session.h"
+
+#include <deque>
+#include <set>
+#include <string>
+
+struct GLFWwindow;
+
+namespace veil::app {
+
+struct PanelState {
+    std::set<std::string> expand; // a script's {"expand": [...]}: open these, close the rest
+    FileDialog openDialog{"Open scene or .vdb", {".json", ".vdb"}};
+    std::string saveAs = "edited-scene.json";
+    std::string screenshotFolder = ".";
+    std::string copiedCommand;
+    std::deque<float> frameMs; // the last frames' total pass times
+    int screenshotCount = 0;
+};
+
+// Draws the panel; edits act on `session` and `view` at once.
+void drawPanel(GLFWwindow* window, ViewSession& session, DebugView& view, PanelState& state);
+
+// Writes `dir`/veil-NNNN.png (the shown image) and .exr (linear HDR of the frame, or the
+// debug view's raw values); returns the PNG path.
+std::string screenshotPair(const ViewSession& session, const DebugView& view,
+                           const std::string& dir, int number);
+// One file: .png = the shown image (frame or debug view), .exr = the frame's linear HDR or
+// the debug view's raw resource values.
+void writeShownImage(const ViewSession& session, const DebugView& view, const std::string& path);
+
+} // namespace veil::app

@@ -1,0 +1,147 @@
+// The state behind `veil view`, without any UI: the scene file and the --set overrides the
+// user's edits amount to, the renderer, the orbit camera, the errors, and the last good frame.
+// The panel (view_panel.h) and the scripted mode (view_script.h) drive it the same way.
+//
+// Every edit is a `key=value` override of the scene document, exactly what `veil render
+// --set` takes, so "copy render command" reproduces the view. An edit rebuilds only what
+// depends on it (see classifyOverride): camera, lights, materials, exposure, ambient,
+// background, tone map, fog steps/jitter and a grid volume's (not homogeneous fog's) density scale,
+// albedo, anisotropy and emission are copied into the live scene (a light or volume change
+// recomputes the fog's light transmittance volumes only); render.oit replaces the OIT
+// technique and its targets only; anything else (objects, shadows, fog resolution, volume
+// files) builds a new renderer beside the old one, which stays if the new one fails.
+// Errors never leave the viewer: they are kept in errors() and the last good frame stays.
+#pragma once
+
+#include "frame/renderer.h"
+#include "gpu/context.h"
+#include "gpu/objects.h"
+#include "scene/scene.h"
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace veil::app {
+
+// Orbit around the camera's target: yaw/pitch/distance edited by the mouse or a script.
+struct Orbit {
+    glm::vec3 target{0.0f};
+    float yaw = 0.0f, pitch = 0.0f, distance = 1.0f;
+    void from(const scene::Camera& c);
+    void apply(scene::Camera& c) const;
+    // Moves the target in the view plane by (dx, dy) times the distance.
+    void pan(float dx, float dy);
+};
+
+// What an override of `key` invalidates.
+enum class OverrideScope {
+    Camera,   // cameras.*: the view only
+    Live,     // values read every frame (lights, materials, exposure, volume values, ...)
+    Oit,      // render.oit: the OIT technique
+    Size,     // render.width / render.height
+    Renderer, // anything else: a new renderer
+};
+OverrideScope classifyOverride(const std::string& key);
+
+class ViewSession {
+public:
+    // Loads `scenePath` (a scene .json or a bare .vdb) with `overrides`; throws veil::Error
+    // when the first scene cannot be loaded or rendered at all (nothing to show yet).
+    ViewSession(const gpu::ContextInfo& context, std::filesystem::path scenePath,
+                std::vector<std::string> overrides, std::string camera, int width, int height);
+    ~ViewSession();
+    ViewSession(const ViewSession&) = delete;
+    ViewSession& operator=(const ViewSession&) = delete;
+
+    // Each returns false (and records the error) when the change could not be made; the
+    // session then keeps what it had.
+    bool set(const std::string& keyValue);               // "key=value" (--set syntax)
+    bool open(const std::filesystem::path& path);        // another scene or .vdb
+    bool selectOit(const std::string& name);             // render.oit = {"type": name}
+    bool selectShadows(const std::string& name);         // render.shadows = {"type": name}
+    bool selectCamera(const std::string& name);          // one of the scene's cameras
+    bool resize(int width, int height);                  // frame size
+    bool reloadShaders();                                // from disk; failures keep the old
+    bool saveSceneAs(const std::filesystem::path& path); // document + overrides + camera
+
+    void orbitBy(float dyaw, float dpitch, float zoom); // zoom: distance factor
+    void panBy(float dx, float dy);
+    void resetCamera(); // back to the scene's camera
+
+    // Renders one frame; on failure the error is recorded and the last good frame stays
+    // (displayTexture()). Returns whether a new frame was made.
+    bool renderFrame();
+
+    const frame::Renderer& renderer() const { return *renderer_; }
+    frame::Renderer& renderer() { return *renderer_; }
+    const scene::Scene& scene() const { return *scene_; }
+    const std::filesystem::path& scenePath() const { return scenePath_; }
+    const std::string& cameraName() const { return cameraName_; }
+    const scene::Camera& camera() const { return camera_; }
+    const std::vector<std::string>& overrides() const { return overrides_; }
+    // The LDR image of the last frame that rendered (RGBA8, frame size).
+    const gpu::Texture& displayTexture() const { return display_; }
+    int frameWidth() const { return width_; }
+    int frameHeight() const { return height_; }
+
+    // The `veil render` line that renders this view: scene, --width/--height, --camera and
+    // every override, with the camera's position/target/up as cameras.N.* overrides.
+    std::string renderCommand(const std::string& output = "out.png") const;
+    // The same as arguments (for running it without a shell in tests).
+    std::vector<std::string> renderArguments(const std::string& output) const;
+
+    // Errors so far (newest last) and the one of the last change or frame ("" = fine).
+    const std::vector<std::string>& errors() const { return errors_; }
+    const std::string& lastError() const { return lastError_; }
+    const std::string& status() const { return status_; }
+    void setStatus(std::string s) { status_ = std::move(s); }
+    void fail(const std::string& what); // records an error from outside (file dialog, ...)
+    bool frameFailed() const { return frameFailed_; }
+    // Whether the OIT technique named is usable here (greyed out otherwise).
+    bool oitAvailable(const std::string& name) const;
+    bool shadowsAvailable(const std::string& name) const;
+    const gpu::ContextInfo& context() const { return context_; }
+    // Counts every change that needs a new frame (edits, camera moves, resizes, opens).
+    std::uint64_t version() const { return version_; }
+    // The scene document as read from the .json (null for a bare .vdb), before overrides.
+    const nlohmann::json& sourceDocument() const { return sourceDoc_; }
+
+private:
+    struct Built; // a scene and its renderer
+    // The scene of `path` with `overrides` (json or vdb).
+    std::unique_ptr<scene::Scene> loadWith(const std::filesystem::path& path,
+                                           const std::vector<std::string>& overrides) const;
+    // loadWith() plus the viewer's defaults, added to `overrides` (reference: pool_overflow
+    // = drop).
+    std::unique_ptr<scene::Scene> loadWithDefaults(const std::filesystem::path& path,
+                                                   std::vector<std::string>& overrides) const;
+    // Builds a new scene + renderer; on success replaces the current ones.
+    void rebuild(const std::filesystem::path& path, std::vector<std::string>& overrides);
+    void adoptCamera(bool resetOrbit);
+    void addOverride(std::vector<std::string>& list, const std::string& keyValue) const;
+    std::vector<std::string> cameraOverrides() const;
+    void copyToDisplay();
+    bool succeed(const std::string& what);
+    bool record(const std::string& error);
+
+    gpu::ContextInfo context_;
+    std::filesystem::path scenePath_;
+    std::vector<std::string> overrides_;
+    std::string cameraName_;
+    int width_ = 0, height_ = 0;
+    std::unique_ptr<scene::Scene> scene_;
+    std::unique_ptr<frame::Renderer> renderer_;
+    scene::Camera camera_;
+    Orbit orbit_;
+    bool orbited_ = false; // false: the scene's camera exactly, as `veil render` has it
+    gpu::Texture display_{gpu::NoCreate};
+    std::vector<std::string> errors_;
+    std::string lastError_, status_;
+    bool frameFailed_ = false;
+    std::uint64_t version_ = 0;
+    nlohmann::json sourceDoc_;
+};
+
+} // namespace veil::app

@@ -1,0 +1,240 @@
+// `veil view --script` (docs/viewer.md) in a real GLFW window on a virtual X display (Xvfb):
+// edits equal `veil render --set` of the same values, debug views carry the values
+// `veil render --dump` writes for the same frame, errors (a bad file, a failing technique,
+// a bad value) leave the viewer running with the error shown and the last good frame, and
+// the copied render command reproduces the screenshot. Each comparison is bit for bit: the
+// same driver runs the same shaders on the same values, so any difference is a real one.
+#include "io/image_io.h"
+#include "support/test_support.h"
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+
+namespace veil::test {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// A fog scene small enough for llvmpipe: a grid volume (so density edits take the live
+// path), homogeneous haze, a shadowed spot light, an opaque box and a transparent pane.
+const char* kScene = R"({
+  "render": {"width": 96, "height": 64, "oit": "reference", "fog_steps": 48,
+             "shadows": {"type": "moment", "size": 128}},
+  "cameras": [{"name": "c", "position": [0, 1.5, 4], "target": [0, 0.4, 0], "fov_y": 50},
+              {"name": "side", "position": [4, 1.2, 0.5], "target": [0, 0.4, 0]}],
+  "lights": [{"name": "spot", "type": "spot", "position": [1, 4, 1], "target": [0, 0, 0],
+              "intensity": 30, "outer_cone": 35}],
+  "materials": {"m": {"base_color": 0.5}, "glass": {"base_color": 1, "alpha": 0.5,
+                "transmission": [0.2, 0.7, 0.9]}},
+  "objects": [{"shape": {"type": "box", "size": [1, 1, 1]}, "material": "m",
+               "transform": {"translate": [0.8, 0.5, 0]}},
+              {"shape": {"type": "plane", "size": [3, 3]}, "material": "m"},
+              {"shape": {"type": "box", "size": [1.2, 1, 0.05]}, "material": "glass",
+               "transform": {"translate": [-0.3, 0.6, 1.0]}}],
+  "volumes": [{"name": "ball", "procedural": "sphere", "size": 1.2, "voxel_size": 0.05,
+               "density_scale": 3, "transform": {"translate": [-0.6, 0.7, 0]}},
+              {"name": "haze", "procedural": "homogeneous", "density_scale": 0.05}]
+})";
+
+fs::path folder(const std::string& name) {
+    const fs::path d = outputDir() / name;
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+fs::path writeFile(const fs::path& path, const std::string& text) {
+    std::ofstream(path) << text;
+    return path;
+}
+
+std::string q(const fs::path& p) {
+    std::string s(1, '\'');
+    s.append(p.string());
+    s.push_back('\'');
+    return s;
+}
+
+CommandResult view(const fs::path& scene, const fs::path& script, const std::string& extra = "") {
+    return runCommand("xvfb-run -a -s '-screen 0 640x480x24' " + veilExe() + " view " + q(scene) +
+                      " --script " + q(script) + " " + extra);
+}
+
+ImageF exr(const fs::path& p) { return io::readImage(p); }
+
+nlohmann::json readJson(const fs::path& p) {
+    std::ifstream in(p);
+    return nlohmann::json::parse(in);
+}
+
+void expectSame(const fs::path& a, const fs::path& b, int channels = 3) {
+    const ImageF x = io::readImage(a), y = io::readImage(b);
+    ASSERT_EQ(x.width, y.width) << a << " vs " << b;
+    ASSERT_EQ(x.height, y.height) << a << " vs " << b;
+    const ImageDiff d = compareImages(x, y, channels);
+    EXPECT_EQ(d.maxAbs, 0.0) << a << " vs " << b << ": RMSE " << d.rmse;
+}
+
+} // namespace
+
+// `extra`: options for both commands (the shadow technique).
+void checkEditsEqualRenderSet(const std::string& name, const std::string& extra) {
+    const fs::path d = folder("view-script-set-" + name);
+    const fs::path scene = writeFile(d / "scene.json", kScene);
+    // Live edits (no renderer rebuild): a light first, then a grid volume's values (each
+    // followed by a frame, so stale light transmittance volumes would show), then exposure.
+    const std::vector<std::string> sets = {
+        "lights.0.intensity=45",    "lights.0.position=[-1,4,1.5]",   "volumes.0.density_scale=7",
+        "volumes.0.anisotropy=0.6", "volumes.0.albedo=[0.9,0.5,0.3]", "render.exposure=1.7"};
+    nlohmann::json script = nlohmann::json::array();
+    for (const std::string& s : sets)
+        script.push_back({{"set", s}});
+    script.push_back({{"screenshot", (d / "viewed.png").string()}});
+    script.push_back({{"screenshot", (d / "viewed.exr").string()}});
+    writeFile(d / "script.json", script.dump());
+    CommandResult r = view(scene, d / "script.json", extra);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    std::string setArgs = " " + extra;
+    for (const std::string& s : sets)
+        setArgs += " --set '" + s + "'";
+    setArgs += " --set render.oit.pool_overflow=drop"; // the viewer's default, in its command
+    r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(d / "rendered.png") + setArgs);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(d / "rendered.exr") + setArgs);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    expectSame(d / "viewed.png", d / "rendered.png");
+    expectSame(d / "viewed.exr", d / "rendered.exr", 4); // R, G, B, A
+    // The edits did something: the unedited frame differs.
+    r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(d / "unedited.exr") + " " +
+                   extra);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_GT(compareImages(exr(d / "viewed.exr"), exr(d / "unedited.exr")).maxAbs, 0.01);
+}
+
+TEST(ViewScriptTest, PropertyChangeEqualsRenderSet) {
+    ASSERT_EQ(runCommand("command -v xvfb-run").exitCode, 0) << "scripts/install-deps.sh";
+    // moment shadows hold the media's absorbance; opaque shadows leave the fog its own light
+    // transmittance volumes, which the density edit must recompute.
+    checkEditsEqualRenderSet("moment", "");
+    checkEditsEqualRenderSet("opaque", "--set render.shadows.type=opaque");
+}
+
+TEST(ViewScriptTest, DebugViewsEqualTheDumpOfTheSameFrame) {
+    const fs::path d = folder("view-script-debug");
+    const fs::path scene = writeFile(d / "scene.json", kScene);
+    const std::vector<std::pair<std::string, std::string>> views = {
+        {"depth", "depth.exr"},
+        {"hdr", "hdr.exr"},
+        {"fog.radiance", "fog.radiance.exr"},
+        {"shadow.depth", "shadow.depth.layer0.exr"},
+        {"shadow.moments", "shadow.moments.layer0.exr"}};
+    nlohmann::json script = nlohmann::json::array();
+    for (const auto& [resource, file] : views) {
+        script.push_back({{"view", resource}, {"layer", 0}});
+        script.push_back({{"screenshot", (d / ("viewed-" + file)).string()}});
+        script.push_back({{"screenshot", (d / ("viewed-" + resource + ".png")).string()}});
+    }
+    writeFile(d / "script.json", script.dump());
+    CommandResult r = view(scene, d / "script.json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(d / "frame.exr") +
+                   " --set render.oit.pool_overflow=drop --dump " + q(d / "dump"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    for (const auto& [resource, file] : views) {
+        SCOPED_TRACE(resource);
+        const ImageF a = exr(d / ("viewed-" + file)), b = exr(d / "dump" / file);
+        ASSERT_EQ(a.channels, b.channels);
+        expectSame(d / ("viewed-" + file), d / "dump" / file, a.channels);
+        // The shown image is not flat: the resource's range spreads over black..white.
+        const ImageF png = io::readImage(d / ("viewed-" + resource + ".png"));
+        float lo = 1.0f, hi = 0.0f;
+        for (float v : png.pixels)
+            lo = std::min(lo, v), hi = std::max(hi, v);
+        EXPECT_GT(hi - lo, 0.5f) << resource << " shows a flat image";
+    }
+}
+
+TEST(ViewScriptTest, ErrorsLeaveTheViewerRunningWithTheLastGoodFrame) {
+    const fs::path d = folder("view-script-errors");
+    const fs::path scene = writeFile(d / "scene.json", kScene);
+    const fs::path bad = writeFile(d / "bad.json", R"({"render": {"width": "wide"}})");
+    const nlohmann::json script = {
+        {{"screenshot", (d / "before.png").string()}},
+        {{"open", (d / "missing.json").string()}},
+        {{"open", bad.string()}},
+        {{"set", "render.oit.initial_nodes_per_pixel=-3"}},
+        {{"oit", "moment-p4-16"}}, // needs fragment shader interlock: not on llvmpipe
+        // A failing frame: the reference pool capped far below the frame's fragments.
+        {{"set", "render.oit.pool_overflow=error"}},
+        {{"set", "render.oit.max_pool_mib=0.001"}},
+        {{"screenshot", (d / "after.png").string()}},
+        {{"status", (d / "status.json").string()}},
+        // The capped pool in the viewer's mode: fragments dropped and counted, no error.
+        {{"set", "render.oit.pool_overflow=drop"}},
+        {{"status", (d / "dropped.json").string()}}};
+    writeFile(d / "script.json", script.dump());
+    const CommandResult r = view(scene, d / "script.json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const nlohmann::json st = readJson(d / "status.json");
+    const std::string errors = st["errors"].dump();
+    EXPECT_NE(errors.find("missing.json"), std::string::npos) << errors;
+    EXPECT_NE(errors.find("bad.json"), std::string::npos) << errors;
+    EXPECT_NE(errors.find("/render/width"), std::string::npos) << errors;
+    EXPECT_NE(errors.find("initial_nodes_per_pixel"), std::string::npos) << errors;
+    EXPECT_NE(errors.find("moment-p4-16"), std::string::npos) << errors;
+    EXPECT_NE(errors.find("capped"), std::string::npos) << errors;
+    EXPECT_TRUE(st["frame_failed"].get<bool>());
+    EXPECT_EQ(st["oit"], "reference"); // what renders, not the unavailable choice
+    EXPECT_EQ(st["scene"], scene.string());
+    expectSame(d / "before.png", d / "after.png"); // the last good frame stays
+    const nlohmann::json dropped = readJson(d / "dropped.json");
+    EXPECT_FALSE(dropped["frame_failed"].get<bool>());
+    EXPECT_GT(dropped["oit_stats"]["pool_dropped_fragments"].get<long long>(), 0) << dropped;
+}
+
+TEST(ViewScriptTest, CopiedRenderCommandReproducesTheScreenshot) {
+    const fs::path d = folder("view-script-command");
+    const fs::path scene = writeFile(d / "scene.json", kScene);
+    const nlohmann::json script = {{{"camera", "side"}},
+                                   {{"orbit", {0.37, 0.21}}, {"zoom", 0.83}},
+                                   {{"pan", {0.05, -0.03}}},
+                                   {{"oit", "phenomenological"}},
+                                   {{"set", "render.oit.k1=0.5"}},
+                                   {{"set", "volumes.1.density_scale=0.12"}},
+                                   {{"set", "render.fog_resolution=2"}},
+                                   {{"screenshot", (d / "viewed.png").string()}},
+                                   {{"copy_command", (d / "command.json").string()},
+                                    {"output", (d / "rendered.png").string()}},
+                                   {{"save_scene", (d / "saved.json").string()}}};
+    writeFile(d / "script.json", script.dump());
+    CommandResult r = view(scene, d / "script.json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const nlohmann::json cmd = readJson(d / "command.json");
+    // The line as a user pastes it into a shell.
+    const std::string line = cmd["line"].get<std::string>();
+    ASSERT_EQ(line.rfind("veil render ", 0), 0u) << line;
+    r = runCommand(veilExe() + line.substr(4));
+    ASSERT_EQ(r.exitCode, 0) << line << "\n" << r.output;
+    expectSame(d / "viewed.png", d / "rendered.png");
+    // The saved scene renders the same view with its camera.
+    r = runCommand(veilExe() + " render " + q(d / "saved.json") + " -o " + q(d / "saved.png") +
+                   " --camera side --width 96 --height 64");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    expectSame(d / "viewed.png", d / "saved.png");
+}
+
+TEST(ViewScriptTest, BadScriptIsOneClearError) {
+    const fs::path d = folder("view-script-bad");
+    const fs::path scene = writeFile(d / "scene.json", kScene);
+    writeFile(d / "script.json", R"([{"set": "render.exposure=2"}, {"zoom_in": 3}])");
+    const CommandResult r = view(scene, d / "script.json");
+    EXPECT_NE(r.exitCode, 0);
+    EXPECT_NE(r.output.find("script.json: action 1: unknown action 'zoom_in'"), std::string::npos)
+        << r.output;
+}
+
+} // namespace veil::test
