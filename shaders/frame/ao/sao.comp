@@ -27,10 +27,16 @@ uniform int aoLevels;      // pyramid levels (1 = no pyramid)
 
 const float kTwoPi = 6.28318530717958647692;
 
+// The sample's camera-space point: z from pyramid level `level` at q's texel, placed at the
+// pixel that texel's z came from (the rotated-grid choice of csz_downsample.comp followed back
+// to level 0), so that a far sample lies on the surface, not off it by the depth slope across
+// its 2^m block (SAO reconstructs at q itself; on a grazing floor that reads as occlusion).
 vec3 aoPositionAt(ivec2 q, int level) {
-    ivec2 size = textureSize(cszPyramid, level);
-    float z = texelFetch(cszPyramid, clamp(q >> level, ivec2(0), size - 1), 0 + level).r;
-    return aoViewPosition(vec2(q) + 0.5, z);
+    ivec2 t = clamp(q >> level, ivec2(0), textureSize(cszPyramid, level) - 1);
+    float z = texelFetch(cszPyramid, t, level).r;
+    for (int k = level; k > 0; --k)
+        t = min(t * 2 + ivec2((t.y & 1) ^ 1, (t.x & 1) ^ 1), textureSize(cszPyramid, k - 1) - 1);
+    return aoViewPosition(vec2(t) + 0.5, z);
 }
 
 void main() {
