@@ -23,9 +23,9 @@
 // What differs from SAO: the per-pixel spiral rotation comes from an integer hash (the CPU
 // reference reproduces it exactly); a sample read from pyramid level m is placed at the pixel
 // its z came from (SAO places it at the sample's own pixel, off the surface by the depth slope
-// across the 2^m block: false occlusion on grazing floors); the normal comes from the z pyramid's neighbours (the
-// closer of the two on each axis) instead of derivatives in a G-buffer pass; z is stored as
-// 32-bit float, not packed with AO for the blur.
+// across the 2^m block: false occlusion on grazing floors); the normal comes from the z pyramid's
+// neighbours (the closer of the two on each axis) instead of derivatives in a G-buffer pass; z is
+// stored as 32-bit float, not packed with AO for the blur.
 //
 // With AO on, the frame draws the opaque objects twice: a depth pre-pass (`depth`), the AO
 // passes (`ao`, `ao.blur`) over it, then the shaded opaque pass testing GL_LEQUAL.
