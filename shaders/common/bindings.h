@@ -20,6 +20,8 @@
 #define VEIL_SSBO_SHADOW_COUNTER 6
 #define VEIL_TEX_HDR 1
 #define VEIL_TEX_DEPTH 2
+#define VEIL_TEX_AO 3 // the frame's ambient visibility (src/frame/ambient_occlusion.h), when on
+#define VEIL_TEX_AO_INPUT 14 // the AO passes' own inputs (camera-space z pyramid, raw AO)
 #define VEIL_TEX_OIT0 4
 
 // OIT `phenomenological` (000 Table 2 targets and the resolve's inputs).

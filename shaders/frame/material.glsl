@@ -10,6 +10,10 @@ uniform vec3 transmission;   // T, 000 Eq. 2
 uniform float collimation;   // c, 000 section 4.1
 uniform float ior;           // eta of the medium behind the surface, 000 Eq. 8
 uniform bool billboard;
+// 001 section 6: coverage from a binary mask whose filtered edge is coverageEdge wide (UV
+// units; scene::Material::coverageEdge); binaryCoverage = baseMIPisBinary (no transmission).
+uniform float coverageEdge;
+uniform bool binaryCoverage;
 // KHR_materials_volume (scene::Material): attenuationColor^(distance / attenuationDistance) is
 // the transmittance of the medium behind the surface; attenuationDistance 0 = no absorption.
 uniform vec3 attenuationColor;
@@ -39,6 +43,9 @@ float surfaceCoverage() {
     if (billboard) {
         float r2 = dot(vUv, vUv);
         alpha = r2 > 1.0 ? 0.0 : alpha * exp(-4.0 * r2);
+    } else if (coverageEdge > 0.0) {
+        vec2 d = min(vUv, 1.0 - vUv);
+        alpha *= clamp(min(d.x, d.y) / coverageEdge, 0.0, 1.0);
     }
     return alpha;
 }

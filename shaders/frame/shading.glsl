@@ -3,6 +3,11 @@
 #include "../common/lights.glsl"
 #include "veil:light_visibility"
 
+// The ambient term alone (constant irradiance times the diffuse albedo).
+vec3 ambientReflection(SurfaceMaterial m, float diffuseWeight) {
+    return lighting.ambient.rgb * m.baseColor * (1.0 - m.metalness) * diffuseWeight;
+}
+
 // Reflected radiance toward V: all lights times their visibility, plus the ambient term.
 vec3 shadeSurface(SurfaceMaterial m, vec3 P, vec3 N, vec3 V, float diffuseWeight) {
     vec3 result = m.emission + lighting.ambient.rgb * m.baseColor * (1.0 - m.metalness) *
@@ -15,4 +20,10 @@ vec3 shadeSurface(SurfaceMaterial m, vec3 P, vec3 N, vec3 V, float diffuseWeight
         result += e * evaluateBrdfCos(m, N, V, L, diffuseWeight);
     }
     return result;
+}
+
+// shadeSurface with the ambient term times the ambient visibility ao (the frame's AO buffer).
+vec3 shadeSurfaceOccluded(SurfaceMaterial m, vec3 P, vec3 N, vec3 V, float diffuseWeight,
+                          float ao) {
+    return shadeSurface(m, P, N, V, diffuseWeight) - (1.0 - ao) * ambientReflection(m, diffuseWeight);
 }

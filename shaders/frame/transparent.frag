@@ -12,6 +12,8 @@ void main() {
     SurfaceMaterial m = currentMaterial();
     float alpha = surfaceCoverage(); // m.alpha with the particles' soft round falloff
     if (alpha <= 0.0) discard;
+    // A binary-coverage material's alpha = 1 interior was drawn opaque (001 section 6).
+    if (binaryCoverage && alpha >= 1.0) discard;
     // Light that is transmitted is not diffusely reflected.
     float diffuseWeight = 1.0 - maxComponent(m.transmission);
     vec3 reflected = shadeSurface(m, vWorldPos, N, V, diffuseWeight);
@@ -27,5 +29,7 @@ void main() {
     f.roughness = roughness;
     f.attenuationColor = attenuationColor;
     f.attenuationDistance = attenuationDistance;
+    f.ambient = ambientReflection(m, diffuseWeight) * alpha;
+    f.binaryCoverage = binaryCoverage;
     oitEmit(f);
 }

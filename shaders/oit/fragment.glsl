@@ -23,6 +23,10 @@ struct OitFragment {
     float roughness;             // material roughness (003 thickness x roughness blur)
     vec3 attenuationColor;       // KHR_materials_volume behind the surface
     float attenuationDistance;   // 0 = no absorption
+    // 001 section 6 (inferred AO): the ambient part of radiance (premultiplied by alpha, as
+    // radiance), and whether the material's base coverage is binary (baseMIPisBinary).
+    vec3 ambient;
+    bool binaryCoverage;
 };
 
 // Targets and writes of an emit include, one source for two callers (issue 14):
@@ -66,6 +70,8 @@ OitFragment oitFragment(vec3 radiance, float alpha, vec3 transmission, float vie
     f.viewPos = vec3(0.0);
     f.viewNormal = vec3(0.0, 0.0, 1.0);
     f.roughness = 0.0;
+    f.ambient = vec3(0.0);
+    f.binaryCoverage = false;
     f.attenuationColor = vec3(1.0);
     f.attenuationDistance = 0.0;
     return f;

@@ -87,8 +87,15 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
     // Receivers (opaque and transparent surfaces, the fog) see lights through the shadow
     // technique's visibility include.
     const gpu::IncludeAliases visibility{{"veil:light_visibility", shadows_->visibilityInclude()}};
-    opaqueProgram_ = programs_.add(
-        ProgramDesc::graphics("frame/mesh.vert", "frame/opaque.frag", {}, visibility));
+    aoProperties_ = AmbientOcclusion::schema().resolve(scene.render.aoProperties,
+                                                       scene.render.aoWhere, "the AO pass");
+    if (aoProperties_.getBool("enabled"))
+        ao_ = std::make_unique<AmbientOcclusion>(programs_, aoProperties_);
+    // With AO the opaque shading reads the AO buffer (define VEIL_AO); without, the program is
+    // the one it always was.
+    opaqueProgram_ = programs_.add(ProgramDesc::graphics(
+        "frame/mesh.vert", "frame/opaque.frag",
+        ao_ ? std::vector<std::string>{"VEIL_AO 1"} : std::vector<std::string>{}, visibility));
     tonemapProgram_ = programs_.add(ProgramDesc::compute("frame/tonemap.comp"));
 
     checkFogWork(scene, context_, width_, height_);
@@ -248,6 +255,10 @@ void Renderer::createTargets() {
         .drawBuffers({GL_COLOR_ATTACHMENT0});
     opaqueFbo_.checkComplete("opaque");
     targets_ = {width_, height_, &hdr_, &depth_, scene_.render.seed, &state_};
+    if (ao_) {
+        ao_->resize(width_, height_);
+        targets_.ambientOcclusion = &ao_->visibility();
+    }
     oit_->resize(targets_);
 }
 
@@ -302,7 +313,9 @@ void Renderer::drawObjects(const gpu::Program& program, Subset subset) const {
     for (const auto& object : scene_.objects) {
         const scene::Material& m = scene_.materials.at(object.material);
         const bool transparent = m.isTransparent();
-        if (subset == Subset::Opaque && transparent) continue;
+        // A binary-coverage material's alpha = 1 interior is opaque (001 section 6).
+        const bool binary = m.baseCoverageIsBinary();
+        if (subset == Subset::Opaque && transparent && !binary) continue;
         if (subset == Subset::Transparent && !transparent) continue;
         if (subset == Subset::OpaqueCasters && (transparent || !object.castShadows)) continue;
         if (subset == Subset::TransparentCasters && (!transparent || !object.castShadows)) continue;
@@ -315,6 +328,8 @@ void Renderer::drawObjects(const gpu::Program& program, Subset subset) const {
             .set("metalness", m.metalness)
             .set("emission", m.emission)
             .set("coverage", m.alpha)
+            .set("coverageEdge", m.coverageEdge)
+            .set("binaryCoverage", binary ? 1 : 0)
             .set("transmission", m.transmission)
             .set("collimation", m.collimation)
             .set("ior", m.ior)
@@ -375,24 +390,53 @@ void Renderer::buildPasses() {
         if (shadowSet_.viewCount > 0) shadows_->bindForReceivers();
     };
 
-    passes_.add({"opaque", shadowResources, {"depth", "hdr"}, [this, bindShadows] {
+    std::vector<std::string> opaqueReads = shadowResources;
+    if (ao_) {
+        // The opaque depth first (the same program with its colour masked and its shading
+        // skipped: the same vertex transform, so the shaded pass's GL_LEQUAL test passes
+        // exactly where the pre-pass wrote), then the AO of that depth.
+        passes_.add({"depth", {}, {"depth"}, [this] {
+                         opaqueFbo_.bind();
+                         gpu::PipelineState state;
+                         state.view(width_, height_).depth(GL_LESS, true);
+                         state.colorMask[0] = glm::bvec4(false);
+                         state_.apply(state);
+                         const float one = 1.0f;
+                         glClearNamedFramebufferfv(opaqueFbo_.id(), GL_DEPTH, 0, &one);
+                         const gpu::Program& program = programs_.get(opaqueProgram_);
+                         program.set("useOverride", 0).set("depthPrepass", 1);
+                         drawObjects(program, Subset::Opaque);
+                         glBindFramebuffer(GL_FRAMEBUFFER, 0);
+                     }});
+        passes_.add({"ao", {"depth"}, {"ao.depth", "ao.raw"}, [this] { ao_->estimate(depth_); }});
+        passes_.add(
+            {"ao.blur", {"ao.depth", "ao.raw"}, {"ao.visibility"}, [this] { ao_->blur(); }});
+        opaqueReads.push_back("ao.visibility");
+    }
+
+    passes_.add({"opaque", opaqueReads, {"depth", "hdr"}, [this, bindShadows] {
                      bindShadows();
                      opaqueFbo_.bind();
                      gpu::PipelineState state;
-                     state.view(width_, height_).depth(GL_LESS, true);
+                     state.view(width_, height_).depth(ao_ ? GL_LEQUAL : GL_LESS, true);
                      state_.apply(state); // before the clears: they obey the colour/depth masks
                      const glm::vec4 bg(scene_.render.background, 1.0f);
                      const float one = 1.0f;
                      glClearNamedFramebufferfv(opaqueFbo_.id(), GL_COLOR, 0, &bg.x);
-                     glClearNamedFramebufferfv(opaqueFbo_.id(), GL_DEPTH, 0, &one);
+                     if (!ao_) glClearNamedFramebufferfv(opaqueFbo_.id(), GL_DEPTH, 0, &one);
                      const gpu::Program& program = programs_.get(opaqueProgram_);
                      program.set("useOverride", 0);
+                     if (ao_) {
+                         program.set("depthPrepass", 0);
+                         ao_->visibility().bind(VEIL_TEX_AO);
+                     }
                      if (shadowSet_.viewCount > 0) shadows_->prepareReceiver(program, shadowFrame_);
                      drawObjects(program, Subset::Opaque);
                      glBindFramebuffer(GL_FRAMEBUFFER, 0);
                  }});
 
     std::vector<std::string> transparentReads = plus({"depth"}, shadowResources);
+    if (ao_) transparentReads.push_back("ao.visibility"); // inferred AO (001 Listing 2)
     if (fog_) {
         passes_.add({"fog",
                      plus({"depth"}, shadowResources),
@@ -466,6 +510,7 @@ const gpu::Texture* Renderer::resourceTexture(const std::string& name) const {
     if (name == "hdr") return &hdr_;
     if (name == "ldr") return &ldr_;
     if (name.rfind("shadow.", 0) == 0) return shadows_->resourceTexture(name);
+    if (ao_ && name.rfind("ao.", 0) == 0) return ao_->resourceTexture(name);
     if (fog_ && name == "fog.radiance") return &fog_->radianceTexture();
     if (fog_ && name == "fog.light_transmittance") return fog_->lightTransmittanceTexture(0);
     return nullptr;
@@ -481,6 +526,7 @@ std::size_t Renderer::gpuBytes() const {
     if (shadowSet_.viewCount > 0) bytes += shadows_->gpuBytes();
     bytes += static_cast<std::size_t>(width_) * height_ * oit_->bytesPerPixel();
     if (fog_) bytes += fog_->gpuBytes();
+    if (ao_) bytes += ao_->gpuBytes();
     return bytes;
 }
 

@@ -2,13 +2,16 @@
 // resources each reads and writes and per-pass GPU times (DESIGN.md "One frame"):
 //   shadow[.*]  the shadow technique's passes (src/shadows): maps of every view of every
 //               shadow-casting light (only when a light casts shadows)
-//   opaque      forward shading into the HDR target with depth
+//   depth       with AO on: the opaque objects' depth alone (pre-pass)
+//   ao, ao.blur with AO on: ambient obscurance of that depth (frame/ambient_occlusion.h)
+//   opaque      forward shading into the HDR target with depth (ambient term times AO)
 //   fog         density volumes ray-marched per pixel (compute; only with volumes)
 //   transparent transparent surfaces through the active OIT technique's oitEmit()
 //   resolve     the technique's composite over the opaque image
 //   tonemap     exposure + operator + sRGB into the LDR target (compute)
 #pragma once
 
+#include "frame/ambient_occlusion.h"
 #include "frame/gpu_mesh.h"
 #include "frame/pass_list.h"
 #include "gpu/context.h"
@@ -82,6 +85,9 @@ public:
     void invalidateFogLightVolumes() {
         if (fog_) fog_->invalidateLightVolumes();
     }
+    // The screen-space AO pass; null when render.ao.enabled is false.
+    const AmbientOcclusion* ambientOcclusion() const { return ao_.get(); }
+    const Properties& aoProperties() const { return aoProperties_; }
     // The frame's passes in order, with the resources each reads and writes.
     const PassList& passes() const { return passes_; }
     // The texture behind a frame resource (depth, hdr, ldr, shadow.* of the shadow technique:
@@ -128,6 +134,8 @@ private:
     std::vector<gpu::ProgramHandle> transparentPrograms_; // one per OIT geometry pass
     std::vector<gpu::ProgramHandle> fogEmitPrograms_;     // one per OIT geometry pass
     std::unique_ptr<volume::FogPass> fog_;
+    Properties aoProperties_;
+    std::unique_ptr<AmbientOcclusion> ao_;
     std::vector<GpuMesh> meshes_;
     std::unique_ptr<oit::Technique> oit_;
     std::unique_ptr<shadows::Technique> shadows_;

@@ -38,6 +38,9 @@ struct OitFrameTargets {
     // its draws (and before clears, which obey the colour and depth masks) and issues no raw
     // GL state calls of its own.
     gpu::StateTracker* state = nullptr;
+    // The frame's ambient visibility (R16F, one value per pixel, src/frame/ambient_occlusion.h)
+    // when render.ao is on, else null: techniques that infer AO at partial coverage read it.
+    const gpu::Texture* ambientOcclusion = nullptr;
 };
 
 // What every accumulation pass starts from: the full viewport, depth tested against the

@@ -23,9 +23,19 @@ struct Material {
     glm::vec3 attenuationColor{1.0f};
     float attenuationDistance = 0.0f; // 0 = infinite
     float thickness = 0.0f;
+    // Width, in UV units, of the filtered edge of a binary coverage mask (foliage cards): the
+    // coverage is alpha x clamp(d / coverageEdge, 0, 1), d the UV distance to the nearest
+    // border of [0,1]^2. Veil has no textures; this ramp stands for what MIP-mapping a binary
+    // mask gives at its edge (001 section 6). 0 = none.
+    float coverageEdge = 0.0f;
 
     // Drawn in the transparent pass (coverage below one or any transmission).
     bool isTransparent() const;
+    // 001 section 6 `baseMIPisBinary`: no transmission and binary coverage at the base level
+    // (alpha 1 with a filtered edge). Such a material is drawn twice: its alpha = 1 interior in
+    // the opaque pass (it writes depth, casts and receives AO) and its partial edge in the
+    // transparent pass, where the OIT technique may infer AO (001 Listing 2).
+    bool baseCoverageIsBinary() const;
 };
 
 } // namespace veil::scene

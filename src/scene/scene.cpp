@@ -30,7 +30,13 @@ glm::mat4 Camera::projection(float aspect) const {
 }
 
 bool Material::isTransparent() const {
-    return alpha < 1.0f || std::max({transmission.x, transmission.y, transmission.z}) > 0.0f;
+    return alpha < 1.0f || std::max({transmission.x, transmission.y, transmission.z}) > 0.0f ||
+           coverageEdge > 0.0f;
+}
+
+bool Material::baseCoverageIsBinary() const {
+    return coverageEdge > 0.0f && alpha == 1.0f &&
+           std::max({transmission.x, transmission.y, transmission.z}) == 0.0f;
 }
 
 const Camera& Scene::camera(const std::string& name) const {

@@ -98,6 +98,9 @@ struct RenderSettings {
     std::string shadows = "opaque";
     nlohmann::json shadowProperties;
     std::string shadowsWhere = "render.shadows";
+    // Screen-space ambient obscurance properties (src/frame/ao/ao_pass.h; null = defaults, off).
+    nlohmann::json aoProperties;
+    std::string aoWhere = "render.ao";
     // Fog marcher (src/volume): steps per ray through a volume's bounds, resolution divisor
     // (1 = full, 2 = half, 4 = quarter, joint-bilateral upsampled), jitter of the start.
     int fogSteps = 128;

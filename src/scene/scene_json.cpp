@@ -272,6 +272,13 @@ void parseRender(const Obj& o, RenderSettings& r) {
     r.camera = o.str("camera", r.camera);
     parseTechniqueChoice(o, "oit", r.oit, r.oitProperties, r.oitWhere);
     parseTechniqueChoice(o, "shadows", r.shadows, r.shadowProperties, r.shadowsWhere);
+    // Ambient obscurance (src/frame/ao): an object of properties, checked against the pass's
+    // declared schema when the frame is built.
+    if (const json* ao = o.get("ao")) {
+        if (!ao->is_object()) fail(o.ctx(), o.ptr("ao"), "expected an object of AO properties");
+        r.aoProperties = *ao;
+        r.aoWhere = fmt::format("{}: {}", o.ctx().source, o.ptr("ao"));
+    }
     // Legacy keys of the opaque shadow map, kept as aliases of the shadow technique's
     // properties (every technique has an opaque map: src/shadows/opaque/opaque.h).
     for (const auto& [legacy, key] :
@@ -392,7 +399,8 @@ Material parseMaterial(const Context& ctx, const json& j, const std::string& ptr
                        const std::string& name) {
     Obj o(ctx, j, ptr,
           {"base_color", "roughness", "metalness", "emission", "alpha", "transmission",
-           "collimation", "ior", "attenuation_color", "attenuation_distance", "thickness"});
+           "collimation", "ior", "attenuation_color", "attenuation_distance", "thickness",
+           "coverage_edge"});
     Material m;
     m.name = name;
     m.baseColor = o.color("base_color", m.baseColor);
@@ -406,6 +414,7 @@ Material parseMaterial(const Context& ctx, const json& j, const std::string& ptr
     m.attenuationColor = o.color("attenuation_color", m.attenuationColor);
     m.attenuationDistance = o.num("attenuation_distance", m.attenuationDistance, kNonNegative);
     m.thickness = o.num("thickness", m.thickness, kNonNegative);
+    m.coverageEdge = o.num("coverage_edge", m.coverageEdge, Range{0.0, 0.5});
     return m;
 }
 
@@ -644,6 +653,7 @@ Scene parseSceneDocument(const json& doc, const fs::path& baseDir, const std::st
                          "camera",
                          "oit",
                          "shadows",
+                         "ao",
                          "seed",
                          "ambient",
                          "background",

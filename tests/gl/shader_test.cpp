@@ -161,6 +161,8 @@ ProjectPrograms projectPrograms(const gpu::ContextInfo& info, gpu::ProgramManage
     }
     for (const auto& v : visibilities) {
         P.push_back(ProgramDesc::graphics("frame/mesh.vert", "frame/opaque.frag", {}, v));
+        P.push_back(
+            ProgramDesc::graphics("frame/mesh.vert", "frame/opaque.frag", {"VEIL_AO 1"}, v));
         P.push_back(ProgramDesc::compute("volume/fog_march.comp", {}, v));
         P.push_back(ProgramDesc::graphics("frame/mesh.vert", "frame/transparent.frag",
                                           {"OIT_PASS 0"},
@@ -168,6 +170,9 @@ ProjectPrograms projectPrograms(const gpu::ContextInfo& info, gpu::ProgramManage
     }
     const gpu::IncludeAliases visibility = visibilities.at(0); // `opaque`, registered first
     P.push_back(ProgramDesc::compute("frame/tonemap.comp"));
+    for (const char* ao : {"frame/ao/csz.comp", "frame/ao/csz_downsample.comp", "frame/ao/sao.comp",
+                           "frame/ao/blur.comp"})
+        P.push_back(ProgramDesc::compute(ao)); // the frame's AO pass (render.ao)
     P.push_back(ProgramDesc::compute("volume/light_transmittance.comp"));
 
     // OIT: one technique object per registered name (and the phenomenological options that

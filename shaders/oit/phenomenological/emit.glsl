@@ -185,6 +185,10 @@ vec4 phenBlendBetaD(vec4 dst, vec4 src) {
     return vec4(dst.rgb * (vec3(1.0) - src.rgb), dst.a + src.a);
 }
 
+#ifndef OIT_COMPUTE
+#include "inferred_ao.glsl" // fragments only (finite differences, gl_FragCoord)
+#endif
+
 void phenWrite(PhenOutput o) {
     OIT_WRITE(phenOutA, o.A, oitBlendAdd);
     OIT_WRITE(phenOutBetaD, o.betaD, phenBlendBetaD);
@@ -204,6 +208,10 @@ void oitEmit(OitFragment f) {
     }
 #ifndef OIT_COMPUTE
     vec3 radiance = f.radiance;
+    // 001 section 6: the ambient part of the reflected light times the inferred AO.
+    if (phenInferredAO && !f.particle)
+        radiance -= (1.0 - phenInferAmbientVisibility(f.alpha, f.binaryCoverage, f.viewDepth)) *
+                    f.ambient;
     float alpha = f.alpha;
     vec3 transmission = f.transmission;
     float viewDepth = f.viewDepth;

@@ -46,7 +46,8 @@ nlohmann::json toProperties(const PhenomenologicalParams& p) {
             {"particle_downsample", p.particleDownsample},
             {"volume_refraction", p.volumeRefraction},
             {"thickness_reference", p.thicknessReference},
-            {"volume_blur", p.volumeBlur}};
+            {"volume_blur", p.volumeBlur},
+            {"inferred_ao", p.inferredAO}};
 }
 
 PhenomenologicalParams phenomenologicalParams(const Properties& p) {
@@ -65,6 +66,7 @@ PhenomenologicalParams phenomenologicalParams(const Properties& p) {
     r.volumeRefraction = p.getBool("volume_refraction");
     r.thicknessReference = p.getFloat("thickness_reference");
     r.volumeBlur = p.getFloat("volume_blur");
+    r.inferredAO = p.getBool("inferred_ao");
     return r;
 }
 
@@ -207,6 +209,10 @@ public:
         glClearNamedFramebufferfv(fbo->id(), GL_COLOR, 2, zero);
         program.set("phenThicknessRef", params_.thicknessReference)
             .set("phenVolumeBlur", params_.volumeBlur);
+        // 001 section 6: inferred AO needs the frame's AO buffer (render.ao on).
+        const bool inferAO = params_.inferredAO && targets.ambientOcclusion && pass == 0;
+        program.set("phenInferredAO", inferAO ? 1 : 0);
+        if (inferAO) targets.ambientOcclusion->bind(VEIL_TEX_AO);
         prepareProgram(pass, program);
     }
 
@@ -374,7 +380,11 @@ static PropertySchema phenomenologicalSchema() {
         .real("thickness_reference", d.thicknessReference, 0.0, 1e6,
               "medium thickness a transmission t stands for (0 = t not rescaled)", "003 sec. 3")
         .real("volume_blur", d.volumeBlur, 0.0, 1e6, "k_r of the thickness x roughness blur",
-              "003 sec. 3");
+              "003 sec. 3")
+        .boolean("inferred_ao", d.inferredAO,
+                 "AO inferred at the partial-coverage edges of binary-coverage materials "
+                 "(with render.ao on)",
+                 "001 sec. 6, Listing 2");
     return s;
 }
 

@@ -37,6 +37,10 @@
 //   thicknessReference  [0]     medium thickness a surface's transmission t stands for; 0 =
 //                               t is not rescaled (only attenuation_distance absorbs).
 //   volumeBlur          [0.25]  k_r of the thickness x roughness diffusion term.
+//   inferredAO          [on]    001 section 6 / Listing 2: at the partial-coverage edge of a
+//                               binary-coverage material (scene::Material::baseCoverageIsBinary)
+//                               the ambient term is multiplied by AO inferred from the frame's
+//                               AO buffer (only when render.ao is enabled; inferred_ao.glsl).
 //
 // Framebuffer (000 Table 2 with changed formats):
 //   RT0 A          RGBA16F    as the paper.
@@ -49,9 +53,9 @@
 // 24 bytes per pixel of accumulation plus a depth copy (4) and a background copy (8).
 // volumeRefraction adds 8 RGBA32UI slice targets (128) and an RG32F thickness, count (8).
 //
-// Not implemented: caustic stochastic shadow maps (Eq. 10-12), inferred ambient
-// occlusion (001 section 6; the frame has no AO buffer). The fog's per-pixel contribution
-// comes from compute (PerPixelEmit::Compute in the full-resolution pass; emit.glsl's header).
+// Not implemented: caustic stochastic shadow maps (Eq. 10-12). The fog's per-pixel
+// contribution comes from compute (PerPixelEmit::Compute in the full-resolution pass;
+// emit.glsl's header).
 #pragma once
 
 #include "oit/technique.h"
@@ -73,6 +77,7 @@ struct PhenomenologicalParams {
     bool volumeRefraction = false;
     float thicknessReference = 0.0f;
     float volumeBlur = 0.25f;
+    bool inferredAO = true;
 
     // Throws veil::Error naming the bad parameter.
     void validate() const;
