@@ -55,6 +55,24 @@ public:
             .properties.resolve(values, where, fmt::format("{} '{}'", kind_, name));
     }
 
+protected:
+    // The technique `name` made from `values` (validated as in resolve()) by its factory
+    // `info.create(programs, properties)`, after `info.isAvailable(context)` (null = always);
+    // the technique keeps its effective properties (`properties_`: Technique classes befriend
+    // NamedRegistry). Throws veil::Error naming the technique and `context.renderer`.
+    template <class Context, class Programs>
+    auto createTechnique(const std::string& name, const Context& context, Programs& programs,
+                         const nlohmann::json& values, const std::string& where) const {
+        const Info& info = get(name, where.empty() ? where : where + "/type");
+        Properties properties = resolve(name, values, where);
+        VEIL_CHECK(!info.isAvailable || info.isAvailable(context),
+                   "{} '{}' is not available on this GL driver ({})", kind_, name,
+                   context.renderer);
+        auto technique = info.create(programs, properties);
+        technique->properties_ = std::move(properties);
+        return technique;
+    }
+
 private:
     std::string kind_;
     std::vector<Info> items_;

@@ -37,14 +37,7 @@ std::unique_ptr<Technique> Registry::create(const std::string& name,
                                             gpu::ProgramManager& programs,
                                             const nlohmann::json& values,
                                             const std::string& where) const {
-    const TechniqueInfo& info = get(name, where.empty() ? where : where + "/type");
-    Properties properties = resolve(name, values, where);
-    VEIL_CHECK(!info.isAvailable || info.isAvailable(context),
-               "OIT technique '{}' is not available on this GL driver ({})", name,
-               context.renderer);
-    std::unique_ptr<Technique> technique = info.create(programs, properties);
-    technique->properties_ = std::move(properties);
-    return technique;
+    return createTechnique(name, context, programs, values, where);
 }
 
 } // namespace veil::oit

@@ -111,7 +111,8 @@ public:
     const Properties& properties() const { return properties_; }
 
 private:
-    friend class Registry;
+    template <class>
+    friend class veil::NamedRegistry;
     Properties properties_;
 };
 
