@@ -39,6 +39,18 @@ void usage() {
               "                  [--relight]      recompute the fog's light volumes every frame");
 }
 
+// Prints the result and writes it to `jsonPath` (atomically) when given; the exit status.
+int printResult(const nlohmann::json& out, const std::string& jsonPath) {
+    const std::string text = out.dump(2);
+    if (!jsonPath.empty())
+        veil::writeFileAtomically(jsonPath, [&](const std::filesystem::path& tmp) {
+            std::ofstream f(tmp);
+            f << text << "\n";
+        });
+    std::cout << text << "\n";
+    return 0;
+}
+
 double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
     const std::size_t n = v.size();
@@ -130,14 +142,7 @@ int viewerBench(const std::string& scenePath, const std::vector<std::string>& ov
         editMs("render.oit={\"type\":\"wboit\"}", "render.oit={\"type\":\"" + oit + "\"}");
     edits["note"] = "wall clock of ViewSession::set() + glFinish (scene re-parse included)";
     out["edits"] = edits;
-    const std::string text = out.dump(2);
-    if (!jsonPath.empty())
-        veil::writeFileAtomically(jsonPath, [&](const std::filesystem::path& tmp) {
-            std::ofstream f(tmp);
-            f << text << "\n";
-        });
-    std::cout << text << "\n";
-    return 0;
+    return printResult(out, jsonPath);
 }
 
 } // namespace
@@ -292,14 +297,7 @@ int main(int argc, char** argv) try {
                            {"max", worst},
                            {"non_finite", nonFinite}};
     }
-    const std::string text = out.dump(2);
-    if (!jsonPath.empty())
-        veil::writeFileAtomically(jsonPath, [&](const std::filesystem::path& tmp) {
-            std::ofstream f(tmp);
-            f << text << "\n";
-        });
-    std::cout << text << "\n";
-    return 0;
+    return printResult(out, jsonPath);
 } catch (const std::exception& e) {
     std::fprintf(stderr, "veil-bench: error: %s\n", e.what());
     return 1;
