@@ -10,6 +10,7 @@
 #include <csignal>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <sstream>
 #include <vector>
@@ -140,14 +141,54 @@ private:
         in_.seekg(std::streamoff(n), std::ios::cur);
     }
     void skipString(const std::string& what) { skip(u32(what), what); }
+    std::string readString(const std::string& what) {
+        const std::uint32_t n = u32(what);
+        need(n, what);
+        std::string s(n, '\0');
+        in_.read(s.data(), std::streamsize(n));
+        return s;
+    }
+    // The value size OpenVDB reads for a metadata type whatever byte count the file gives: the
+    // fixed-size TypedMetadata types openvdb::initialize() registers (TypedMetadata::readValue
+    // reads sizeof(T)); 0 for the others (string, __delayedload, unregistered types), which read
+    // the count.
+    static std::uint32_t fixedValueSize(const std::string& type) {
+        using namespace openvdb;
+        static const std::map<std::string, std::uint32_t> sizes = [] {
+            std::map<std::string, std::uint32_t> m;
+            auto add = [&m]<typename M>(M) { m[M::staticTypeName()] = M().size(); };
+            add(BoolMetadata()), add(Int32Metadata()), add(Int64Metadata());
+            add(FloatMetadata()), add(DoubleMetadata());
+            add(Vec2IMetadata()), add(Vec2SMetadata()), add(Vec2DMetadata());
+            add(Vec3IMetadata()), add(Vec3SMetadata()), add(Vec3DMetadata());
+            add(Vec4IMetadata()), add(Vec4SMetadata()), add(Vec4DMetadata());
+            add(Mat4SMetadata()), add(Mat4DMetadata());
+            return m;
+        }();
+        const auto it = sizes.find(type);
+        return it == sizes.end() ? 0 : it->second;
+    }
+    // A metadata entry's value is a byte count and the bytes, but OpenVDB reads a value of a
+    // fixed-size type (vec3i, mat4d, ...) as sizeof(T) bytes whatever the count says.
+    // A fuzz finding (tests/fuzz/regressions/volume/metadata-type-vec3i-to-vec4i.vdb) changed one
+    // type name from vec3i to vec4i: OpenVDB read 4 bytes too many, the next name's length came
+    // from the letters "_bbo" (1.9 GB) and 8 GB of strings were allocated and filled (5-20 s,
+    // mostly system time). So the count must be the size OpenVDB will read.
     void metadata(const std::string& what) {
         const std::uint32_t count = u32(what);
         need(std::uint64_t(count) * 12, fmt::format("{} ({} entries)", what, count));
         for (std::uint32_t i = 0; i < count; ++i) {
             const std::string entry = fmt::format("{}, entry {} of {}", what, i + 1, count);
-            skipString(entry + ", its name");
-            skipString(entry + ", its type name");
-            skipString(entry + ", its value");
+            const std::string name = readString(entry + ", its name");
+            const std::string type = readString(entry + ", its type name");
+            const std::uint32_t bytes = u32(entry + ", its value");
+            if (const std::uint32_t fixed = fixedValueSize(type)) {
+                VEIL_CHECK(bytes == fixed,
+                           "cannot read OpenVDB file '{}' (corrupt?): {} ('{}') is a {} value, "
+                           "which is {} bytes, but the file gives {} bytes",
+                           file_, entry, boundedText(name, 60), type, fixed, bytes);
+            }
+            skip(bytes, entry + ", its value");
         }
     }
 

@@ -190,6 +190,43 @@ TEST(VolumeTest, GridEndingAwayFromItsDescriptorIsRefusedAtOnce) {
     EXPECT_LT(s, 1.0);
 }
 
+// OpenVDB reads a metadata value of a registered fixed-size type as sizeof(T) bytes, whatever
+// byte count the file gives: sphere.vdb with `file_bbox_max`'s type changed from vec3i to vec4i
+// (a fuzz finding, tests/fuzz/regressions/volume/metadata-type-vec3i-to-vec4i.vdb) made it read
+// past the entry and allocate 8 GB of strings from misread lengths (20 s). Such a file is refused
+// at once, naming the entry; an unregistered type of any size is still read (as OpenVDB does).
+TEST(VolumeTest, MetadataValueSizeUnlikeItsTypeIsRefusedAtOnce) {
+    const std::string sphere = readBytes(sourceDir() / "tests/fuzz/corpus/volume/sphere.vdb");
+    ASSERT_EQ(sphere.substr(248, 5), "vec3i"); // file_bbox_max's type name
+    std::string c = sphere;
+    c[251] = '4';
+    const fs::path bad = dir() / "bbox-max-vec4i.vdb";
+    std::ofstream(bad, std::ios::binary) << c;
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::string msg = errorOf([&] { volume::listGrids(bad); });
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_NE(msg.find("bbox-max-vec4i.vdb"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("entry 2 of 11 ('file_bbox_max') is a vec4i value, which is 16 bytes, "
+                       "but the file gives 12 bytes"),
+              std::string::npos)
+        << msg;
+    EXPECT_LT(s, 1.0);
+
+    c = sphere;
+    c[252] = 'q'; // "vec3q": no such type, so OpenVDB keeps its 12 bytes as unknown metadata
+    const fs::path unknown = dir() / "bbox-max-unknown-type.vdb";
+    std::ofstream(unknown, std::ios::binary) << c;
+    std::string err;
+    openvdb::FloatGrid::Ptr g;
+    err = errorOf([&] { g = volume::loadDensityGrid(unknown, "density"); });
+    ASSERT_EQ(err, "");
+    ASSERT_TRUE(g);
+    EXPECT_EQ(
+        g->activeVoxelCount(),
+        volume::loadDensityGrid(sourceDir() / "tests/fuzz/corpus/volume/sphere.vdb", "density")
+            ->activeVoxelCount());
+}
+
 // This process decodes only the grids the trial-read child re-encoded, never the file's bytes:
 // a blosc block that overflowed the heap silently let the child "succeed" and then overflowed
 // this process's heap on the second read (tests/fuzz/regressions/volume/blosc-heap-overflow.vdb).
