@@ -71,6 +71,17 @@
 #define VEIL_SSBO_SHADOW_VOLUME_RECEIVERS 14
 #define VEIL_SSBO_SHADOW_VOLUME_OCCLUDERS 15
 #define VEIL_SSBO_SHADOW_VOLUME_BOUNDS 16
+// ... and the volumes' geometry: every opaque object's vertices in world space, their source
+// (mesh position, object), the objects' model matrices, the casters' adjacency (world vertex
+// indices) and triangle ranges, the indirect commands with the surviving casters' work list,
+// and the volumes' triangles (silhouette.comp -> volume.vert).
+#define VEIL_SSBO_SHADOW_VOLUME_WORLD 17
+#define VEIL_SSBO_SHADOW_VOLUME_SOURCE 18
+#define VEIL_SSBO_SHADOW_VOLUME_MODELS 19
+#define VEIL_SSBO_SHADOW_VOLUME_ADJACENCY 20
+#define VEIL_SSBO_SHADOW_VOLUME_RANGES 21
+#define VEIL_SSBO_SHADOW_VOLUME_DRAW 22
+#define VEIL_SSBO_SHADOW_VOLUME_TRIANGLES 23
 
 // Voxelization (src/voxelize, shaders/voxelize): slice-map words, per-column local-slicing
 // ranges (near, far pairs), triangle soup, per-axis maps of three-axis voxelization.

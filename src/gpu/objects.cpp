@@ -112,7 +112,16 @@ VertexArray& VertexArray::indexBuffer(const Buffer& buffer) {
 }
 
 Query::Query(GLenum target) : GlObject(NoCreate), target_(target) {
-    glCreateQueries(target, 1, &id_);
+    // Mesa (llvmpipe 24) refuses ARB_pipeline_statistics_query targets in glCreateQueries
+    // (GL_INVALID_ENUM) although it lists the extension; a generated name becomes a query of
+    // its target at its first glBeginQuery, which is all these are used for.
+    const bool statistics = (target >= GL_VERTICES_SUBMITTED_ARB && // 0x82EE ... 0x82F7
+                             target <= GL_CLIPPING_OUTPUT_PRIMITIVES_ARB) ||
+                            target == GL_GEOMETRY_SHADER_INVOCATIONS;
+    if (statistics)
+        glGenQueries(1, &id_);
+    else
+        glCreateQueries(target, 1, &id_);
 }
 
 bool Query::resultAvailable() const {

@@ -1,17 +1,11 @@
 #version 450 core
-// Shadow volumes (src/shadows/volume): object -> world positions for volume.geom, with the
-// vertex index, so that the geometry stage can order every triangle's vertices the same way
-// wherever it is read (its own invocation or a neighbour's adjacency).
-#include "../../common/bindings.h"
+// Shadow volumes (src/shadows/volume): the depth pre-pass (world vertices, transform.comp) and
+// the volumes' triangles (silhouette.comp) through one expression with an invariant
+// gl_Position. A front cap is a copy of its face's world vec4 (w = 1), so the pre-pass and the
+// cap give the same depth bits; extruded points have w = 0 (to infinity) or 1.
+#include "../../common/camera.glsl"
 
-layout(location = VEIL_ATTR_POSITION) in vec3 inPosition;
-uniform mat4 model;
+layout(location = VEIL_ATTR_POSITION) in vec4 inPoint;
+invariant gl_Position;
 
-out vec3 gWorld;
-flat out int gIndex;
-
-void main() {
-    gWorld = (model * vec4(inPosition, 1.0)).xyz;
-    gIndex = gl_VertexID;
-    gl_Position = vec4(gWorld, 1.0);
-}
+void main() { gl_Position = camera.viewProjection * inPoint; }

@@ -4,7 +4,7 @@
 #include "base/log.h"
 #include "shadows/common/depth_maps.h"
 #include "shadows/opaque/opaque.h"
-#include "shadows/volume/adjacency.h"
+#include "shadows/volume/geometry.h"
 
 #include <fmt/format.h>
 #include <glm/gtc/matrix_inverse.hpp>
@@ -15,14 +15,10 @@ namespace veil::shadows {
 
 namespace {
 
-// One scene mesh as the volumes need it: welded positions and the adjacency index buffer.
-struct VolumeMesh {
-    gpu::Buffer positions{gpu::NoCreate}, indices{gpu::NoCreate};
-    gpu::VertexArray vao{gpu::NoCreate};
-    GLsizei indexCount = 0;
-    bool closed = false;
-    glm::vec3 lo{0.0f}, hi{0.0f};
-};
+// The draw buffer's header (draw.glsl): the indirect draw and dispatch, then counters, then
+// the work list (uvec2 per surviving caster).
+constexpr std::size_t kDrawHeader = 48;
+constexpr std::size_t kMaxTrianglesPerTriangle = 10; // silhouette.comp: cap + 3 x (2 sides + fan)
 
 // A light with a volume: its slot (layer of the visibility array) and what the shaders need.
 struct VolumeLight {
@@ -38,11 +34,20 @@ public:
           pcfRadius_(p.getInt("pcf_radius")), casterCulling_(p.getBool("caster_culling")),
           receiverCulling_(p.getBool("receiver_culling")), clamping_(p.getBool("clamping")),
           grid_(p.getInt("grid")), slices_(p.getInt("slices")), measure_(p.getBool("measure")) {
-        gpu::ProgramDesc volume;
-        volume.stages = {{GL_VERTEX_SHADER, "shadows/volume/volume.vert"},
-                         {GL_GEOMETRY_SHADER, "shadows/volume/volume.geom"},
-                         {GL_FRAGMENT_SHADER, "shadows/volume/empty.frag"}};
-        volumeProgram_ = programs.add(volume);
+        volumeProgram_ = programs.add(
+            gpu::ProgramDesc::graphics("shadows/volume/volume.vert", "shadows/volume/empty.frag"));
+        transformProgram_ =
+            programs.add(gpu::ProgramDesc::compute("shadows/volume/transform.comp"));
+        compactProgram_ = programs.add(gpu::ProgramDesc::compute("shadows/volume/compact.comp"));
+        silhouetteProgram_ =
+            programs.add(gpu::ProgramDesc::compute("shadows/volume/silhouette.comp"));
+        GLint bindings = 0;
+        glGetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &bindings);
+        VEIL_CHECK(bindings > VEIL_SSBO_SHADOW_VOLUME_TRIANGLES,
+                   "shadows 'volume': needs {} shader storage buffer bindings, the GL has {}",
+                   VEIL_SSBO_SHADOW_VOLUME_TRIANGLES + 1, bindings);
+        pipelineStatistics_ =
+            epoxy_gl_version() >= 46 || epoxy_has_gl_extension("GL_ARB_pipeline_statistics_query");
         resolveProgram_ = programs.add(
             gpu::ProgramDesc::graphics("volume/fullscreen.vert", "shadows/volume/resolve.frag"));
         receiversProgram_ =
@@ -88,7 +93,8 @@ public:
     std::size_t gpuBytes() const override {
         std::size_t screen = std::size_t(width_) * height_;
         return depth_.gpuBytes() + screen * (5 + std::size_t(slots_)) + receivers_.size() +
-               occluders_.size() + casters_.size();
+               occluders_.size() + casters_.size() + bounds_.size() + geometry_.gpuBytes() +
+               draw_.size() + triangles_.size();
     }
     nlohmann::json stats() const override { return stats_; }
 
@@ -96,8 +102,7 @@ private:
     void prepare(const ShadowFrame& frame);
     void render(const ShadowFrame& frame);
     void classify(const ShadowFrame& frame, const std::vector<int>& casters);
-    void drawVolumes(const ShadowFrame& frame, const gpu::Program& program,
-                     const std::vector<int>& casters, int slot) const;
+    void buildVolumes(const ShadowFrame& frame, int casterCount, int slot);
 
     gpu::ProgramManager& programs_;
     DepthMaps depth_;
@@ -107,61 +112,50 @@ private:
     int grid_, slices_;
     bool measure_;
     gpu::ProgramHandle volumeProgram_, resolveProgram_, receiversProgram_, occludersProgram_,
-        classifyProgram_;
+        classifyProgram_, transformProgram_, compactProgram_, silhouetteProgram_;
+    bool pipelineStatistics_ = false;
     gpu::Sampler rawDepth_;
 
     const scene::Scene* scene_ = nullptr;
-    std::vector<VolumeMesh> meshes_;
+    VolumeGeometry geometry_;
     float sceneRadius_ = 1.0f;
     int width_ = 0, height_ = 0, slots_ = 0;
     gpu::Texture depthStencil_{gpu::NoCreate}, visibility_{gpu::NoCreate};
     gpu::Framebuffer fbo_{gpu::NoCreate};
-    gpu::VertexArray emptyVao_{gpu::NoCreate};
+    gpu::VertexArray emptyVao_{gpu::NoCreate}, volumeVao_{gpu::NoCreate};
     gpu::Buffer receivers_{gpu::NoCreate}, occluders_{gpu::NoCreate}, casters_{gpu::NoCreate},
-        bounds_{gpu::NoCreate};
+        bounds_{gpu::NoCreate}, draw_{gpu::NoCreate}, triangles_{gpu::NoCreate};
     std::vector<VolumeLight> lights_;
     nlohmann::json stats_ = nlohmann::json::object();
 };
 
-// Builds the meshes at the first frame (the scene arrives with the frame) and refuses what
+// The opaque casters of the scene (object indices).
+std::vector<int> opaqueCasters(const scene::Scene& scene) {
+    std::vector<int> casters;
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const scene::Object& o = scene.objects[i];
+        if (o.castShadows && !scene.materials.at(o.material).isTransparent())
+            casters.push_back(static_cast<int>(i));
+    }
+    return casters;
+}
+
+// Builds the geometry at the first frame (the scene arrives with the frame) and refuses what
 // shadow volumes cannot cast.
 void VolumeTechnique::prepare(const ShadowFrame& frame) {
     if (scene_ != frame.scene) {
         scene_ = frame.scene;
-        meshes_.clear();
-        std::vector<bool> used(scene_->meshes.size(), false), casts(scene_->meshes.size(), false);
-        for (const auto& object : scene_->objects) {
-            if (scene_->materials.at(object.material).isTransparent()) continue;
-            used.at(object.mesh) = true;
-            if (!object.castShadows) continue;
-            casts[object.mesh] = true;
-            VEIL_CHECK(!scene_->meshes[object.mesh].billboard,
-                       "{}: shadows 'volume': object '{}' casts shadows with a particle mesh "
-                       "('{}'); shadow volumes need triangle meshes (set \"shadows\": false on "
-                       "it or use another shadow technique)",
-                       scene_->sourcePath.empty() ? "<scene>" : scene_->sourcePath.string(),
-                       object.name, scene_->meshes[object.mesh].name);
-        }
-        for (std::size_t m = 0; m < scene_->meshes.size(); ++m) {
-            const scene::MeshData& data = scene_->meshes[m];
-            VolumeMesh& vm = meshes_.emplace_back();
-            if (!used[m] || data.billboard) continue;
-            const Adjacency adj = buildAdjacency(data.positions, data.indices);
-            vm.closed = adj.closed;
-            if (casts[m] && !adj.closed)
-                log::warn("shadows 'volume': mesh '{}' is not a closed 2-manifold ({}; {} open, "
-                          "{} non-manifold edges): its triangles are extruded one by one",
-                          data.name, adj.reason, adj.boundaryEdges, adj.nonManifoldEdges);
-            vm.positions = gpu::Buffer();
-            vm.positions.setStorage(std::span<const glm::vec3>(data.positions), 0);
-            vm.indices = gpu::Buffer();
-            vm.indices.setStorage(std::span<const std::uint32_t>(adj.indices), 0);
-            vm.vao = gpu::VertexArray();
-            vm.vao.attribute(VEIL_ATTR_POSITION, 0, vm.positions, 3, sizeof(glm::vec3))
-                .indexBuffer(vm.indices);
-            vm.indexCount = static_cast<GLsizei>(adj.indices.size());
-            data.bounds(vm.lo, vm.hi);
-        }
+        const std::vector<int> casters = opaqueCasters(*scene_);
+        geometry_ = buildVolumeGeometry(*scene_, casters);
+        // The volumes' triangles: at most kMaxTrianglesPerTriangle per caster triangle.
+        triangles_ = gpu::Buffer();
+        triangles_.setStorage(std::max<std::size_t>(geometry_.totalCasterTriangles, 1) *
+                                  kMaxTrianglesPerTriangle * 3 * sizeof(glm::vec4),
+                              nullptr, 0);
+        draw_ = gpu::Buffer();
+        draw_.setStorage(kDrawHeader + std::max<std::size_t>(casters.size(), 1) * 8, nullptr, 0);
+        volumeVao_ = gpu::VertexArray();
+        volumeVao_.attribute(VEIL_ATTR_POSITION, 0, triangles_, 4, sizeof(glm::vec4));
         glm::vec3 lo, hi;
         scene_->bounds(lo, hi);
         sceneRadius_ = std::max(glm::length(hi - lo), 1e-3f);
@@ -206,17 +200,6 @@ void VolumeTechnique::prepare(const ShadowFrame& frame) {
     }
 }
 
-// The opaque casters of the scene (object indices).
-std::vector<int> opaqueCasters(const scene::Scene& scene) {
-    std::vector<int> casters;
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-        const scene::Object& o = scene.objects[i];
-        if (o.castShadows && !scene.materials.at(o.material).isTransparent())
-            casters.push_back(static_cast<int>(i));
-    }
-    return casters;
-}
-
 void setSlotViews(const gpu::Program& program, const std::vector<VolumeLight>& lights) {
     for (int s = 0; s < VEIL_MAX_LIGHTS; ++s) {
         const std::string name = fmt::format("uSlotView[{}]", s);
@@ -245,11 +228,11 @@ void VolumeTechnique::classify(const ShadowFrame& frame, const std::vector<int>&
     std::vector<glm::vec4> bounds;
     for (int c : casters) {
         const scene::Object& o = scene_->objects[c];
-        const VolumeMesh& m = meshes_[o.mesh];
+        const glm::vec3 mlo = geometry_.meshLo[o.mesh], mhi = geometry_.meshHi[o.mesh];
         glm::vec3 lo(1e30f), hi(-1e30f);
         for (int k = 0; k < 8; ++k) {
-            const glm::vec3 corner(k & 1 ? m.hi.x : m.lo.x, k & 2 ? m.hi.y : m.lo.y,
-                                   k & 4 ? m.hi.z : m.lo.z);
+            const glm::vec3 corner(k & 1 ? mhi.x : mlo.x, k & 2 ? mhi.y : mlo.y,
+                                   k & 4 ? mhi.z : mlo.z);
             const glm::vec3 w = glm::vec3(o.transform * glm::vec4(corner, 1.0f));
             lo = glm::min(lo, w);
             hi = glm::max(hi, w);
@@ -305,29 +288,83 @@ void VolumeTechnique::classify(const ShadowFrame& frame, const std::vector<int>&
     glBindSampler(VEIL_TEX_SHADOW3, 0);
 }
 
-void VolumeTechnique::drawVolumes(const ShadowFrame& frame, const gpu::Program& program,
-                                  const std::vector<int>& casters, int slot) const {
+// One light's volumes into triangles_: the surviving casters' work list and dispatch
+// (compact.comp), then their silhouettes, caps and sides (silhouette.comp), drawn with
+// glDrawArraysIndirect from draw_.
+void VolumeTechnique::buildVolumes(const ShadowFrame& frame, int casterCount, int slot) {
     const VolumeLight& l = lights_[slot];
-    program.set("lightPos", l.position)
+    casters_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_VOLUME_CASTERS);
+    bounds_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_VOLUME_BOUNDS);
+    geometry_.ranges.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_VOLUME_RANGES);
+    geometry_.world.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_VOLUME_WORLD);
+    geometry_.adjacency.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_VOLUME_ADJACENCY);
+    draw_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_VOLUME_DRAW);
+    triangles_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_VOLUME_TRIANGLES);
+    const gpu::Program& compact = programs_.get(compactProgram_);
+    compact.use();
+    compact.set("casterCount", casterCount).set("slot", slot).set("slotCount", slots_);
+    glDispatchCompute(1, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    const gpu::Program& silhouette = programs_.get(silhouetteProgram_);
+    silhouette.use();
+    silhouette.set("lightPos", l.position)
         .set("lightView", l.clampView)
+        .set("slot", slot)
+        .set("slotCount", slots_)
         .set("finiteExtrude", frame.orthographicCamera ? 1000.0f * sceneRadius_ : 0.0f);
-    for (std::size_t c = 0; c < casters.size(); ++c) {
-        const scene::Object& o = scene_->objects[casters[c]];
-        const VolumeMesh& m = meshes_[o.mesh];
-        program.set("model", o.transform)
-            .set("mode", m.closed ? 1 : 2)
-            .set("casterSlot", static_cast<int>(c) * slots_ + slot);
-        m.vao.bind();
-        glDrawElements(GL_TRIANGLES_ADJACENCY, m.indexCount, GL_UNSIGNED_INT, nullptr);
-    }
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, draw_.id());
+    glDispatchComputeIndirect(16);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |
+                    GL_SHADER_STORAGE_BARRIER_BIT);
 }
+
+// ARB_pipeline_statistics_query (GL 4.6) counters of one part of the pass, summed over lights.
+struct PipelineCounters {
+    static constexpr GLenum kTargets[] = {
+        GL_VERTEX_SHADER_INVOCATIONS_ARB, GL_CLIPPING_INPUT_PRIMITIVES_ARB,
+        GL_CLIPPING_OUTPUT_PRIMITIVES_ARB, GL_FRAGMENT_SHADER_INVOCATIONS_ARB,
+        GL_COMPUTE_SHADER_INVOCATIONS_ARB};
+    static constexpr const char* kNames[] = {
+        "vertex_shader_invocations", "clipping_input_primitives", "clipping_output_primitives",
+        "fragment_shader_invocations", "compute_shader_invocations"};
+    bool on = false;
+    std::vector<gpu::Query> queries;
+    std::uint64_t sums[5] = {};
+    explicit PipelineCounters(bool enabled) : on(enabled) {
+        if (on)
+            for (GLenum t : kTargets)
+                queries.emplace_back(t);
+    }
+    void begin() const {
+        for (const gpu::Query& q : queries)
+            glBeginQuery(q.target(), q.id());
+    }
+    void end() {
+        for (std::size_t i = 0; i < queries.size(); ++i) {
+            glEndQuery(queries[i].target());
+            sums[i] += queries[i].result();
+        }
+    }
+    nlohmann::json json() const {
+        nlohmann::json j = nlohmann::json::object();
+        for (std::size_t i = 0; i < queries.size(); ++i)
+            j[kNames[i]] = sums[i];
+        return j;
+    }
+};
 
 void VolumeTechnique::render(const ShadowFrame& frame) {
     prepare(frame);
     const std::vector<int> casters = opaqueCasters(*scene_);
     const gpu::Program& program = programs_.get(volumeProgram_);
+    PipelineCounters prepassStats(measure_ && pipelineStatistics_),
+        buildStats(measure_ && pipelineStatistics_), volumeStats(measure_ && pipelineStatistics_);
 
-    // The receivers' depth: every opaque object, with the invariant positions of the caps.
+    // The world vertices, then the receivers' depth: every opaque object in one draw.
+    frame.state->apply(gpu::PipelineState{});
+    prepassStats.begin();
+    updateVolumeGeometry(*scene_, geometry_, programs_.get(transformProgram_));
     fbo_.attach(GL_DEPTH_STENCIL_ATTACHMENT, depthStencil_).drawBuffers({GL_NONE});
     fbo_.bind();
     gpu::PipelineState pre;
@@ -338,18 +375,12 @@ void VolumeTechnique::render(const ShadowFrame& frame) {
     const float one = 1.0f;
     glClearNamedFramebufferfi(fbo_.id(), GL_DEPTH_STENCIL, 0, one, 0);
     program.use();
-    program.set("mode", 0);
-    for (const auto& object : scene_->objects) {
-        if (scene_->materials.at(object.material).isTransparent()) continue;
-        const VolumeMesh& m = meshes_[object.mesh];
-        if (m.indexCount == 0) continue;
-        program.set("model", object.transform);
-        m.vao.bind();
-        glDrawElements(GL_TRIANGLES_ADJACENCY, m.indexCount, GL_UNSIGNED_INT, nullptr);
-    }
+    geometry_.prepassVao.bind();
+    if (geometry_.prepassIndexCount > 0)
+        glDrawElements(GL_TRIANGLES, geometry_.prepassIndexCount, GL_UNSIGNED_INT, nullptr);
+    if (measure_) prepassStats.end();
 
     classify(frame, casters);
-    casters_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_VOLUME_CASTERS);
 
     // Per light: the stencil count of the volumes (depth-fail), then the visibility layer.
     gpu::PipelineState volume = pre;
@@ -366,16 +397,34 @@ void VolumeTechnique::render(const ShadowFrame& frame) {
     fill.depthWrite = false;
 
     gpu::Query primitives(GL_PRIMITIVES_GENERATED), samples(GL_SAMPLES_PASSED);
-    std::uint64_t triangles = 0, fragments = 0;
+    std::uint64_t triangles = 0, fragments = 0, submitted = 0, edges = 0, fans = 0;
     for (int slot = 0; slot < slots_; ++slot) {
+        frame.state->apply(gpu::PipelineState{});
+        buildStats.begin();
+        buildVolumes(frame, static_cast<int>(casters.size()), slot);
+        if (measure_) {
+            buildStats.end();
+            std::uint32_t header[kDrawHeader / 4] = {};
+            glGetNamedBufferSubData(draw_.id(), 0, kDrawHeader, header);
+            submitted += header[7];
+            edges += header[9];
+            fans += header[10];
+        }
+
         fbo_.drawBuffers({GL_NONE});
         frame.state->apply(volume);
         const GLint zero = 0;
         glClearNamedFramebufferiv(fbo_.id(), GL_STENCIL, 0, &zero);
         program.use();
-        if (measure_) glBeginQuery(GL_PRIMITIVES_GENERATED, primitives.id());
-        drawVolumes(frame, program, casters, slot);
+        volumeVao_.bind();
+        glBindBuffer(GL_DRAW_INDIRECT_BUFFER, draw_.id());
         if (measure_) {
+            glBeginQuery(GL_PRIMITIVES_GENERATED, primitives.id());
+            volumeStats.begin();
+        }
+        glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+        if (measure_) {
+            volumeStats.end();
             glEndQuery(GL_PRIMITIVES_GENERATED);
             triangles += primitives.result();
         }
@@ -393,11 +442,13 @@ void VolumeTechnique::render(const ShadowFrame& frame) {
             fbo_.drawBuffers({GL_NONE});
             frame.state->apply(fill);
             program.use();
+            volumeVao_.bind();
             glBeginQuery(GL_SAMPLES_PASSED, samples.id());
-            drawVolumes(frame, program, casters, slot);
+            glDrawArraysIndirect(GL_TRIANGLES, nullptr);
             glEndQuery(GL_SAMPLES_PASSED);
             fragments += samples.result();
         }
+        glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     }
     glBindVertexArray(0);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -408,6 +459,19 @@ void VolumeTechnique::render(const ShadowFrame& frame) {
     if (measure_) {
         stats_["volume_triangles"] = triangles;
         stats_["stencil_fragments"] = fragments;
+        stats_["caster_triangles"] = geometry_.totalCasterTriangles; // per light
+        stats_["submitted_triangles"] = submitted; // launched in silhouette.comp, all lights
+        stats_["silhouette_edges"] = edges;
+        stats_["fan_triangles"] = fans;
+        if (pipelineStatistics_) {
+            stats_["pipeline"] = {{"prepass", prepassStats.json()},
+                                  {"silhouettes", buildStats.json()},
+                                  {"volumes", volumeStats.json()}};
+        } else {
+            stats_["pipeline"] = "GL_ARB_pipeline_statistics_query unavailable: "
+                                 "volume_triangles and stencil_fragments are the "
+                                 "GL_PRIMITIVES_GENERATED and GL_SAMPLES_PASSED queries";
+        }
         std::vector<float> clamp(casters.size() * slots_);
         if (!clamp.empty())
             glGetNamedBufferSubData(casters_.id(), 0, clamp.size() * 4, clamp.data());
