@@ -33,7 +33,8 @@ public:
         : programs_(programs), depth_(programs), bias_(p.getFloat("bias")),
           pcfRadius_(p.getInt("pcf_radius")), casterCulling_(p.getBool("caster_culling")),
           receiverCulling_(p.getBool("receiver_culling")), clamping_(p.getBool("clamping")),
-          grid_(p.getInt("grid")), slices_(p.getInt("slices")), measure_(p.getBool("measure")) {
+          grid_(p.getInt("grid")), slices_(p.getInt("slices")), measure_(p.getBool("measure")),
+          timing_(p.getBool("timing")) {
         volumeProgram_ = programs.add(
             gpu::ProgramDesc::graphics("shadows/volume/volume.vert", "shadows/volume/empty.frag"));
         transformProgram_ =
@@ -110,7 +111,7 @@ private:
     int pcfRadius_;
     bool casterCulling_, receiverCulling_, clamping_;
     int grid_, slices_;
-    bool measure_;
+    bool measure_, timing_;
     gpu::ProgramHandle volumeProgram_, resolveProgram_, receiversProgram_, occludersProgram_,
         classifyProgram_, transformProgram_, compactProgram_, silhouetteProgram_;
     bool pipelineStatistics_ = false;
@@ -361,10 +362,20 @@ void VolumeTechnique::render(const ShadowFrame& frame) {
     PipelineCounters prepassStats(measure_ && pipelineStatistics_),
         buildStats(measure_ && pipelineStatistics_), volumeStats(measure_ && pipelineStatistics_);
 
+    // `timing`: GL_TIMESTAMP after each part, read back at the end of the pass.
+    std::vector<std::pair<const char*, gpu::Query>> stamps;
+    auto stamp = [&](const char* part) {
+        if (!timing_) return;
+        stamps.emplace_back(part, gpu::Query(GL_TIMESTAMP));
+        glQueryCounter(stamps.back().second.id(), GL_TIMESTAMP);
+    };
+    stamp("start");
+
     // The world vertices, then the receivers' depth: every opaque object in one draw.
     frame.state->apply(gpu::PipelineState{});
     prepassStats.begin();
     updateVolumeGeometry(*scene_, geometry_, programs_.get(transformProgram_));
+    stamp("transform");
     fbo_.attach(GL_DEPTH_STENCIL_ATTACHMENT, depthStencil_).drawBuffers({GL_NONE});
     fbo_.bind();
     gpu::PipelineState pre;
@@ -379,8 +390,10 @@ void VolumeTechnique::render(const ShadowFrame& frame) {
     if (geometry_.prepassIndexCount > 0)
         glDrawElements(GL_TRIANGLES, geometry_.prepassIndexCount, GL_UNSIGNED_INT, nullptr);
     if (measure_) prepassStats.end();
+    stamp("prepass");
 
     classify(frame, casters);
+    stamp("classify");
 
     // Per light: the stencil count of the volumes (depth-fail), then the visibility layer.
     gpu::PipelineState volume = pre;
@@ -402,6 +415,7 @@ void VolumeTechnique::render(const ShadowFrame& frame) {
         frame.state->apply(gpu::PipelineState{});
         buildStats.begin();
         buildVolumes(frame, static_cast<int>(casters.size()), slot);
+        stamp("silhouettes");
         if (measure_) {
             buildStats.end();
             std::uint32_t header[kDrawHeader / 4] = {};
@@ -423,6 +437,7 @@ void VolumeTechnique::render(const ShadowFrame& frame) {
             volumeStats.begin();
         }
         glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+        stamp("stencil");
         if (measure_) {
             volumeStats.end();
             glEndQuery(GL_PRIMITIVES_GENERATED);
@@ -437,6 +452,7 @@ void VolumeTechnique::render(const ShadowFrame& frame) {
         programs_.get(resolveProgram_).use();
         emptyVao_.bind();
         glDrawArrays(GL_TRIANGLES, 0, 3);
+        stamp("resolve");
 
         if (measure_) { // the stencil fill: the same volumes without depth test
             fbo_.drawBuffers({GL_NONE});
@@ -456,6 +472,14 @@ void VolumeTechnique::render(const ShadowFrame& frame) {
     stats_ = nlohmann::json::object();
     stats_["casters"] = casters.size();
     stats_["lights"] = slots_;
+    if (timing_) { // per part, summed over lights (ms)
+        nlohmann::json ms = nlohmann::json::object();
+        for (std::size_t i = 1; i < stamps.size(); ++i) {
+            const double d = double(stamps[i].second.result() - stamps[i - 1].second.result());
+            ms[stamps[i].first] = ms.value(stamps[i].first, 0.0) + d * 1e-6;
+        }
+        stats_["part_ms"] = ms;
+    }
     if (measure_) {
         stats_["volume_triangles"] = triangles;
         stats_["stencil_fragments"] = fragments;
@@ -515,6 +539,10 @@ void registerVolume(Registry& registry) {
                    "count the volume triangles (GL_PRIMITIVES_GENERATED) and the stencil fill "
                    "(GL_SAMPLES_PASSED of the volumes redrawn without depth test) every frame, "
                    "for stats() and --report; costs a second volume draw and a GPU wait");
+    schema.boolean("timing", false,
+                   "GL_TIMESTAMP queries between the pass's parts (world vertices, pre-pass, "
+                   "culling and clamping, silhouettes, stencil, resolve), read back at the end "
+                   "of the pass into stats() part_ms (a CPU wait per frame: for benchmarks)");
     registry.add({"volume",
                   "stencil shadow volumes (depth-fail, caps, infinite extrusion with depth clamp) "
                   "of the opaque casters, exact per pixel for opaque receivers, culled and "
