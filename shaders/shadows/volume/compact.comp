@@ -3,6 +3,7 @@
 // (003 Sec. 3.2) into a compact work list with the prefix sum of their triangles, and the
 // indirect dispatch of silhouette.comp over exactly those triangles: a culled caster's
 // triangles are never launched. One workgroup; each invocation owns a run of casters.
+// With `finish` (after silhouette.comp): the first point of the depth-pass draw.
 #include "draw.glsl"
 
 layout(local_size_x = 256) in;
@@ -12,6 +13,8 @@ layout(std430, binding = VEIL_SSBO_SHADOW_VOLUME_CASTERS) readonly buffer Caster
 uniform int casterCount;
 uniform int slot;
 uniform int slotCount;
+uniform bool finish;
+uniform uint capacity; // points in triangles[]
 
 shared uint sCasters[256], sTriangles[256];
 
@@ -19,6 +22,10 @@ bool survives(int c) { return casterClamp[c * slotCount + slot] >= 0.0 && ranges
 
 void main() {
     uint t = gl_LocalInvocationIndex;
+    if (finish) {
+        if (t == 0u) passFirst = capacity - passCount;
+        return;
+    }
     int per = (casterCount + 255) / 256;
     int c0 = min(int(t) * per, casterCount), c1 = min(c0 + per, casterCount);
     uint n = 0u, tris = 0u;
@@ -55,5 +62,10 @@ void main() {
         groupsZ = 1u;
         silhouetteEdges = 0u;
         fanTriangles = 0u;
+        passTriangles = 0u;
+        passCount = 0u;
+        passInstances = 1u;
+        passFirst = capacity;
+        passBase = 0u;
     }
 }

@@ -15,11 +15,21 @@
 //     soup. The side on an edge shared with a neighbour of the same facing is left out (the
 //     neighbour's is the same quad wound the other way). Open and non-manifold edges have the
 //     triangle itself as "neighbour" in the adjacency (reversed: the other facing): a side.
-// Depth-fail counting (Carmack's reverse; Everitt & Kilgard 2002) as before; extrusion to
+// Depth-fail counting (Carmack's reverse; Everitt & Kilgard 2002): back faces behind the
+// receiver increment, front faces behind it decrement; right with the eye inside a volume.
+// With `zpass`, a caster whose volume cannot hold the eye (the segment from the eye toward
+// the light misses its bounds) is counted depth-pass instead (front faces in front of the
+// receiver increment, back faces decrement): along every pixel's ray from an eye outside a
+// closed volume the front and back crossings are equal in number, so both counts are the same
+// integer. Depth clamping is on (no near-plane clipping), so the eye, not the near plane, is
+// what must lie outside. Depth-pass needs no front cap (it lies on the caster's lit faces, never
+// in front of the depth buffer: same vec4, same depth) and no back cap at infinity (depth
+// clamped to 1, never in front either); clamped volumes keep their back cap. Extrusion to
 // infinity (w = 0, depth clamping), to the caster's clamp depth, or by finiteExtrude for
 // orthographic cameras. Directional lights extruded to infinity have no back cap (every
 // extruded vertex is the same point).
 #include "draw.glsl"
+#include "../../common/camera.glsl"
 #include "../common/views.glsl"
 
 layout(local_size_x = 64) in;
@@ -43,6 +53,9 @@ uniform int lightView;       // the light's view for clamped extrusion (-1: poin
 uniform int slot;
 uniform int slotCount;
 uniform float finiteExtrude; // > 0: orthographic camera, extrude this far instead of to w = 0
+uniform bool zpass;          // depth-pass counting for casters whose volume misses the eye
+uniform uint capacity;       // points in triangles[]
+uniform float eyeMargin;     // world distance by which the casters' bounds are widened
 
 vec4 P[6];
 uint K[6];
@@ -89,7 +102,27 @@ void emit(vec4 a, vec4 b, vec4 c) {
     next += 3u;
 }
 
-shared uint sCount, sBase, sEdges, sFans;
+// Whether the segment from the eye toward the light (to infinity for a directional light)
+// meets the caster's world bounds widened by eyeMargin: its volume may hold the eye.
+bool mayHoldEye(int caster) {
+    vec3 lo = casterBounds[2 * caster].xyz - eyeMargin;
+    vec3 hi = casterBounds[2 * caster + 1].xyz + eyeMargin;
+    vec3 o = camera.cameraPosition.xyz;
+    vec3 d = lightPos.w > 0.5 ? lightPos.xyz - o : -lightPos.xyz;
+    float t0 = 0.0, t1 = lightPos.w > 0.5 ? 1.0 : 1e30;
+    for (int k = 0; k < 3; ++k) {
+        if (abs(d[k]) < 1e-20) {
+            if (o[k] < lo[k] || o[k] > hi[k]) return false;
+            continue;
+        }
+        float a = (lo[k] - o[k]) / d[k], b = (hi[k] - o[k]) / d[k];
+        t0 = max(t0, min(a, b));
+        t1 = min(t1, max(a, b));
+    }
+    return t0 <= t1;
+}
+
+shared uint sCount, sPass, sBase, sPassBase, sEdges, sFans;
 
 void main() {
     clampDepth = 0.0;
@@ -97,7 +130,7 @@ void main() {
     bool live = t < submitted;
     int a = 0, b = 2, c = 4; // the light-facing winding of the triangle
     bvec3 edge = bvec3(false);
-    bool fan = false, back = false;
+    bool fan = false, back = false, pass = false;
     int caster = 0;
     if (live) {
         int lo = 0, hi = int(survivors) - 1; // the last work entry starting at or before t
@@ -114,6 +147,8 @@ void main() {
             P[j] = world[K[j]];
         }
         clampDepth = casterClamp[caster * slotCount + slot];
+        pass = zpass && finiteExtrude == 0.0 && camera.cameraForward.w < 0.5 &&
+               !mayHoldEye(caster);
         float f = facing(0, 2, 4);
         if (r.closed == 1u) {
             live = f > 0.0;
@@ -132,17 +167,20 @@ void main() {
     // Directional light extruded to infinity: every extruded vertex is the same point, the
     // back cap and the sides' second triangles are empty.
     bool degenerate = lightPos.w < 0.5 && clampDepth == 0.0 && finiteExtrude == 0.0;
-    back = !fan && !degenerate;
+    back = !fan && !degenerate && !(pass && clampDepth == 0.0);
+    bool front = !pass;
     uint edges = uint(edge.x) + uint(edge.y) + uint(edge.z);
-    uint n = live ? 1u + uint(back) + edges * (degenerate ? 1u : 2u) + (fan ? edges : 0u) : 0u;
+    uint n = live ? uint(front) + uint(back) + edges * (degenerate ? 1u : 2u) + (fan ? edges : 0u)
+                  : 0u;
 
     if (gl_LocalInvocationIndex == 0u) {
         sCount = 0u;
+        sPass = 0u;
         sEdges = 0u;
         sFans = 0u;
     }
     barrier();
-    uint local = n > 0u ? atomicAdd(sCount, n) : 0u;
+    uint local = n == 0u ? 0u : pass ? atomicAdd(sPass, n) : atomicAdd(sCount, n);
     if (live && ranges[caster].closed == 1u && edges > 0u) {
         atomicAdd(sEdges, edges);
         if (fan) atomicAdd(sFans, edges);
@@ -150,18 +188,21 @@ void main() {
     barrier();
     if (gl_LocalInvocationIndex == 0u) {
         sBase = sCount > 0u ? atomicAdd(drawCount, 3u * sCount) : 0u;
+        // Depth-pass triangles from the end of triangles[] down.
+        sPassBase = sPass > 0u ? capacity - atomicAdd(passCount, 3u * sPass) - 3u * sPass : 0u;
+        if (sPass > 0u) atomicAdd(passTriangles, sPass);
         if (sEdges > 0u) atomicAdd(silhouetteEdges, sEdges);
         if (sFans > 0u) atomicAdd(fanTriangles, sFans);
     }
     barrier();
     if (n == 0u) return;
-    next = sBase + 3u * local;
+    next = (pass ? sPassBase : sBase) + 3u * local;
 
     int v[3] = int[3](a, b, c);
     vec4 E[3];
     for (int j = 0; j < 3; ++j)
         E[j] = extrude(P[v[j]].xyz);
-    emit(P[a], P[b], P[c]); // front cap: the face's own world points
+    if (front) emit(P[a], P[b], P[c]); // front cap: the face's own world points
     if (back) emit(E[0], E[2], E[1]);
     vec4 F = vec4(0.0);
     if (fan) {

@@ -17,7 +17,7 @@ namespace {
 
 // The draw buffer's header (draw.glsl): the indirect draw and dispatch, then counters, then
 // the work list (uvec2 per surviving caster).
-constexpr std::size_t kDrawHeader = 48;
+constexpr std::size_t kDrawHeader = 64;
 constexpr std::size_t kMaxTrianglesPerTriangle = 10; // silhouette.comp: cap + 3 x (2 sides + fan)
 
 // A light with a volume: its slot (layer of the visibility array) and what the shaders need.
@@ -34,7 +34,7 @@ public:
           pcfRadius_(p.getInt("pcf_radius")), casterCulling_(p.getBool("caster_culling")),
           receiverCulling_(p.getBool("receiver_culling")), clamping_(p.getBool("clamping")),
           grid_(p.getInt("grid")), slices_(p.getInt("slices")), measure_(p.getBool("measure")),
-          timing_(p.getBool("timing")) {
+          zpass_(p.getBool("zpass")), timing_(p.getBool("timing")) {
         volumeProgram_ = programs.add(
             gpu::ProgramDesc::graphics("shadows/volume/volume.vert", "shadows/volume/empty.frag"));
         transformProgram_ =
@@ -111,7 +111,8 @@ private:
     int pcfRadius_;
     bool casterCulling_, receiverCulling_, clamping_;
     int grid_, slices_;
-    bool measure_, timing_;
+    bool measure_, zpass_, timing_;
+    GLuint capacity_ = 0; // points in triangles_
     gpu::ProgramHandle volumeProgram_, resolveProgram_, receiversProgram_, occludersProgram_,
         classifyProgram_, transformProgram_, compactProgram_, silhouetteProgram_;
     bool pipelineStatistics_ = false;
@@ -149,10 +150,10 @@ void VolumeTechnique::prepare(const ShadowFrame& frame) {
         const std::vector<int> casters = opaqueCasters(*scene_);
         geometry_ = buildVolumeGeometry(*scene_, casters);
         // The volumes' triangles: at most kMaxTrianglesPerTriangle per caster triangle.
+        capacity_ = static_cast<GLuint>(std::max<std::size_t>(geometry_.totalCasterTriangles, 1) *
+                                        kMaxTrianglesPerTriangle * 3);
         triangles_ = gpu::Buffer();
-        triangles_.setStorage(std::max<std::size_t>(geometry_.totalCasterTriangles, 1) *
-                                  kMaxTrianglesPerTriangle * 3 * sizeof(glm::vec4),
-                              nullptr, 0);
+        triangles_.setStorage(std::size_t(capacity_) * sizeof(glm::vec4), nullptr, 0);
         draw_ = gpu::Buffer();
         draw_.setStorage(kDrawHeader + std::max<std::size_t>(casters.size(), 1) * 8, nullptr, 0);
         volumeVao_ = gpu::VertexArray();
@@ -224,7 +225,6 @@ void VolumeTechnique::classify(const ShadowFrame& frame, const std::vector<int>&
     bool clampable = false;
     for (const VolumeLight& l : lights_)
         clampable |= l.clampView >= 0;
-    if (!any || !clampable || casters.empty()) return;
 
     std::vector<glm::vec4> bounds;
     for (int c : casters) {
@@ -241,7 +241,9 @@ void VolumeTechnique::classify(const ShadowFrame& frame, const std::vector<int>&
         bounds.emplace_back(lo, 0.0f);
         bounds.emplace_back(hi, 0.0f);
     }
-    bounds_.setSubData(0, bounds.size() * sizeof(glm::vec4), bounds.data());
+    if (!bounds.empty()) // (silhouette.comp's eye test and fans read them too)
+        bounds_.setSubData(0, bounds.size() * sizeof(glm::vec4), bounds.data());
+    if (!any || !clampable || casters.empty()) return;
     const std::uint32_t none = 0;
     glClearNamedBufferData(receivers_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
     receivers_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_VOLUME_RECEIVERS);
@@ -303,7 +305,11 @@ void VolumeTechnique::buildVolumes(const ShadowFrame& frame, int casterCount, in
     triangles_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_VOLUME_TRIANGLES);
     const gpu::Program& compact = programs_.get(compactProgram_);
     compact.use();
-    compact.set("casterCount", casterCount).set("slot", slot).set("slotCount", slots_);
+    compact.set("casterCount", casterCount)
+        .set("slot", slot)
+        .set("slotCount", slots_)
+        .set("capacity", capacity_)
+        .set("finish", 0);
     glDispatchCompute(1, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
     const gpu::Program& silhouette = programs_.get(silhouetteProgram_);
@@ -312,10 +318,17 @@ void VolumeTechnique::buildVolumes(const ShadowFrame& frame, int casterCount, in
         .set("lightView", l.clampView)
         .set("slot", slot)
         .set("slotCount", slots_)
-        .set("finiteExtrude", frame.orthographicCamera ? 1000.0f * sceneRadius_ : 0.0f);
+        .set("finiteExtrude", frame.orthographicCamera ? 1000.0f * sceneRadius_ : 0.0f)
+        .set("zpass", zpass_ ? 1 : 0)
+        .set("capacity", capacity_)
+        .set("eyeMargin", 1e-3f * sceneRadius_);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, draw_.id());
     glDispatchComputeIndirect(16);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    compact.use();
+    compact.set("finish", 1);
+    glDispatchCompute(1, 1, 1);
     glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |
                     GL_SHADER_STORAGE_BARRIER_BIT);
 }
@@ -401,6 +414,11 @@ void VolumeTechnique::render(const ShadowFrame& frame) {
     volume.stencilTest = true;
     volume.stencilFront.depthFail = GL_DECR_WRAP; // front faces behind the receiver: leave
     volume.stencilBack.depthFail = GL_INCR_WRAP;  // back faces behind the receiver: enter
+    gpu::PipelineState pass = pre;                // depth-pass casters (silhouette.comp's `zpass`)
+    pass.depthWrite = false;
+    pass.stencilTest = true;
+    pass.stencilFront.depthPass = GL_INCR_WRAP; // front faces in front of the receiver: enter
+    pass.stencilBack.depthPass = GL_DECR_WRAP;  // back faces in front of the receiver: leave
     gpu::PipelineState resolve;
     resolve.view(width_, height_);
     resolve.stencilTest = true;
@@ -410,7 +428,8 @@ void VolumeTechnique::render(const ShadowFrame& frame) {
     fill.depthWrite = false;
 
     gpu::Query primitives(GL_PRIMITIVES_GENERATED), samples(GL_SAMPLES_PASSED);
-    std::uint64_t triangles = 0, fragments = 0, submitted = 0, edges = 0, fans = 0;
+    std::uint64_t triangles = 0, fragments = 0, submitted = 0, edges = 0, fans = 0,
+                  passTriangles = 0;
     for (int slot = 0; slot < slots_; ++slot) {
         frame.state->apply(gpu::PipelineState{});
         buildStats.begin();
@@ -423,6 +442,7 @@ void VolumeTechnique::render(const ShadowFrame& frame) {
             submitted += header[7];
             edges += header[9];
             fans += header[10];
+            passTriangles += header[11];
         }
 
         fbo_.drawBuffers({GL_NONE});
@@ -437,6 +457,10 @@ void VolumeTechnique::render(const ShadowFrame& frame) {
             volumeStats.begin();
         }
         glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+        if (zpass_) {
+            frame.state->apply(pass);
+            glDrawArraysIndirect(GL_TRIANGLES, reinterpret_cast<const void*>(kDrawHeader - 16));
+        }
         stamp("stencil");
         if (measure_) {
             volumeStats.end();
@@ -461,6 +485,8 @@ void VolumeTechnique::render(const ShadowFrame& frame) {
             volumeVao_.bind();
             glBeginQuery(GL_SAMPLES_PASSED, samples.id());
             glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+            if (zpass_)
+                glDrawArraysIndirect(GL_TRIANGLES, reinterpret_cast<const void*>(kDrawHeader - 16));
             glEndQuery(GL_SAMPLES_PASSED);
             fragments += samples.result();
         }
@@ -487,6 +513,7 @@ void VolumeTechnique::render(const ShadowFrame& frame) {
         stats_["submitted_triangles"] = submitted; // launched in silhouette.comp, all lights
         stats_["silhouette_edges"] = edges;
         stats_["fan_triangles"] = fans;
+        stats_["depth_pass_triangles"] = passTriangles; // of volume_triangles
         if (pipelineStatistics_) {
             stats_["pipeline"] = {{"prepass", prepassStats.json()},
                                   {"silhouettes", buildStats.json()},
@@ -539,6 +566,11 @@ void registerVolume(Registry& registry) {
                    "count the volume triangles (GL_PRIMITIVES_GENERATED) and the stencil fill "
                    "(GL_SAMPLES_PASSED of the volumes redrawn without depth test) every frame, "
                    "for stats() and --report; costs a second volume draw and a GPU wait");
+    schema.boolean("zpass", true,
+                   "casters whose volume cannot hold the eye (the segment from the eye toward "
+                   "the light misses their bounds) are counted depth-pass, without front caps "
+                   "and without back caps at infinity; the others depth-fail",
+                   "Everitt & Kilgard 2002; Lloyd et al. 2004 (CC shadow volumes)");
     schema.boolean("timing", false,
                    "GL_TIMESTAMP queries between the pass's parts (world vertices, pre-pass, "
                    "culling and clamping, silhouettes, stencil, resolve), read back at the end "
