@@ -320,7 +320,8 @@ TEST_F(ShadowVolumeTest, ParticleCasterIsRefusedWithOneLine) {
 // 003 Sec. 3.2: a tall box hidden from the light behind a wide slab (caster culling), casters
 // whose shadow falls where the camera sees no receiver (receiver culling), and a camera that
 // sees only the near part of the light's depth range (clamping). Every combination must give
-// the unculled visibility bit for bit, and the stencil fill must drop.
+// the unculled visibility bit for bit, and the stencil fill must drop; so must depth-pass
+// counting (`zpass`, on in all of them) against depth-fail for every caster.
 TEST_F(ShadowVolumeTest, CullingAndClampingAreBitExactAndCutFill) {
     nlohmann::json light = directional();
     light["direction"] = {0.15, -1, 0.1};
@@ -345,8 +346,9 @@ TEST_F(ShadowVolumeTest, CullingAndClampingAreBitExactAndCutFill) {
                               {"shape", {{"type", "box"}, {"size", {0.4, 8.0, 0.4}}}},
                               {"material", "grey"},
                               {"transform", {{"translate", {-4.5, 4.0, -4.5}}}}});
-    auto run = [&](bool caster, bool receiver, bool clamp) {
+    auto run = [&](bool caster, bool receiver, bool clamp, bool zpass = true) {
         nlohmann::json s = volumeShadows(false);
+        s["zpass"] = zpass;
         s["caster_culling"] = caster;
         s["receiver_culling"] = receiver;
         s["clamping"] = clamp;
@@ -361,6 +363,17 @@ TEST_F(ShadowVolumeTest, CullingAndClampingAreBitExactAndCutFill) {
         compareWithRayCast(sc, none, differing, inShadow, "culling scene, unculled");
         EXPECT_EQ(differing, 0);
         EXPECT_GT(inShadow, 100);
+    }
+    {
+        const Frame fail = run(false, false, false, false);
+        int diff = 0;
+        for (std::size_t i = 0; i < fail.vis.size(); ++i)
+            diff += fail.vis[i] != none.vis[i];
+        EXPECT_EQ(diff, 0) << "depth-fail everywhere against depth-pass where possible";
+        EXPECT_EQ(fail.stats.at("depth_pass_triangles").get<int>(), 0);
+        EXPECT_GT(none.stats.at("depth_pass_triangles").get<int>(), 0);
+        EXPECT_LT(none.stats.at("volume_triangles").get<int>(),
+                  fail.stats.at("volume_triangles").get<int>());
     }
     const std::uint64_t fill0 = none.stats.at("stencil_fragments").get<std::uint64_t>();
     ASSERT_GT(fill0, 0u);
@@ -383,6 +396,12 @@ TEST_F(ShadowVolumeTest, CullingAndClampingAreBitExactAndCutFill) {
         }
         if (c.clamp) {
             EXPECT_GE(f.stats.at("clamped").get<int>(), 1) << what;
+            // Clamped closed volumes close with a fan over their silhouette, not back caps:
+            // one fan triangle per silhouette edge of the clamped casters.
+            EXPECT_GT(f.stats.at("fan_triangles").get<int>(), 0) << what;
+            EXPECT_LE(f.stats.at("fan_triangles").get<int>(),
+                      f.stats.at("silhouette_edges").get<int>())
+                << what;
         }
     }
 }

@@ -527,6 +527,12 @@ void VolumeTechnique::render(const ShadowFrame& frame) {
         if (!clamp.empty())
             glGetNamedBufferSubData(casters_.id(), 0, clamp.size() * 4, clamp.data());
         stats_["culled"] = std::count_if(clamp.begin(), clamp.end(), [](float v) { return v < 0; });
+        nlohmann::json culledObjects = nlohmann::json::array(); // (light slot, object name)
+        for (std::size_t i = 0; i < clamp.size(); ++i)
+            if (clamp[i] < 0)
+                culledObjects.push_back(
+                    {int(i) % slots_, scene_->objects[casters[i / slots_]].name});
+        stats_["culled_objects"] = culledObjects;
         stats_["clamped"] =
             std::count_if(clamp.begin(), clamp.end(), [](float v) { return v > 0; });
         // Lights whose receivers left the slice map's grid: neither clamped nor receiver-culled.
