@@ -3,10 +3,16 @@
 // the culling and clamping of 003 Sec. 3.2 driven by the light's slice map of the receivers
 // the camera sees (src/shadows/volume/volume.cpp has the passes).
 //
+// The volumes are built in compute (src/shadows/volume/geometry.h: world vertices and the
+// casters' adjacency; shaders/shadows/volume/silhouette.comp) and drawn indirectly; culled
+// casters are never launched, clamped volumes close with a silhouette fan, and casters whose
+// volume cannot hold the eye are counted depth-pass without caps.
+//
 // Properties: size, max_lights, bias, pcf_radius (the opaque map: transparent receivers and
 // fog samples, and the occluders of caster culling), caster_culling, receiver_culling,
-// clamping (003 Sec. 3.2, each on by default), grid (columns per side of the light's slice
-// map, 256), slices (128), measure (stencil fill and volume triangles per frame, true).
+// clamping (003 Sec. 3.2, each on by default), zpass (true), grid (columns per side of the
+// light's slice map, 256), slices (128), measure (stencil fill, volume triangles and pipeline
+// statistics per frame, true), timing (GL_TIMESTAMP per part, false).
 #pragma once
 
 #include "shadows/technique.h"
