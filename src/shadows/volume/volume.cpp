@@ -5,6 +5,7 @@
 #include "shadows/common/depth_maps.h"
 #include "shadows/opaque/opaque.h"
 #include "shadows/volume/geometry.h"
+#include "shadows/volume/pipeline_counters.h"
 
 #include <fmt/format.h>
 #include <glm/gtc/matrix_inverse.hpp>
@@ -332,41 +333,6 @@ void VolumeTechnique::buildVolumes(const ShadowFrame& frame, int casterCount, in
     glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |
                     GL_SHADER_STORAGE_BARRIER_BIT);
 }
-
-// ARB_pipeline_statistics_query (GL 4.6) counters of one part of the pass, summed over lights.
-struct PipelineCounters {
-    static constexpr GLenum kTargets[] = {
-        GL_VERTEX_SHADER_INVOCATIONS_ARB, GL_CLIPPING_INPUT_PRIMITIVES_ARB,
-        GL_CLIPPING_OUTPUT_PRIMITIVES_ARB, GL_FRAGMENT_SHADER_INVOCATIONS_ARB,
-        GL_COMPUTE_SHADER_INVOCATIONS_ARB};
-    static constexpr const char* kNames[] = {
-        "vertex_shader_invocations", "clipping_input_primitives", "clipping_output_primitives",
-        "fragment_shader_invocations", "compute_shader_invocations"};
-    bool on = false;
-    std::vector<gpu::Query> queries;
-    std::uint64_t sums[5] = {};
-    explicit PipelineCounters(bool enabled) : on(enabled) {
-        if (on)
-            for (GLenum t : kTargets)
-                queries.emplace_back(t);
-    }
-    void begin() const {
-        for (const gpu::Query& q : queries)
-            glBeginQuery(q.target(), q.id());
-    }
-    void end() {
-        for (std::size_t i = 0; i < queries.size(); ++i) {
-            glEndQuery(queries[i].target());
-            sums[i] += queries[i].result();
-        }
-    }
-    nlohmann::json json() const {
-        nlohmann::json j = nlohmann::json::object();
-        for (std::size_t i = 0; i < queries.size(); ++i)
-            j[kNames[i]] = sums[i];
-        return j;
-    }
-};
 
 void VolumeTechnique::render(const ShadowFrame& frame) {
     prepare(frame);
