@@ -44,6 +44,7 @@
 #define VEIL_SSBO_OIT_REF_NODES 1
 #define VEIL_SSBO_OIT_REF_COUNTERS 2
 #define VEIL_IMG_OIT_WBOIT_TARGET 3
+#define VEIL_IMG_OIT_REF_COUNT 3 // the reference resolve's nodes per pixel (r32f)
 // Per-pixel emission from compute (shaders/oit/fragment.glsl OIT_TARGET): images 4..6, shared
 // with the fog march's (bound again by every march); GL 4.5 guarantees units 0..7 only (NVIDIA
 // has exactly 8: binding 8 fails to compile there).

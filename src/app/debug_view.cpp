@@ -1,5 +1,7 @@
 #include "app/debug_view.h"
 
+#include "app/view_session.h"
+
 #include "base/error.h"
 
 #include <algorithm>
@@ -15,9 +17,11 @@ std::vector<DebugViewEntry> debugViewEntries(const frame::Renderer& renderer) {
         e.resource = name;
         const gpu::Texture* t = renderer.resourceTexture(name);
         if (!t || !*t) {
-            e.reason = name.rfind("oit.", 0) == 0 ? "inside the OIT technique '" +
-                                                        renderer.oitName() + "' (no frame texture)"
-                                                  : "no texture behind this resource";
+            e.reason = name.rfind("oit.", 0) == 0
+                           ? "the storage of the OIT technique '" + renderer.oitName() +
+                                 "' as a whole (no frame texture; its targets are listed as oit." +
+                                 renderer.oitName() + ".*)"
+                           : "no texture behind this resource";
             if (name.rfind("oit.", 0) == 0)
                 e.bytes = std::size_t(renderer.width()) * renderer.height() *
                           renderer.technique().bytesPerPixel();
@@ -37,12 +41,38 @@ void DebugView::select(std::string resource, int layer) {
     layer_ = std::max(0, layer);
 }
 
-void DebugView::update(const frame::Renderer& renderer) {
+bool isCountResource(const std::string& resource) {
+    const std::string suffix = ".fragments_per_pixel";
+    return resource.size() > suffix.size() &&
+           resource.compare(resource.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+glm::vec3 heatRamp(float t) {
+    static const glm::vec3 stops[] = {{0.0f, 0.0f, 0.0f}, {0.1f, 0.1f, 0.8f},  {0.8f, 0.1f, 0.7f},
+                                      {1.0f, 0.5f, 0.0f}, {1.0f, 0.95f, 0.1f}, {1.0f, 1.0f, 1.0f}};
+    const float x = std::clamp(t, 0.0f, 1.0f) * 5.0f;
+    const int i = std::min(4, static_cast<int>(x));
+    return glm::mix(stops[i], stops[i + 1], x - static_cast<float>(i));
+}
+
+void DebugView::update(const ViewSession& session) {
     if (!active()) return;
-    const gpu::Texture* t = renderer.resourceTexture(resource_);
-    VEIL_CHECK(t && *t, "debug view '{}': the frame has no texture for it", resource_);
-    layer_ = std::min(layer_, resourceLayers(*t) - 1);
-    raw_ = readResourceImage(*t, layer_);
+    heat_ = false;
+    if (errorView()) {
+        if (!error_) error_ = std::make_unique<ReferenceErrorView>();
+        raw_ = error_->update(session);
+        layer_ = 0;
+    } else {
+        const gpu::Texture* t = session.renderer().resourceTexture(resource_);
+        VEIL_CHECK(t && *t, "debug view '{}': the frame has no texture for it", resource_);
+        layer_ = std::min(layer_, resourceLayers(*t) - 1);
+        raw_ = readResourceImage(*t, layer_);
+        heat_ = isCountResource(resource_) && raw_.channels.size() == 1;
+    }
+    visualize();
+}
+
+void DebugView::visualize() {
     const std::size_t texels = std::size_t(raw_.width) * raw_.height;
     const int c = static_cast<int>(raw_.channels.size());
     // The finite range of the shown channels (RGB of colour; depth without the cleared 1).
@@ -55,20 +85,30 @@ void DebugView::update(const frame::Renderer& renderer) {
             hi = std::max(hi, v);
         }
     if (!(lo <= hi)) lo = 0.0f, hi = 1.0f;
-    if (c == 4) lo = std::min(lo, 0.0f); // colours from black
-    if (hi - lo < 1e-30f) {              // a constant: shown against [0, max(1, value)]
+    if (c >= 3 || heat_) lo = std::min(lo, 0.0f); // colours, errors and counts from zero
+    if (hi - lo < 1e-30f) {                       // a constant: shown against [0, max(1, value)]
         lo = std::min(lo, 0.0f);
         hi = std::max(hi, 1.0f);
     }
     lo_ = lo;
     hi_ = hi;
     rgba_.assign(texels * 4, 1.0f);
-    for (std::size_t i = 0; i < texels; ++i)
+    for (std::size_t i = 0; i < texels; ++i) {
+        if (heat_) {
+            const float v = raw_.pixels[i];
+            const glm::vec3 h =
+                std::isfinite(v) ? heatRamp((v - lo) / (hi - lo)) : glm::vec3(1, 0, 0);
+            rgba_[i * 4 + 0] = h.r;
+            rgba_[i * 4 + 1] = h.g;
+            rgba_[i * 4 + 2] = h.b;
+            continue;
+        }
         for (int k = 0; k < 3; ++k) {
             const float v = raw_.pixels[i * c + (c == 1 ? 0 : k)];
             rgba_[i * 4 + k] = std::isfinite(v) ? std::clamp((v - lo) / (hi - lo), 0.0f, 1.0f)
                                                 : (k == 0 ? 1.0f : 0.0f); // NaN/inf in red
         }
+    }
     if (!texture_ || texture_.width() != raw_.width || texture_.height() != raw_.height) {
         texture_ = gpu::Texture(GL_TEXTURE_2D);
         texture_.storage2D(1, GL_RGBA8, raw_.width, raw_.height)

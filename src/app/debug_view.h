@@ -3,11 +3,19 @@
 // the resource's texture back (app/resource_image.h: the same values `veil render --dump`
 // writes), maps its finite range to [0, 1] (depth: the drawn range, without the cleared 1) and
 // uploads that as an RGBA8 image; `raw()` keeps the values for the EXR screenshot.
+// Counts (a resource named *.fragments_per_pixel: `reference`'s per-pixel list lengths) are
+// shown as a heat map of [0, max] (heatRamp(), the panel draws its legend). One view is the
+// viewer's own, not a frame resource: kReferenceErrorView, |frame - reference| of the linear
+// radiance (app/error_view.h), rendered only while it is shown.
 #pragma once
 
+#include "app/error_view.h"
 #include "app/resource_image.h"
 #include "frame/renderer.h"
 
+#include <glm/glm.hpp>
+
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -24,6 +32,11 @@ struct DebugViewEntry {
 // Every resource of the frame, in the order the passes declare them.
 std::vector<DebugViewEntry> debugViewEntries(const frame::Renderer& renderer);
 
+// Whether a resource holds counts, shown as a heat map from 0 to its maximum.
+bool isCountResource(const std::string& resource);
+// The heat map's colour of t in [0, 1]: black, blue, magenta, orange, yellow, white.
+glm::vec3 heatRamp(float t);
+
 class DebugView {
 public:
     // "" = the frame itself (no debug view).
@@ -31,9 +44,13 @@ public:
     const std::string& resource() const { return resource_; }
     int layer() const { return layer_; }
     bool active() const { return !resource_.empty(); }
-    // Reads the selected resource of the last frame; throws veil::Error when it has no
-    // readable texture.
-    void update(const frame::Renderer& renderer);
+    // Reads the selected resource of the session's last frame (or renders the error view);
+    // throws veil::Error when it has no readable texture.
+    void update(const ViewSession& session);
+    bool heatMap() const { return heat_; }
+    bool errorView() const { return resource_ == kReferenceErrorView; }
+    // The error view's RMSE and largest difference (valid after update() of it).
+    const ReferenceErrorView* error() const { return error_.get(); }
     const gpu::Texture& texture() const { return texture_; }
     const ResourceImage& raw() const { return raw_; }
     float lo() const { return lo_; }
@@ -42,7 +59,11 @@ public:
     ImageF visualized() const;
 
 private:
+    void visualize();
+
     std::string resource_;
+    bool heat_ = false;
+    std::unique_ptr<ReferenceErrorView> error_;
     int layer_ = 0;
     ResourceImage raw_;
     std::vector<float> rgba_;

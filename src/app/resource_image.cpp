@@ -16,6 +16,11 @@ bool isDepth(GLenum f) {
 }
 bool isSingleChannel(GLenum f) { return f == GL_R16F || f == GL_R32F || f == GL_R8; }
 bool isInteger(GLenum f) { return f == GL_R32UI || f == GL_RGBA32UI; }
+// Colour formats read back as RGBA floats (two-channel ones with B = 0, A = 1).
+bool isColour(GLenum f) {
+    return f == GL_RGBA8 || f == GL_RGBA16F || f == GL_RGBA32F || f == GL_RG32F || f == GL_RG16F ||
+           f == GL_RG16 || f == GL_RGBA16 || f == GL_RGBA16_SNORM;
+}
 
 } // namespace
 
@@ -29,6 +34,14 @@ std::string formatName(GLenum format) {
         return "GL_RGBA32F";
     case GL_RG32F:
         return "GL_RG32F";
+    case GL_RG16F:
+        return "GL_RG16F";
+    case GL_RG16:
+        return "GL_RG16";
+    case GL_RGBA16:
+        return "GL_RGBA16";
+    case GL_RGBA16_SNORM:
+        return "GL_RGBA16_SNORM";
     case GL_R16F:
         return "GL_R16F";
     case GL_R32F:
@@ -60,7 +73,12 @@ std::size_t bytesPerTexel(GLenum format) {
         return 4;
     case GL_RGBA16F:
     case GL_RG32F:
+    case GL_RGBA16:
+    case GL_RGBA16_SNORM:
         return 8;
+    case GL_RG16F:
+    case GL_RG16:
+        return 4;
     case GL_RGBA32F:
     case GL_RGBA32UI:
         return 16;
@@ -85,8 +103,7 @@ std::string whyNotReadable(const gpu::Texture& t) {
         return fmt::format("texture target 0x{:04x} (e.g. multisample) cannot be read back",
                            target);
     const GLenum f = t.format();
-    if (!isDepth(f) && !isSingleChannel(f) && !isInteger(f) && f != GL_RGBA8 && f != GL_RGBA16F &&
-        f != GL_RGBA32F && f != GL_RG32F)
+    if (!isDepth(f) && !isSingleChannel(f) && !isInteger(f) && !isColour(f))
         return "format " + formatName(f) + " is not shown";
     return {};
 }

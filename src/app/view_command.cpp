@@ -22,6 +22,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -167,10 +168,14 @@ void scriptOutput(const ScriptAction& a, ViewSession& session, const DebugView& 
                             {"oit_stats", r.technique().stats()},
                             {"shadows", r.shadowTechnique().name()},
                             {"debug_view", view.resource()},
+                            {"debug_range", {view.lo(), view.hi()}},
                             {"width", r.width()},
                             {"height", r.height()},
                             {"overrides", session.overrides()},
                             {"renderer", session.context().renderer}};
+        if (view.errorView() && view.error())
+            j["error_vs_reference"] = {{"rmse", view.error()->error().rmse},
+                                       {"max_abs", view.error()->maxAbs()}};
         writeTextFileAtomically(path, j.dump(2) + "\n");
     }
     std::cout << "wrote " << path << "\n";
@@ -262,8 +267,9 @@ void runView(const ViewArgs& args) {
     std::uint64_t renderedVersion = ~std::uint64_t(0);
     std::string renderedView = "\x01";
     int renderedLayer = -1;
-    std::size_t next = 0; // script action
-    int wait = 0;         // frames left of a "frames" action
+    std::string shownView; // the debug view the last update showed
+    std::size_t next = 0;  // script action
+    int wait = 0;          // frames left of a "frames" action
     int frame = 0;
     bool preview = false; // reduced resolution while the camera moves
     auto lastMove = std::chrono::steady_clock::now();
@@ -343,14 +349,25 @@ void runView(const ViewArgs& args) {
             renderedVersion = session.version();
         }
         if (view.resource() != renderedView || view.layer() != renderedLayer) {
+            // The shown view was another technique's target (the technique was switched):
+            // back to the frame. (A view chosen now that does not exist is an error below.)
+            if (view.active() && !view.errorView() && view.resource() == shownView) {
+                const std::vector<std::string> all = session.renderer().passes().resources();
+                if (std::find(all.begin(), all.end(), view.resource()) == all.end()) {
+                    session.setStatus("debug view '" + view.resource() +
+                                      "' is not a resource of this frame: showing the frame");
+                    view.select("");
+                }
+            }
             try {
-                view.update(session.renderer());
+                view.update(session);
             } catch (const Error& e) {
                 session.fail(e.what());
                 view.select("");
             }
             renderedView = view.resource();
             renderedLayer = view.layer();
+            shownView = view.resource();
         }
         // The shown image, fitted into the window with its aspect.
         const gpu::Texture& shown = view.active() ? view.texture() : session.displayTexture();

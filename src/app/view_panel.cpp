@@ -9,6 +9,7 @@
 #include "io/exr_writer.h"
 #include "io/image_io.h"
 #include "oit/technique.h"
+#include "scene/value_properties.h"
 #include "shadows/technique.h"
 
 #define GLFW_INCLUDE_NONE
@@ -59,17 +60,10 @@ void sceneColour(ViewSession& s, const std::string& key, const char* label, glm:
     tip(doc);
 }
 
-void sceneVec(ViewSession& s, const std::string& key, const char* label, glm::vec3 value,
-              const char* doc) {
-    if (ImGui::DragFloat3(label, &value.x, 0.02f)) s.set(key + "=" + jsonVec(value));
-    tip(doc);
-}
-
-// The generated widgets of a technique's schema; each changed key is set as prefix.KEY.
-void techniqueProperties(ViewSession& s, const PropertySchema& schema, const Properties& current,
-                         const std::string& prefix) {
+// The generated widgets of a schema over `values`; each changed key is set as prefix.KEY.
+void schemaWidgets(ViewSession& s, const PropertySchema& schema, nlohmann::json values,
+                   const std::string& prefix) {
     if (schema.empty()) return;
-    nlohmann::json values = current.values();
     const nlohmann::json before = values;
     if (propertyWidgets(schema, values))
         for (const auto& [key, v] : values.items())
@@ -139,15 +133,8 @@ void cameraSection(ViewSession& s, const PanelState& st) {
     for (std::size_t i = 0; i < sc.cameras.size(); ++i)
         if (sc.cameras[i].name == s.cameraName()) index = i;
     const scene::Camera& c = sc.cameras[index];
-    const std::string key = fmt::format("cameras.{}.", index);
-    if (c.type == scene::CameraType::Perspective)
-        sceneFloat(s, key + "fov_y", "fov y", c.fovYDegrees, 1.0f, 170.0f,
-                   "full vertical field of view, degrees");
-    else
-        sceneFloat(s, key + "ortho_height", "ortho height", c.orthoHeight, 0.01f, 1000.0f,
-                   "full height of the view volume, world units", true);
-    sceneFloat(s, key + "near", "near", c.nearPlane, 1e-4f, 100.0f, "near plane", true);
-    sceneFloat(s, key + "far", "far", c.farPlane, 0.1f, 1e5f, "far plane", true);
+    schemaWidgets(s, scene::cameraProperties(c.type), scene::cameraValues(c),
+                  fmt::format("cameras.{}", index));
     ImGui::TextDisabled("left drag: orbit, right/middle drag: pan, wheel: zoom");
 }
 
@@ -171,7 +158,7 @@ void techniqueSections(ViewSession& s, const PanelState& st) {
     if (section("Transparency (OIT)", st, true)) {
         techniqueCombo(s, "OIT", oit::Registry::instance(), r.oitName(), true);
         if (const oit::TechniqueInfo* info = oit::Registry::instance().find(r.oitName()))
-            techniqueProperties(s, info->properties, r.technique().properties(), "render.oit");
+            schemaWidgets(s, info->properties, r.technique().properties().values(), "render.oit");
         if (const nlohmann::json stats = r.technique().stats(); !stats.empty())
             ImGui::TextWrapped("stats: %s", stats.dump().c_str());
     }
@@ -179,8 +166,8 @@ void techniqueSections(ViewSession& s, const PanelState& st) {
         const std::string name = r.shadowTechnique().name();
         techniqueCombo(s, "shadows", shadows::Registry::instance(), name, false);
         if (const shadows::TechniqueInfo* info = shadows::Registry::instance().find(name))
-            techniqueProperties(s, info->properties, r.shadowTechnique().properties(),
-                                "render.shadows");
+            schemaWidgets(s, info->properties, r.shadowTechnique().properties().values(),
+                          "render.shadows");
         if (const nlohmann::json stats = r.shadowTechnique().stats(); !stats.empty())
             ImGui::TextWrapped("stats: %s", stats.dump().c_str());
     }
@@ -190,19 +177,8 @@ void fogSections(ViewSession& s, const PanelState& st) {
     const scene::Scene& sc = s.scene();
     if (sc.volumes.empty()) return;
     if (section("Fog marcher", st)) {
-        int steps = sc.render.fogSteps;
-        if (ImGui::SliderInt("steps", &steps, 1, 1024, "%d", ImGuiSliderFlags_Logarithmic))
-            s.set(fmt::format("render.fog_steps={}", steps));
-        tip("ray-march steps per ray through the volumes' bounds (render.fog_steps)");
-        const char* res[] = {"1 (full)", "2 (half)", "4 (quarter)"};
-        int ri = sc.render.fogResolution == 4 ? 2 : sc.render.fogResolution == 2 ? 1 : 0;
-        if (ImGui::Combo("resolution", &ri, res, 3))
-            s.set(fmt::format("render.fog_resolution={}", 1 << ri));
-        tip("marching resolution divisor, joint-bilateral upsampled on depth [000 sec. 5]");
-        bool jitter = sc.render.fogJitter;
-        if (ImGui::Checkbox("jitter", &jitter))
-            s.set(fmt::format("render.fog_jitter={}", jitter ? "true" : "false"));
-        tip("per-pixel random start offset of the march (seeded by render.seed)");
+        schemaWidgets(s, scene::fogMarcherProperties(), scene::fogMarcherValues(sc.render),
+                      "render");
     }
     if (section("Volumes", st)) {
         for (std::size_t i = 0; i < sc.volumes.size(); ++i) {
@@ -211,14 +187,8 @@ void fogSections(ViewSession& s, const PanelState& st) {
             const std::string key = fmt::format("volumes.{}.", i);
             ImGui::Separator();
             ImGui::TextUnformatted(v.name.empty() ? key.c_str() : v.name.c_str());
-            sceneFloat(s, key + "density_scale", "density scale", v.densityScale, 1e-4f, 1e3f,
-                       "extinction coefficient per unit density (sigma_t = scale x density)", true);
-            sceneColour(s, key + "albedo", "albedo", v.albedo,
-                        "single-scattering albedo sigma_s / sigma_t");
-            sceneFloat(s, key + "anisotropy", "anisotropy g", v.anisotropy, -0.99f, 0.99f,
-                       "Henyey-Greenstein phase function g [HG 1941]");
-            sceneColour(s, key + "emission", "emission", v.emission,
-                        "emitted radiance per unit density");
+            schemaWidgets(s, scene::volumeProperties(), scene::volumeValues(v),
+                          fmt::format("volumes.{}", i));
             ImGui::PopID();
         }
     }
@@ -234,11 +204,8 @@ void lightSection(ViewSession& s, const PanelState& st) {
         const std::string key = fmt::format("lights.{}.", i);
         ImGui::Separator();
         ImGui::TextUnformatted(l.name.empty() ? key.c_str() : l.name.c_str());
-        sceneColour(s, key + "color", "colour", l.color, "light colour (times intensity)");
-        sceneFloat(s, key + "intensity", "intensity", l.intensity, 0.0f, 1e4f,
-                   "directional: irradiance; spot/point: radiant intensity (1/d^2)", true);
-        if (l.type != scene::LightType::Directional)
-            sceneVec(s, key + "position", "position", l.position, "world position");
+        schemaWidgets(s, scene::lightProperties(l.type), scene::lightValues(l),
+                      fmt::format("lights.{}", i));
         if (l.type != scene::LightType::Point) {
             // The document names the aim as a target or a direction; the edit keeps its form.
             const bool hasTarget = doc.is_object() && doc.contains("lights") &&
@@ -256,14 +223,29 @@ void lightSection(ViewSession& s, const PanelState& st) {
             tip("direction the light travels (a move recomputes its shadow maps and the fog's "
                 "light transmittance volumes)");
         }
-        if (l.type == scene::LightType::Spot) {
-            sceneFloat(s, key + "inner_cone", "inner cone", l.innerConeDegrees, 0.0f, 89.0f,
-                       "half-angle of full intensity, degrees");
-            sceneFloat(s, key + "outer_cone", "outer cone", l.outerConeDegrees, 0.0f, 89.9f,
-                       "half-angle where the intensity reaches zero, degrees");
-        }
         ImGui::PopID();
     }
+}
+
+// The heat map's ramp from 0 to `max` (fragments per pixel) as a bar with its ends labelled.
+void heatLegend(float max) {
+    const float width = ImGui::GetContentRegionAvail().x, height = ImGui::GetFontSize();
+    const ImVec2 p = ImGui::GetCursorScreenPos();
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    constexpr int kSteps = 20;
+    for (int i = 0; i < kSteps; ++i) {
+        const glm::vec3 a = heatRamp(float(i) / kSteps), b = heatRamp(float(i + 1) / kSteps);
+        const ImU32 ca = ImGui::GetColorU32(ImVec4(a.r, a.g, a.b, 1.0f)),
+                    cb = ImGui::GetColorU32(ImVec4(b.r, b.g, b.b, 1.0f));
+        draw->AddRectFilledMultiColor(ImVec2(p.x + width * i / kSteps, p.y),
+                                      ImVec2(p.x + width * (i + 1) / kSteps, p.y + height), ca, cb,
+                                      cb, ca);
+    }
+    ImGui::Dummy(ImVec2(width, height));
+    ImGui::Text("0");
+    const std::string label = fmt::format("{:g} fragments per pixel (max)", max);
+    ImGui::SameLine(std::max(0.0f, width - ImGui::CalcTextSize(label.c_str()).x));
+    ImGui::TextUnformatted(label.c_str());
 }
 
 void debugSection(ViewSession& s, DebugView& view, const PanelState& st) {
@@ -290,8 +272,18 @@ void debugSection(ViewSession& s, DebugView& view, const PanelState& st) {
             ImGui::Unindent();
         }
     }
-    if (view.active())
+    // The viewer's own view: the frame against `reference`, rendered only while shown.
+    if (ImGui::RadioButton(kReferenceErrorView, view.errorView())) view.select(kReferenceErrorView);
+    tip("|frame - reference| of the linear HDR radiance per RGB channel: the same frame "
+        "rendered by a second renderer with the exact sorted composite (only while shown)");
+    if (view.errorView() && view.error())
+        ImGui::Text("RMSE %.4g, max %.4g (linear radiance)", view.error()->error().rmse,
+                    view.error()->maxAbs());
+    if (view.heatMap()) {
+        heatLegend(view.hi());
+    } else if (view.active()) {
         ImGui::Text("shown range [%.4g, %.4g] -> black..white", view.lo(), view.hi());
+    }
 }
 
 void frameSection(ViewSession& s, PanelState& st) {

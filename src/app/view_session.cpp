@@ -185,6 +185,7 @@ void ViewSession::rebuild(const fs::path& path, std::vector<std::string>& overri
     cameraName_ = cameraName;
     adoptCamera(!sameScene);
     frameFailed_ = false;
+    ++rebuilds_;
 }
 
 void ViewSession::adoptCamera(bool resetOrbit) {
@@ -254,8 +255,10 @@ bool ViewSession::set(const std::string& keyValue) {
                 s.volumes[i].emission = parsed->volumes[i].emission;
             }
             // Light transmittance volumes depend on the lights and the volume values.
-            if (startsWith(key, "lights.") || startsWith(key, "volumes."))
+            if (startsWith(key, "lights.") || startsWith(key, "volumes.")) {
                 renderer_->sceneValuesChanged();
+                ++valueChanges_;
+            }
             break;
         }
         case OverrideScope::Oit:

@@ -105,6 +105,11 @@ public:
     const gpu::ContextInfo& context() const { return context_; }
     // Counts every change that needs a new frame (edits, camera moves, resizes, opens).
     std::uint64_t version() const { return version_; }
+    // Counts the new scenes + renderers built (a file opened, an edit past the live paths) and
+    // the in-place light/volume value edits (what a second renderer of the same scene, the
+    // error view's reference, must follow).
+    std::uint64_t rebuilds() const { return rebuilds_; }
+    std::uint64_t valueChanges() const { return valueChanges_; }
     // The scene document as read from the .json (null for a bare .vdb), before overrides.
     const nlohmann::json& sourceDocument() const { return sourceDoc_; }
 
@@ -140,7 +145,7 @@ private:
     std::vector<std::string> errors_;
     std::string lastError_, status_;
     bool frameFailed_ = false;
-    std::uint64_t version_ = 0;
+    std::uint64_t version_ = 0, rebuilds_ = 0, valueChanges_ = 0;
     nlohmann::json sourceDoc_;
 };
 

@@ -52,6 +52,7 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
                "image size {}x{} out of range 1..16384", width_, height_);
     camera_ = scene.camera(options.camera.empty() ? scene.render.camera : options.camera);
     oitName_ = options.oit.empty() ? scene.render.oit : options.oit;
+    const std::size_t oitMark = programs_.size();
     if (!options.oitProperties.is_null())
         oit_ = oit::Registry::instance().create(oitName_, context_, programs_,
                                                 options.oitProperties, "OIT properties");
@@ -60,6 +61,7 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
                                                 scene.render.oitProperties, scene.render.oitWhere);
     else // another technique than the scene's (--oit): its defaults
         oit_ = oit::Registry::instance().create(oitName_, context_, programs_, {}, "--oit");
+    oitPrograms_ = programs_.handlesFrom(oitMark); // the technique's own (resolve, ...)
     scene.bounds(boundsLo_, boundsHi_);
 
     // The shadow technique, chosen like the OIT technique (render.shadows, --shadows).
@@ -107,7 +109,10 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
         // self-shadowing volumes (one answer for every receiver, counted once).
         fog_->setSelfShadowing(!(shadows_->attenuatesMedia() && shadowSet_.viewCount > 0));
     }
+    const std::size_t passMark = programs_.size();
     addTechniquePrograms();
+    for (gpu::ProgramHandle h : programs_.handlesFrom(passMark))
+        oitPrograms_.push_back(h);
 
     meshes_.reserve(scene.meshes.size());
     for (const auto& mesh : scene.meshes)
@@ -199,25 +204,42 @@ void Renderer::addTechniquePrograms() {
 
 void Renderer::setOitTechnique(const std::string& name, const nlohmann::json& properties,
                                const std::string& where) {
-    // Built aside first: a failure leaves the current technique and programs in place.
-    std::unique_ptr<oit::Technique> next =
-        oit::Registry::instance().create(name, context_, programs_, properties, where);
-    std::swap(oit_, next);
+    // Built aside first: a failure leaves the current technique and programs in place. Every
+    // program added from `mark` on is the new technique's (its own, its transparent and fog
+    // programs); the old technique's are released once the new one stands.
+    const std::size_t mark = programs_.size();
+    std::unique_ptr<oit::Technique> next;
     const std::string previousName = oitName_;
     const std::vector<gpu::ProgramHandle> transparent = transparentPrograms_,
                                           fogEmit = fogEmitPrograms_;
-    oitName_ = name;
+    const volume::FogPass::SegmentsState segments =
+        fog_ ? fog_->segmentsState() : volume::FogPass::SegmentsState{};
     try {
+        next = oit::Registry::instance().create(name, context_, programs_, properties, where);
+        std::swap(oit_, next);
+        oitName_ = name;
         addTechniquePrograms();
         oit_->resize(targets_);
+        rebuildPasses(); // the technique's targets are frame resources
     } catch (...) {
-        std::swap(oit_, next);
+        for (gpu::ProgramHandle h : programs_.handlesFrom(mark))
+            programs_.release(h);
+        if (next) std::swap(oit_, next); // the previous technique back
         oitName_ = previousName;
         transparentPrograms_ = transparent;
         fogEmitPrograms_ = fogEmit;
-        configureFogSegments(); // the previous technique's (its program is already built)
+        if (fog_) fog_->restoreSegments(segments); // the previous technique's, still built
+        rebuildPasses();
         throw;
     }
+    for (gpu::ProgramHandle h : oitPrograms_)
+        programs_.release(h);
+    oitPrograms_ = programs_.handlesFrom(mark);
+}
+
+void Renderer::rebuildPasses() {
+    passes_ = PassList();
+    buildPasses();
 }
 
 void Renderer::resize(int width, int height) {
@@ -448,7 +470,11 @@ void Renderer::buildPasses() {
         transparentReads.push_back("fog.radiance");
     }
 
-    passes_.add({"transparent", transparentReads, {"oit.accumulation"}, [this, bindShadows] {
+    // The technique's accumulation targets are frame resources of their own (debug views,
+    // --dump); oit.accumulation stands for its storage as a whole (lists, buffers).
+    std::vector<std::string> accumulation =
+        plus({"oit.accumulation"}, oit_->accumulationResources());
+    passes_.add({"transparent", transparentReads, accumulation, [this, bindShadows] {
                      bindShadows();
                      for (int pass = 0; pass < oit_->geometryPasses(); ++pass) {
                          const gpu::Program& program = programs_.get(transparentPrograms_[pass]);
@@ -488,8 +514,8 @@ void Renderer::buildPasses() {
                      }
                  }});
 
-    passes_.add(
-        {"resolve", {"oit.accumulation", "hdr"}, {"hdr"}, [this] { oit_->resolve(targets_); }});
+    passes_.add({"resolve", plus(accumulation, {"hdr"}), plus({"hdr"}, oit_->resolveResources()),
+                 [this] { oit_->resolve(targets_); }});
 
     passes_.add({"tonemap", {"hdr"}, {"ldr"}, [this] {
                      const gpu::Program& program = programs_.get(tonemapProgram_);
@@ -513,6 +539,7 @@ const gpu::Texture* Renderer::resourceTexture(const std::string& name) const {
     if (ao_ && name.rfind("ao.", 0) == 0) return ao_->resourceTexture(name);
     if (fog_ && name == "fog.radiance") return &fog_->radianceTexture();
     if (fog_ && name == "fog.light_transmittance") return fog_->lightTransmittanceTexture(0);
+    if (name.rfind("oit.", 0) == 0) return oit_->resourceTexture(name);
     return nullptr;
 }
 

@@ -92,18 +92,23 @@ public:
     const PassList& passes() const { return passes_; }
     // The texture behind a frame resource (depth, hdr, ldr, shadow.* of the shadow technique:
     // arrays with one layer per light view, fog.radiance, fog.light_transmittance of the first
-    // volume), or null when it has no texture.
+    // volume, oit.<technique>.* of the OIT technique: its accumulation targets, `reference`'s
+    // fragments per pixel), or null when it has no texture.
     const gpu::Texture* resourceTexture(const std::string& name) const;
     // Recompiles every shader from disk; failing programs keep their previous version (their
     // messages go to `errors` when given).
     int reloadShaders(std::vector<std::string>* errors = nullptr) {
         return programs_.reloadAll(errors);
     }
+    // Programs that exist now (tests: a technique switch releases the old technique's).
+    std::size_t liveProgramCount() const { return programs_.liveCount(); }
 
     // Changes that rebuild only what depends on them (the viewer; DESIGN.md "derived
     // structures are rebuilt when what they depend on changed"):
     // Another OIT technique (or other property values): the technique, its transparent and
-    // fog-emission programs and its targets. Meshes, volumes, shadow maps stay. Throws
+    // fog-emission programs and its targets (the old technique's programs are deleted; the
+    // pass list is rebuilt with the new technique's resources). Meshes, volumes, shadow maps
+    // stay. Throws
     // veil::Error (unknown, unavailable, bad property, shader) and then changes nothing.
     void setOitTechnique(const std::string& name, const nlohmann::json& properties,
                          const std::string& where = "OIT properties");
@@ -116,6 +121,7 @@ public:
 private:
     void createTargets();
     void buildPasses();
+    void rebuildPasses();
     void addTechniquePrograms();
     void configureFogSegments();
     void updateUniforms();
@@ -138,6 +144,9 @@ private:
     std::unique_ptr<AmbientOcclusion> ao_;
     std::vector<GpuMesh> meshes_;
     std::unique_ptr<oit::Technique> oit_;
+    // Every program the OIT technique brought (its own, transparent, fog emission, fog
+    // segments): released when setOitTechnique() replaces it.
+    std::vector<gpu::ProgramHandle> oitPrograms_;
     std::unique_ptr<shadows::Technique> shadows_;
     shadows::ShadowLightSet shadowSet_;
     std::vector<shadows::LightView> shadowViews_;

@@ -259,12 +259,32 @@ ProgramHandle ProgramManager::add(ProgramDesc desc) {
 
 const Program& ProgramManager::get(ProgramHandle handle) const {
     VEIL_CHECK(handle.index < programs_.size(), "invalid program handle {}", handle.index);
+    VEIL_CHECK(programs_[handle.index].second, "program {} was released", handle.index);
     return programs_[handle.index].second;
+}
+
+void ProgramManager::release(ProgramHandle handle) {
+    if (handle.index < programs_.size()) programs_[handle.index].second = Program(NoCreate);
+}
+
+std::vector<ProgramHandle> ProgramManager::handlesFrom(std::size_t first) const {
+    std::vector<ProgramHandle> h;
+    for (std::size_t i = first; i < programs_.size(); ++i)
+        h.push_back(ProgramHandle{i});
+    return h;
+}
+
+std::size_t ProgramManager::liveCount() const {
+    std::size_t n = 0;
+    for (const auto& p : programs_)
+        n += p.second ? 1 : 0;
+    return n;
 }
 
 int ProgramManager::reloadAll(std::vector<std::string>* errors) {
     int failed = 0;
     for (auto& [desc, program] : programs_) {
+        if (!program) continue; // released
         try {
             program = Program(desc);
         } catch (const Error& e) {

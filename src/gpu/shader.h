@@ -91,6 +91,14 @@ class ProgramManager {
 public:
     ProgramHandle add(ProgramDesc desc);
     const Program& get(ProgramHandle handle) const;
+    // Deletes the program of `handle` (a replaced OIT technique's); get() of it then throws,
+    // reloadAll() skips it. Handles stay stable: its slot is kept, empty.
+    void release(ProgramHandle handle);
+    // Handles added from `first` on (what one step, e.g. creating a technique, added).
+    std::vector<ProgramHandle> handlesFrom(std::size_t first) const;
+    std::size_t size() const { return programs_.size(); }
+    // Programs that exist (added and not released).
+    std::size_t liveCount() const;
     // Recompiles every program from its files. A program that fails keeps its previous
     // version; returns the number that failed (their errors are logged).
     int reloadAll(std::vector<std::string>* errors = nullptr);
@@ -98,7 +106,7 @@ public:
     std::vector<ProgramDesc> descriptions() const {
         std::vector<ProgramDesc> d;
         for (const auto& p : programs_)
-            d.push_back(p.first);
+            if (p.second) d.push_back(p.first);
         return d;
     }
 

@@ -118,6 +118,16 @@ public:
     virtual void resolve(const OitFrameTargets& targets) = 0;
     // Bytes of technique-owned storage per pixel (memory reports, benchmarks).
     virtual std::size_t bytesPerPixel() const = 0;
+    // The technique's own targets as frame resources (debug views, `veil render --dump`),
+    // named "oit.<technique>.<target>": those the transparent pass writes and the resolve
+    // reads (accumulation), and those the resolve writes (e.g. `reference`'s fragments per
+    // pixel). resourceTexture() gives the texture behind each name (null: none now).
+    virtual std::vector<std::string> accumulationResources() const { return {}; }
+    virtual std::vector<std::string> resolveResources() const { return {}; }
+    virtual const gpu::Texture* resourceTexture(const std::string& name) const {
+        (void)name;
+        return nullptr;
+    }
     // Counters of the last frame for reports and the viewer (e.g. `reference`'s node pool),
     // as a JSON object; empty for techniques that keep none.
     virtual nlohmann::json stats() const { return nlohmann::json::object(); }

@@ -63,6 +63,16 @@ public:
                         const std::filesystem::path& oitEmitInclude);
     void disableSegments() { segmentsEnabled_ = false; }
     bool segmented() const { return segmentsEnabled_; }
+    // The piecewise marcher's state, to put back as it was (a failed OIT technique switch).
+    struct SegmentsState {
+        bool enabled = false;
+        gpu::ProgramHandle program;
+    };
+    SegmentsState segmentsState() const { return {segmentsEnabled_, segmentsProgram_}; }
+    void restoreSegments(const SegmentsState& s) {
+        segmentsEnabled_ = s.enabled;
+        segmentsProgram_ = s.program;
+    }
     // Marches every full-resolution pixel piecewise between the surfaces the technique has
     // stored and emits one contribution per segment; `prepareOit` sets the technique's
     // uniforms on the program (Technique::prepareProgram). After march() in the same frame.

@@ -11,6 +11,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 
 namespace veil::test {
@@ -235,6 +237,162 @@ TEST(ViewScriptTest, BadScriptIsOneClearError) {
     EXPECT_NE(r.exitCode, 0);
     EXPECT_NE(r.output.find("script.json: action 1: unknown action 'zoom_in'"), std::string::npos)
         << r.output;
+}
+
+namespace {
+
+// Every pixel of the shown image: not one flat colour.
+void expectNotFlat(const fs::path& png) {
+    const ImageF img = io::readImage(png);
+    float lo = 1.0f, hi = 0.0f;
+    for (float v : img.pixels)
+        lo = std::min(lo, v), hi = std::max(hi, v);
+    EXPECT_GT(hi - lo, 0.5f) << png << " shows a flat image";
+}
+
+} // namespace
+
+// A known depth complexity: an orthographic camera looking down on three full-screen planes
+// and a fourth covering the left half (x < 0, a pixel boundary at 64 px): `reference` stores
+// 4 fragments per pixel on the left, 3 on the right, exactly (each plane rasterizes once per
+// pixel: shared triangle edges are not drawn twice).
+TEST(ViewScriptTest, FragmentsPerPixelHeatMapCountsTheStackedPlanes) {
+    const fs::path d = folder("view-script-heatmap");
+    const fs::path scene = writeFile(d / "scene.json", R"({
+      "render": {"width": 64, "height": 48, "oit": "reference"},
+      "cameras": [{"name": "top", "type": "orthographic", "ortho_height": 2,
+                   "position": [0, 5, 0], "target": [0, 0, 0], "up": [0, 0, -1]}],
+      "materials": {"glass": {"base_color": [0.8, 0.6, 0.4], "alpha": 0.4}},
+      "objects": [
+        {"shape": {"type": "plane", "size": [10, 10]}, "material": "glass"},
+        {"shape": {"type": "plane", "size": [10, 10]}, "material": "glass",
+         "transform": {"translate": [0, 0.3, 0]}},
+        {"shape": {"type": "plane", "size": [10, 10]}, "material": "glass",
+         "transform": {"translate": [0, 0.6, 0]}},
+        {"shape": {"type": "plane", "size": [5, 10]}, "material": "glass",
+         "transform": {"translate": [-2.5, 0.9, 0]}}]
+    })");
+    const std::string resource = "oit.reference.fragments_per_pixel";
+    const nlohmann::json script = {{{"view", resource}},
+                                   {{"screenshot", (d / "viewed.exr").string()}},
+                                   {{"screenshot", (d / "viewed.png").string()}},
+                                   {{"status", (d / "status.json").string()}}};
+    writeFile(d / "script.json", script.dump());
+    CommandResult r = view(scene, d / "script.json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(d / "frame.exr") +
+                   " --set render.oit.pool_overflow=drop --dump " + q(d / "dump"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    expectSame(d / "viewed.exr", d / "dump" / (resource + ".exr"), 1);
+    const ImageF counts = exr(d / "viewed.exr");
+    ASSERT_EQ(counts.channels, 1);
+    ASSERT_EQ(counts.width, 64);
+    int wrong = 0;
+    for (int y = 0; y < counts.height; ++y)
+        for (int x = 0; x < counts.width; ++x)
+            wrong += counts.pixels[std::size_t(y) * counts.width + x] != (x < 32 ? 4.0f : 3.0f);
+    EXPECT_EQ(wrong, 0) << "pixels whose count is not 4 (left half) or 3 (right half)";
+    // Shown as a heat map of [0, max]: the legend's maximum is the deepest pixel's count.
+    const nlohmann::json st = readJson(d / "status.json");
+    EXPECT_EQ(st["debug_range"], nlohmann::json::array({0.0, 4.0})) << st;
+    const ImageF png = io::readImage(d / "viewed.png");
+    // Left: the ramp's top (white); right: 3/4 of it (orange-yellow, little blue).
+    EXPECT_GT(png.pixels[(10 * png.width + 5) * png.channels + 2], 0.9f);
+    EXPECT_LT(png.pixels[(10 * png.width + 50) * png.channels + 2], 0.3f);
+}
+
+// Each technique's accumulation targets are frame resources: listed, dumped, and shown by
+// the viewer with the values of the dump of the same frame.
+TEST(ViewScriptTest, AccumulationTargetViewsEqualTheDump) {
+    const fs::path d = folder("view-script-targets");
+    const fs::path scene = writeFile(d / "scene.json", kScene);
+    const std::vector<std::pair<std::string, std::vector<std::string>>> techniques = {
+        {"wboit", {"oit.wboit.accum", "oit.wboit.revealage"}},
+        {"moment-p6",
+         {"oit.moment-p6.moments0", "oit.moment-p6.moments1", "oit.moment-p6.moments2",
+          "oit.moment-p6.accum"}},
+        {"phenomenological",
+         {"oit.phenomenological.a", "oit.phenomenological.beta_d", "oit.phenomenological.delta"}}};
+    nlohmann::json script = nlohmann::json::array();
+    for (const auto& [oit, targets] : techniques) {
+        script.push_back({{"oit", oit}});
+        for (const std::string& t : targets) {
+            script.push_back({{"view", t}});
+            script.push_back({{"screenshot", (d / (t + ".exr")).string()}});
+            script.push_back({{"screenshot", (d / (t + ".png")).string()}});
+        }
+    }
+    script.push_back({{"status", (d / "status.json").string()}});
+    writeFile(d / "script.json", script.dump());
+    CommandResult r = view(scene, d / "script.json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_TRUE(readJson(d / "status.json")["errors"].empty()) << r.output;
+    for (const auto& [oit, targets] : techniques) {
+        const fs::path dump = d / ("dump-" + oit);
+        r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(d / (oit + ".exr")) +
+                       " --set 'render.oit={\"type\":\"" + oit + "\"}' --dump " + q(dump));
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+        for (const std::string& t : targets) {
+            SCOPED_TRACE(t);
+            ASSERT_TRUE(fs::exists(dump / (t + ".exr"))) << "not dumped";
+            const ImageF a = exr(d / (t + ".exr"));
+            ASSERT_EQ(a.channels, exr(dump / (t + ".exr")).channels);
+            expectSame(d / (t + ".exr"), dump / (t + ".exr"), a.channels);
+            expectNotFlat(d / (t + ".png"));
+        }
+    }
+}
+
+// The live error against `reference`: zero where the technique is reference; for wboit
+// exactly |wboit - reference| of the two `veil render` frames' linear radiance, with its RMSE.
+TEST(ViewScriptTest, ErrorViewAgainstReference) {
+    const fs::path d = folder("view-script-error");
+    const fs::path scene = writeFile(d / "scene.json", kScene);
+    const nlohmann::json script = {{{"view", "error vs reference"}},
+                                   {{"screenshot", (d / "error-reference.exr").string()}},
+                                   {{"status", (d / "status-reference.json").string()}},
+                                   {{"oit", "wboit"}},
+                                   {{"screenshot", (d / "error-wboit.exr").string()}},
+                                   {{"screenshot", (d / "error-wboit.png").string()}},
+                                   {{"status", (d / "status-wboit.json").string()}}};
+    writeFile(d / "script.json", script.dump());
+    CommandResult r = view(scene, d / "script.json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const nlohmann::json same = readJson(d / "status-reference.json");
+    EXPECT_EQ(same["error_vs_reference"]["rmse"], 0.0) << same;
+    EXPECT_EQ(same["error_vs_reference"]["max_abs"], 0.0) << same;
+    const ImageF zero = exr(d / "error-reference.exr");
+    ASSERT_EQ(zero.channels, 3);
+    EXPECT_EQ(*std::max_element(zero.pixels.begin(), zero.pixels.end()), 0.0f);
+
+    r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(d / "reference.exr") +
+                   " --set render.oit.pool_overflow=drop");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(d / "wboit.exr") +
+                   " --set 'render.oit={\"type\":\"wboit\"}'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const ImageF w = exr(d / "wboit.exr"), ref = exr(d / "reference.exr"),
+                 e = exr(d / "error-wboit.exr");
+    ASSERT_EQ(e.width, w.width);
+    ASSERT_EQ(e.height, w.height);
+    ASSERT_EQ(e.channels, 3);
+    int differ = 0;
+    double sum = 0.0, largest = 0.0;
+    for (int p = 0; p < w.width * w.height; ++p)
+        for (int c = 0; c < 3; ++c) {
+            const float expected =
+                std::fabs(w.pixels[p * w.channels + c] - ref.pixels[p * ref.channels + c]);
+            differ += e.pixels[p * 3 + c] != expected;
+            sum += double(expected) * expected;
+            largest = std::max(largest, double(expected));
+        }
+    EXPECT_EQ(differ, 0) << "error texels not |wboit - reference| of the rendered frames";
+    EXPECT_GT(largest, 1e-3) << "wboit should differ from the exact composite";
+    const nlohmann::json st = readJson(d / "status-wboit.json");
+    const double rmse = std::sqrt(sum / (3.0 * w.width * w.height));
+    EXPECT_NEAR(st["error_vs_reference"]["rmse"].get<double>(), rmse, 1e-9 * rmse) << st;
+    EXPECT_EQ(st["error_vs_reference"]["max_abs"].get<double>(), largest) << st;
+    expectNotFlat(d / "error-wboit.png");
 }
 
 } // namespace veil::test

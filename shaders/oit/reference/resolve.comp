@@ -5,6 +5,8 @@
 //     C = sum_i (prod_{j<i} m_j) c_i + (prod_j m_j) * background.
 // Fragments beyond the nearest OIT_REF_MAX_FRAGMENTS are counted in oitRefDropped, and the
 // deepest list of the frame in oitRefMaxLength (what max_fragments_per_pixel must reach).
+// Every pixel's list length (its nodes: surface fragments and, with fog, one per fog
+// segment) goes to oitRefCount, the frame resource oit.reference.fragments_per_pixel.
 #include "../../common/bindings.h"
 
 #ifndef OIT_REF_MAX_FRAGMENTS
@@ -29,6 +31,7 @@ layout(std430, binding = VEIL_SSBO_OIT_REF_COUNTERS) restrict buffer OitRefCount
 };
 layout(binding = VEIL_IMG_OIT_REF_HEADS, r32ui) uniform restrict readonly uimage2D oitRefHeads;
 layout(binding = VEIL_IMG_OIT_REF_TARGET, rgba16f) uniform restrict image2D hdrImage;
+layout(binding = VEIL_IMG_OIT_REF_COUNT, r32f) uniform restrict writeonly image2D oitRefCount;
 uniform uint oitRefCapacity;
 
 const uint kEnd = 0xFFFFFFFFu;
@@ -38,7 +41,10 @@ void main() {
     ivec2 size = imageSize(hdrImage);
     if (p.x >= size.x || p.y >= size.y) return;
     uint index = imageLoad(oitRefHeads, p).r;
-    if (index == kEnd) return;
+    if (index == kEnd) {
+        imageStore(oitRefCount, p, vec4(0.0));
+        return;
+    }
 
     float depths[OIT_REF_MAX_FRAGMENTS];
     uint ids[OIT_REF_MAX_FRAGMENTS];
@@ -69,6 +75,7 @@ void main() {
     }
     if (dropped > 0u) atomicAdd(oitRefDropped, dropped);
     atomicMax(oitRefMaxLength, uint(count) + dropped);
+    imageStore(oitRefCount, p, vec4(float(uint(count) + dropped)));
 
     vec3 color = vec3(0.0), throughput = vec3(1.0);
     for (int i = 0; i < count; ++i) {

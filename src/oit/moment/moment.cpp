@@ -242,6 +242,23 @@ public:
         return bytes;
     }
 
+    // Geometry pass 0 (002 Algorithm 1/2 inputs): moments0 holds b_0, moments1..2 the power
+    // or trigonometric moments (momentFormat); pass 1: accum = sum of radiance * T (rgb) and
+    // alpha * T (a), renormalized by the resolve (002 Eq. 2).
+    std::vector<std::string> accumulationResources() const override {
+        std::vector<std::string> r;
+        for (int i = 0; i < momentTargets(); ++i)
+            r.push_back(fmt::format("oit.{}.moments{}", name(), i));
+        r.push_back(fmt::format("oit.{}.accum", name()));
+        return r;
+    }
+    const gpu::Texture* resourceTexture(const std::string& n) const override {
+        for (int i = 0; i < static_cast<int>(moments_.size()); ++i)
+            if (n == fmt::format("oit.{}.moments{}", name(), i)) return &moments_[i];
+        if (n == fmt::format("oit.{}.accum", name())) return &accum_;
+        return nullptr;
+    }
+
 private:
     // The bias vector as a constant array: it is fixed per technique instance.
     std::string biasVectorDefine() const {

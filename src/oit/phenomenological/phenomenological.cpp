@@ -274,6 +274,23 @@ public:
                (volume() ? 8 * 16 + 8 : 0);
     }
 
+    // The accumulation targets of 000 Table 2 (Listing 1): A = weighted premultiplied radiance
+    // and coverage, beta_d = transmission (rgb) and diffusion, delta = refraction offsets;
+    // thickness with volume_refraction.
+    std::vector<std::string> accumulationResources() const override {
+        std::vector<std::string> r = {"oit.phenomenological.a", "oit.phenomenological.beta_d",
+                                      "oit.phenomenological.delta"};
+        if (volume()) r.push_back("oit.phenomenological.thickness");
+        return r;
+    }
+    const gpu::Texture* resourceTexture(const std::string& name) const override {
+        if (name == "oit.phenomenological.a") return &accumA_;
+        if (name == "oit.phenomenological.beta_d") return &betaD_;
+        if (name == "oit.phenomenological.delta") return &delta_;
+        if (name == "oit.phenomenological.thickness" && volume()) return &thickness_;
+        return nullptr;
+    }
+
 private:
     bool lowRes() const { return params_.particleDownsample > 1; }
     bool volume() const { return params_.volumeRefraction; }

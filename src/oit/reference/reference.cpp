@@ -50,6 +50,10 @@ void ReferenceTechnique::resize(const OitFrameTargets& targets) {
     height_ = targets.height;
     heads_ = gpu::Texture(GL_TEXTURE_2D);
     heads_.storage2D(1, GL_R32UI, width_, height_);
+    fragmentCounts_ = gpu::Texture(GL_TEXTURE_2D);
+    fragmentCounts_.storage2D(1, GL_R32F, width_, height_)
+        .parameter(GL_TEXTURE_MIN_FILTER, GL_NEAREST)
+        .parameter(GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     framebuffer_ = gpu::Framebuffer();
     // Depth only: fragments behind opaque surfaces fail the (early) depth test and append
     // nothing; no color target is written.
@@ -125,6 +129,8 @@ void ReferenceTechnique::resolve(const OitFrameTargets& targets) {
     glBindImageTexture(VEIL_IMG_OIT_REF_HEADS, heads_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
     glBindImageTexture(VEIL_IMG_OIT_REF_TARGET, targets.hdrColor->id(), 0, GL_FALSE, 0,
                        GL_READ_WRITE, GL_RGBA16F);
+    glBindImageTexture(VEIL_IMG_OIT_REF_COUNT, fragmentCounts_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                       GL_R32F);
     nodes_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_OIT_REF_NODES);
     counters_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_OIT_REF_COUNTERS);
     glDispatchCompute((targets.width + 7) / 8, (targets.height + 7) / 8, 1);
@@ -147,7 +153,11 @@ void ReferenceTechnique::resolve(const OitFrameTargets& targets) {
 
 std::size_t ReferenceTechnique::bytesPerPixel() const {
     const std::uint64_t pixels = std::max<std::uint64_t>(1, std::uint64_t(width_) * height_);
-    return 4 + static_cast<std::size_t>((stats_.poolNodes * kNodeBytes + pixels - 1) / pixels);
+    return 4 + 4 + static_cast<std::size_t>((stats_.poolNodes * kNodeBytes + pixels - 1) / pixels);
+}
+
+const gpu::Texture* ReferenceTechnique::resourceTexture(const std::string& name) const {
+    return name == kFragmentsPerPixel ? &fragmentCounts_ : nullptr;
 }
 
 nlohmann::json ReferenceTechnique::stats() const {

@@ -17,15 +17,17 @@
 //                                  "drop" (the pool stays at the cap, the fragments that do
 //                                  not fit are left out and counted in stats().
 //                                  pool_dropped_fragments; the viewer's default)
-// Storage: an r32ui head-pointer image, a node pool SSBO of 32-byte nodes (premultiplied
-// radiance rgb, view depth, modulation rgb = 1 - a + a T (000 Eq. 2), next index) and a
-// counter SSBO {nodes requested, fragments dropped by the resolve}.
-// Pool overflow: after the last geometry pass repeatAccumulation() reads the counter back;
-// if more nodes were requested than the pool holds, the pool grows to the next power of two
-// and the frame re-runs the transparent passes (grow-and-repeat: the pool ends sized from the
-// frame's actual fragment count, rounded up to a power of two).
-// Fog: fogSegments() is true, so the frame marches the fog per segment between the sorted
-// surfaces of each pixel (oitNextSurfaceDepth() in emit.glsl) and appends one node per segment.
+// Storage: an r32ui head-pointer image, an r32f image of each pixel's list length written by
+// the resolve (the frame resource oit.reference.fragments_per_pixel: surface fragments plus,
+// with fog, one node per fog segment; the viewer's heat map), a node pool SSBO of 32-byte nodes
+// (premultiplied radiance rgb, view depth, modulation rgb = 1 - a + a T (000 Eq. 2), next index)
+// and a counter SSBO {nodes requested, fragments dropped by the resolve}. Pool overflow: after the
+// last geometry pass repeatAccumulation() reads the counter back; if more nodes were requested than
+// the pool holds, the pool grows to the next power of two and the frame re-runs the transparent
+// passes (grow-and-repeat: the pool ends sized from the frame's actual fragment count, rounded up
+// to a power of two). Fog: fogSegments() is true, so the frame marches the fog per segment between
+// the sorted surfaces of each pixel (oitNextSurfaceDepth() in emit.glsl) and appends one node per
+// segment.
 #pragma once
 
 #include "oit/technique.h"
@@ -55,6 +57,7 @@ class ReferenceTechnique final : public Technique {
 public:
     static constexpr int kDefaultMaxFragmentsPerPixel = 256;
     static constexpr std::size_t kNodeBytes = 32;
+    static constexpr const char* kFragmentsPerPixel = "oit.reference.fragments_per_pixel";
 
     ReferenceTechnique(gpu::ProgramManager& programs, const ReferenceLimits& limits);
     std::string name() const override { return "reference"; }
@@ -69,6 +72,9 @@ public:
     void resolve(const OitFrameTargets& targets) override;
     std::size_t bytesPerPixel() const override;
 
+    std::vector<std::string> resolveResources() const override { return {kFragmentsPerPixel}; }
+    const gpu::Texture* resourceTexture(const std::string& name) const override;
+
     const ReferenceStats& referenceStats() const { return stats_; }
     nlohmann::json stats() const override;
 
@@ -80,7 +86,7 @@ private:
     ReferenceLimits limits_;
     std::uint64_t maxPoolNodes_ = 0;
     int width_ = 0, height_ = 0;
-    gpu::Texture heads_{gpu::NoCreate};
+    gpu::Texture heads_{gpu::NoCreate}, fragmentCounts_{gpu::NoCreate};
     gpu::Buffer nodes_{gpu::NoCreate}, counters_{gpu::NoCreate};
     gpu::Framebuffer framebuffer_{gpu::NoCreate};
     ReferenceStats stats_;

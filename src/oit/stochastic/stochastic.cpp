@@ -247,6 +247,22 @@ public:
         return bytes;
     }
 
+    // The per-sample colour (and total alpha) are multisample (listed, not readable); the
+    // sum over passes is a plain RGBA32F target.
+    std::vector<std::string> accumulationResources() const override {
+        std::vector<std::string> r = {fmt::format("oit.{}.color", name())};
+        if (mode_ != StochasticMode::Basic) r.push_back(fmt::format("oit.{}.total_alpha", name()));
+        if (mode_ != StochasticMode::DepthBased)
+            r.push_back(fmt::format("oit.{}.pass_sum", name()));
+        return r;
+    }
+    const gpu::Texture* resourceTexture(const std::string& n) const override {
+        if (n == fmt::format("oit.{}.color", name())) return &msColor_;
+        if (n == fmt::format("oit.{}.total_alpha", name())) return &msTotal_;
+        if (n == fmt::format("oit.{}.pass_sum", name())) return &passSum_;
+        return nullptr;
+    }
+
 private:
     PassInfo passInfo(int pass) const {
         VEIL_CHECK(pass >= 0 && pass < geometryPasses(), "{}: geometry pass {} out of 0..{}",

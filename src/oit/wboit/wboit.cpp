@@ -63,6 +63,17 @@ public:
 
     std::size_t bytesPerPixel() const override { return 8 + 2; }
 
+    // 000 Eq. 5: accum = sum of weighted premultiplied radiance (rgb) and coverage (a),
+    // revealage = prod(1 - alpha).
+    std::vector<std::string> accumulationResources() const override {
+        return {"oit.wboit.accum", "oit.wboit.revealage"};
+    }
+    const gpu::Texture* resourceTexture(const std::string& name) const override {
+        if (name == "oit.wboit.accum") return &accum_;
+        if (name == "oit.wboit.revealage") return &revealage_;
+        return nullptr;
+    }
+
 private:
     gpu::ProgramManager& programs_;
     gpu::ProgramHandle resolveProgram_;
