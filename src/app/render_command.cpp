@@ -82,6 +82,7 @@ Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, con
                     const std::string& oit, bool dump = false, const std::string& shadows = {},
                     const nlohmann::json& shadowProperties = {}) {
     std::optional<frame::Renderer> frameRenderer;
+    const bool fogAov = std::find(args.aovs.begin(), args.aovs.end(), "fog") != args.aovs.end();
     {
         ProgressTicker ticker("rendering with " + oit, progressWanted(args.progress));
         frameRenderer.emplace(scene, info,
@@ -92,6 +93,8 @@ Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, con
                                                      {},
                                                      shadows.empty() ? args.shadows : shadows,
                                                      shadowProperties});
+        // Readers of the fog's per-pixel march (skipped under piecewise fog otherwise).
+        frameRenderer->keepFogRadiance(fogAov || dump);
         frameRenderer->render();
         glFinish(); // the ticker measures the frame, not its submission
     }
@@ -128,7 +131,6 @@ Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, con
     r.shadowLights = renderer.shadowLights().lights;
     for (const frame::Pass& p : renderer.passes().passes())
         r.framePasses.push_back({{"name", p.name}, {"reads", p.reads}, {"writes", p.writes}});
-    const bool fogAov = std::find(args.aovs.begin(), args.aovs.end(), "fog") != args.aovs.end();
     r.extras = captureExtras(renderer, fogAov);
     if (dump) r.dumpManifest = dumpFrame(renderer, args.dump);
     return r;

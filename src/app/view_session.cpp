@@ -168,6 +168,9 @@ void ViewSession::rebuild(const fs::path& path, std::vector<std::string>& overri
         cameraName = next->camera(next->render.camera).name;
     auto renderer = std::make_unique<frame::Renderer>(*next, context_,
                                                       frame::RendererOptions{w, h, cameraName});
+    // The debug views offer every frame resource, fog.radiance too: keep the per-pixel fog
+    // march that piecewise fog (`reference`) would skip.
+    renderer->keepFogRadiance(true);
     nlohmann::json doc;
     if (lowerExtension(path.string()) == ".json") {
         std::ifstream in(path, std::ios::binary);

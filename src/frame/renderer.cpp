@@ -537,7 +537,8 @@ const gpu::Texture* Renderer::resourceTexture(const std::string& name) const {
     if (name == "ldr") return &ldr_;
     if (name.rfind("shadow.", 0) == 0) return shadows_->resourceTexture(name);
     if (ao_ && name.rfind("ao.", 0) == 0) return ao_->resourceTexture(name);
-    if (fog_ && name == "fog.radiance") return &fog_->radianceTexture();
+    if (fog_ && name == "fog.radiance")
+        return fog_->perPixelMarchRuns() ? &fog_->radianceTexture() : nullptr;
     if (fog_ && name == "fog.light_transmittance") return fog_->lightTransmittanceTexture(0);
     if (name.rfind("oit.", 0) == 0) return oit_->resourceTexture(name);
     return nullptr;

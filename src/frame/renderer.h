@@ -81,6 +81,12 @@ public:
     std::size_t gpuBytes() const;
     // The fog pass (density volumes); null when the scene has no volumes.
     const volume::FogPass* fog() const { return fog_.get(); }
+    // Keep the fog's per-pixel march (frame resource fog.radiance) under a technique that takes
+    // the fog piecewise (`reference`), for a reader of it (--aov fog, --dump); otherwise it is
+    // skipped there (FogPass::perPixelMarchRuns()).
+    void keepFogRadiance(bool on) {
+        if (fog_) fog_->keepPerPixelMarch(on);
+    }
     // The next frame recomputes the fog's light transmittance volumes (veil-bench --relight).
     void invalidateFogLightVolumes() {
         if (fog_) fog_->invalidateLightVolumes();
@@ -93,7 +99,8 @@ public:
     // The texture behind a frame resource (depth, hdr, ldr, shadow.* of the shadow technique:
     // arrays with one layer per light view, fog.radiance, fog.light_transmittance of the first
     // volume, oit.<technique>.* of the OIT technique: its accumulation targets, `reference`'s
-    // fragments per pixel), or null when it has no texture.
+    // fragments per pixel), or null when it has no texture (fog.radiance where the march skips
+    // it).
     const gpu::Texture* resourceTexture(const std::string& name) const;
     // Recompiles every shader from disk; failing programs keep their previous version (their
     // messages go to `errors` when given).

@@ -159,7 +159,9 @@ void FogPass::march(const FogTargets& targets) {
         }
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     }
-    // 2. March.
+    // 2. March (not needed beside the piecewise march, perPixelMarchRuns()).
+    if (!perPixelMarchRuns()) return;
+    ++perPixelMarches_;
     const gpu::Program& mp = programs_.get(marchProgram_);
     setMarchUniforms(mp, targets);
     mp.set("resolutionDivisor", divisor_);

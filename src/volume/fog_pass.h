@@ -73,6 +73,14 @@ public:
         segmentsEnabled_ = s.enabled;
         segmentsProgram_ = s.program;
     }
+    // With segments the per-pixel march of march() has no reader in the frame (the technique
+    // takes the fog from marchSegments()): march() then only updates the light transmittance
+    // volumes, unless a reader of its result (radianceTexture(): --aov fog, --dump) asks to
+    // keep it.
+    void keepPerPixelMarch(bool on) { keepPerPixelMarch_ = on; }
+    bool perPixelMarchRuns() const { return !segmentsEnabled_ || keepPerPixelMarch_; }
+    // Per-pixel marches dispatched since construction (tests).
+    int perPixelMarches() const { return perPixelMarches_; }
     // Marches every full-resolution pixel piecewise between the surfaces the technique has
     // stored and emits one contribution per segment; `prepareOit` sets the technique's
     // uniforms on the program (Technique::prepareProgram). After march() in the same frame.
@@ -89,7 +97,8 @@ public:
     // (density scale, albedo) or a light changed in the scene, or a benchmark compares with
     // renderers that shadow every frame (veil-bench --relight).
     void invalidateLightVolumes() { lightValid_ = false; }
-    // The march's results at 1/divisor() resolution (frame resource "fog.radiance"): rgb
+    // The march's results at 1/divisor() resolution (frame resource "fog.radiance"; not
+    // written when perPixelMarchRuns() is false): rgb
     // in-scattered radiance (a: its mean depth) and rgb transmittance (a: opaque view depth).
     const gpu::Texture& radianceTexture() const { return radiance_; }
     const gpu::Texture& transmittanceTexture() const { return transmittance_; }
@@ -110,6 +119,8 @@ private:
     gpu::ProgramHandle marchProgram_, lightProgram_, segmentsProgram_;
     gpu::IncludeAliases lightVisibility_;
     bool segmentsEnabled_ = false;
+    bool keepPerPixelMarch_ = false;
+    int perPixelMarches_ = 0;
     struct Entry {
         const scene::VolumeRef* ref;
         std::unique_ptr<GpuVolume> gpu;

@@ -4,6 +4,7 @@
 
 #include "base/error.h"
 #include "frame/renderer.h"
+#include "io/image_io.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
 #include "volume/cpu_reference.h"
@@ -334,6 +335,64 @@ TEST_F(FogTest, GlassPaneInsideSlabUnderReferenceIsPiecewiseExact) {
                 EXPECT_NEAR(img.at(x, y, c), expected, tol)
                     << "pixel " << x << "," << y << " channel " << c;
             }
+}
+
+TEST_F(FogTest, PiecewiseFogSkipsThePerPixelMarchWithTheSameImage) {
+    // Under `reference` the fog comes from the piecewise march between its sorted surfaces
+    // (fog_segments.comp); the per-pixel march (fog_march.comp) has no reader there and is
+    // skipped, while the light transmittance volumes (self-shadowing) are still made. The
+    // image must be the one rendered with the per-pixel march kept (the old frame, and what
+    // --aov fog / --dump ask for), bit for bit, over two frames (the second reuses the light
+    // volumes); a self-shadowed smoke ball behind a glass pane, lit by a spot light.
+    nlohmann::json doc = baseScene(48);
+    doc["render"]["background"] = {0.1, 0.1, 0.2};
+    doc["render"]["ambient"] = 0.05;
+    doc["lights"] = {{{"type", "spot"},
+                      {"position", {2.0, 3.0, 1.0}},
+                      {"target", {0, 0, 0}},
+                      {"intensity", 20},
+                      {"inner_cone", 20},
+                      {"outer_cone", 30}}};
+    doc["materials"] = {
+        {"pane", {{"base_color", 0.2}, {"alpha", 0.5}, {"transmission", {0.9, 0.6, 0.3}}}}};
+    doc["objects"] = {{{"shape", {{"type", "plane"}, {"size", {1.2, 1.2}}}},
+                       {"material", "pane"},
+                       {"transform", {{"translate", {0.3, 0, 0.2}}, {"rotate", {90, 0, 0}}}}}};
+    doc["volumes"] = {{{"procedural", "smoke-ball"},
+                       {"size", 1.6},
+                       {"voxel_size", 0.025},
+                       {"density_scale", 3.0},
+                       {"albedo", {0.9, 0.8, 0.7}},
+                       {"seed", 5}}};
+    const scene::Scene s = scene::parseScene(doc, sourceDir());
+    auto frames = [&](bool keep, int& marches) {
+        frame::Renderer r(s, info(), {0, 0, "", "reference"});
+        r.keepFogRadiance(keep);
+        r.render();
+        r.render();
+        marches = r.fog()->perPixelMarches();
+        EXPECT_EQ(r.resourceTexture("fog.radiance") != nullptr, keep);
+        return r.readHdr();
+    };
+    int skippedMarches = -1, keptMarches = -1;
+    const ImageF skipped = frames(false, skippedMarches);
+    const ImageF kept = frames(true, keptMarches);
+    EXPECT_EQ(skippedMarches, 0);
+    EXPECT_EQ(keptMarches, 2);
+    ASSERT_EQ(skipped.pixels.size(), kept.pixels.size());
+    int differing = 0;
+    double fogSeen = 0.0;
+    for (std::size_t i = 0; i < kept.pixels.size(); ++i) {
+        differing += skipped.pixels[i] != kept.pixels[i];
+        fogSeen = std::max(fogSeen, std::abs(double(kept.pixels[i]) - (i % 4 == 2 ? 0.2 : 0.1)));
+    }
+    io::writeImage(outputDir() / "fog_piecewise_skip.png", skipped);
+    EXPECT_EQ(differing, 0) << writeFailureImages("fog_piecewise_skip", skipped, kept);
+    EXPECT_GT(fogSeen, 0.05) << "the lit fog must show in the image";
+    // Blend (no segments) keeps its per-pixel march.
+    frame::Renderer blend(s, info(), {0, 0, "", "blend"});
+    blend.render();
+    EXPECT_EQ(blend.fog()->perPixelMarches(), 1);
 }
 
 TEST_F(FogTest, ReducedResolutionIsUpsampledAlongDepthEdges) {

@@ -325,6 +325,60 @@ TEST_F(OitPhenomenologicalTest, RefractionShiftsBackgroundAsSnellPredicts) {
     EXPECT_NEAR(e0 - e1, expectedShift, 0.1);
 }
 
+// 001 section 4.3.2 with the weights of emit.glsl (RT2 = sum c w delta, divided by A_a): the
+// tilted glass of the test above (c_1 = 1 - 0.5 = 0.5, Eq. 5 weight clamped at 30) under a
+// parallel non-refracting pane (ior 1, delta 0; c_2 = 0.5 (1 - 0.6) = 0.2, w_2 from Eq. 5 at
+// its depth) shifts the background by delta_1 c_1 w_1 / (c_1 w_1 + c_2 w_2), about 0.96 of
+// the single pane's shift (a coverage-only average would give c_1 / (c_1 + c_2) = 0.71).
+// Tolerance: the 0.1 px of the single-pane test plus w_2's change across the edge window
+// (the panes are tilted: +-0.03 in window depth, < 0.05 px).
+TEST_F(OitPhenomenologicalTest, RefractionOffsetsAveragedWithReflectionWeights) {
+    const Rgb bg{0, 0, 0};
+    Plane lit{2, 0, 4, 8, 0.0, {1, 1, 1}};
+    lit.opaque = true;
+    Plane glass{0, 0, 8, 8, 3.0, {0, 0, 0}, 1.0, {0.5, 0.5, 0.5}};
+    glass.ior = 1.5;
+    Plane pane{0, 0, 8, 8, 4.0, {0, 0, 0}, 0.5, {0.6, 0.6, 0.6}};
+    const ImageF img =
+        render(makeScene({lit, glass, pane}, bg, 20.0), "phenomenological", "phen_refr_avg");
+    glass.ior = 1.0;
+    const ImageF straight =
+        render(makeScene({lit, glass, pane}, bg, 20.0), "phenomenological", "phen_refr_avg1");
+
+    const double pi = 3.14159265358979323846, th = 20.0 * pi / 180.0, eta = 1.0 / 1.5;
+    const double cosi = std::cos(th);
+    const double k = 1.0 - eta * eta * (1.0 - cosi * cosi);
+    const double coef = eta * cosi - std::sqrt(k);
+    const double Rx = coef * -std::sin(th), Rz = -eta + coef * cosi;
+    const double shift1 = Rx / std::abs(Rz) * 2.0 * kPixelsPerUnit; // the glass alone
+    // 000 Eq. 5 at a plane of height h tilted th about z, at world x (orthographic camera at
+    // y = 10, near 1, far 20).
+    auto weight = [&](double c, double h, double x) {
+        const double f = ((10.0 - (h + x * std::tan(th))) - 1.0) / 19.0;
+        const double tmp = 10.0 * (1.0 - 0.99 * f) * c;
+        return std::clamp(tmp * tmp * tmp, 0.01, 30.0);
+    };
+    const double xEdge = worldOf(64) - shift1 / kPixelsPerUnit; // where the edge is seen
+    const double cw1 = 0.5 * weight(0.5, 3.0, xEdge), cw2 = 0.2 * weight(0.2, 4.0, xEdge);
+    const double expected = shift1 * cw1 / (cw1 + cw2);
+    const double coverageOnly = shift1 * 0.5 / 0.7;
+
+    const double plateau = 0.5 * 0.8; // beta = (1 - 1 + 0.5) (1 - 0.5 + 0.3), U' = 0
+    auto edgeAt = [&](const ImageF& im) {
+        double sum = 0.0;
+        for (int x = 40; x < 88; ++x)
+            sum += im.at(x, 64, 1) / plateau;
+        return 88.0 - sum;
+    };
+    const double e0 = edgeAt(straight), e1 = edgeAt(img);
+    RecordProperty("expected_shift_px", std::to_string(expected));
+    RecordProperty("measured_shift_px", std::to_string(e0 - e1));
+    EXPECT_NEAR(e0, 64.0, 0.05);
+    EXPECT_NEAR(img.at(100, 64, 1), plateau, 1e-3);
+    EXPECT_GT(std::abs(expected - coverageOnly), 0.6); // 4x the tolerance: tells them apart
+    EXPECT_NEAR(e0 - e1, expected, 0.15);
+}
+
 // Many bright overlapping surfaces overflow the float16 A sums: the resolve's guards keep the
 // image finite and non-negative.
 TEST_F(OitPhenomenologicalTest, ManyOverlappingSurfacesStayFinite) {

@@ -164,6 +164,16 @@ TEST(RenderExrTest, HalfAndFogAov) {
     EXPECT_GT(near, 0.0f);
     EXPECT_LT(near, 1.0f);
     EXPECT_LT(far, near);
+    // Under `reference` the fog is marched piecewise and the per-pixel march is skipped unless
+    // a reader asks for it: --aov fog does, so the AOV is the same march's result.
+    const fs::path outRef = dir() / "fog-reference.exr";
+    fs::remove(outRef);
+    const CommandResult rr = runCommand(veilExe() + " render '" + scene.string() + "' -o '" +
+                                        outRef.string() + "' --half --aov fog --oit reference");
+    ASSERT_EQ(rr.exitCode, 0) << rr.output;
+    const Exr exrRef = readExr(outRef);
+    EXPECT_EQ(exrRef.at(40, 59, "fog.transmittance"), near);
+    EXPECT_EQ(exrRef.at(40, 32, "fog.transmittance"), far);
     // --aov and --half need .exr; --aov fog needs fog.
     const CommandResult png = runCommand(veilExe() + " render '" + scene.string() + "' -o '" +
                                          (dir() / "fog.png").string() + "' --half");

@@ -3,8 +3,15 @@
 // the formats changed as noted in src/oit/phenomenological/phenomenological.h):
 //   RT0  (A_rgb, A_a)            additive            000 Eq. 4 numerator / denominator
 //   RT1  (beta_rgb, D^2 / Dmax^2)  rgb: dst *= 1 - src  000 Eq. 2; a: additive (Eq. 7)
-//   RT2  (sum c_i delta_i, sum c_i)  additive          000 Eq. 8-9 (001 Eq. 9-10), averaged
-// where c_i = alpha_i (1 - mean t_i) is the net coverage (Listing 1 `netCoverage`).
+//   RT2  sum c_i w_i delta_i / 64    additive          000 Eq. 8-9 (001 Eq. 9-10), averaged
+//        (RG16F; only with refraction, define PHEN_REFRACTION)
+// where c_i = alpha_i (1 - mean t_i) is the net coverage (Listing 1 `netCoverage`) and w_i the
+// Eq. 5 depth weight: the resolve divides RT2 by A_a = sum c_i w_i, so the layers' offsets are
+// averaged with the weights of their reflected light (Eq. 4). 001 section 4.3.2 asks for an
+// average "weighted by coverage and opacity" without fixing the weights, and its listing sums
+// c_i delta_i unnormalized; weighting by c_i w_i instead of c_i needs no weight-sum channel
+// (RT2 is two channels, 4 bytes, instead of RGBA16F), and is the same for a single layer and
+// for layers of equal weight.
 //
 // Entry point: oitEmit(OitFragment f) (shaders/oit/fragment.glsl). Surfaces use its
 // collimation, eta, view-space position and viewer-facing normal; the fog's contribution
@@ -33,7 +40,9 @@ layout(location = 4) out uvec4 phenSliceBack[4];
 #else
 OIT_TARGET(0, rgba16f, phenOutA);
 OIT_TARGET(1, rgba16, phenOutBetaD);
-OIT_TARGET(2, rgba16f, phenOutDelta);
+#ifdef PHEN_REFRACTION
+OIT_TARGET(2, rg16f, phenOutDelta);
+#endif
 #endif
 
 #ifdef PHEN_VOLUME
@@ -81,7 +90,7 @@ vec2 phenProjectToPixels(vec3 viewPos) {
 struct PhenOutput {
     vec4 A;
     vec4 betaD;
-    vec4 delta;
+    vec2 delta;
 };
 
 // 000 Listing 1 (computeOutput). radiance = alpha * L_r. t = transmission. c = collimation.
@@ -135,8 +144,9 @@ PhenOutput phenComputeOutput(vec3 radiance, float alpha, vec3 t, float viewDepth
             delta = phenProjectToPixels(B) - phenProjectToPixels(X);
         }
     }
-    // 001 section 4.3.2: the offsets of all layers are averaged, weighted by net coverage.
-    o.delta = vec4(delta * netCoverage, netCoverage, 0.0);
+    // 001 section 4.3.2: the offsets of all layers are averaged, weighted by c w (the header);
+    // / 64 keeps the float16 sum finite up to 64x A_a's range.
+    o.delta = delta * (netCoverage * w / 64.0);
     return o;
 }
 
@@ -192,7 +202,9 @@ vec4 phenBlendBetaD(vec4 dst, vec4 src) {
 void phenWrite(PhenOutput o) {
     OIT_WRITE(phenOutA, o.A, oitBlendAdd);
     OIT_WRITE(phenOutBetaD, o.betaD, phenBlendBetaD);
-    OIT_WRITE(phenOutDelta, o.delta, oitBlendAdd);
+#ifdef PHEN_REFRACTION
+    OIT_WRITE(phenOutDelta, vec4(o.delta, 0.0, 0.0), oitBlendAdd);
+#endif
 }
 
 void oitEmit(OitFragment f) {
@@ -243,7 +255,8 @@ void oitEmit(OitFragment f) {
     }
 #endif
     phenWrite(phenComputeOutput(radiance, alpha, t, viewDepth, collimation, eta, viewPos,
-                                viewNormal, phenBackgroundDepth(), refractionDepth, extraD));
+                                viewNormal, phenDiffusion ? phenBackgroundDepth() : viewDepth,
+                                refractionDepth, extraD));
 #endif // !OIT_COMPUTE
 }
 #endif // PHEN_THICKNESS

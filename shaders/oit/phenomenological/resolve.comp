@@ -43,9 +43,11 @@ void main() {
 
     vec2 delta = vec2(0.0);
     if (phenRefraction) {
-        vec4 d = texelFetch(phenDelta, p, 0);
-        // 001 section 4.3.2: coverage-weighted average of the layers' pixel offsets.
-        if (d.z > 0.0 && !any(isinf(d.xy)) && !any(isnan(d.xy))) delta = d.xy / d.z;
+        // 001 section 4.3.2: the layers' pixel offsets averaged with the weights c w of their
+        // reflected light (emit.glsl): RT2 holds sum c w delta / 64, A_a sum c w.
+        vec2 d = texelFetch(phenDelta, p, 0).xy;
+        float Aa = texelFetch(phenA, p, 0).a;
+        if (Aa > 0.0 && !isinf(Aa) && !any(isinf(d)) && !any(isnan(d))) delta = 64.0 * d / Aa;
     }
 
     vec3 bkg = vec3(0.0);

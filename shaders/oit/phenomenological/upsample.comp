@@ -21,7 +21,9 @@ layout(binding = VEIL_PHEN_TEX_DELTA) uniform sampler2D lowDelta;
 layout(binding = VEIL_PHEN_TEX_BKG) uniform sampler2D lowDepth; // downsample_depth.comp
 layout(binding = 0, rgba16f) uniform image2D fullA;
 layout(binding = 1, rgba16) uniform image2D fullBD;
-layout(binding = 2, rgba16f) uniform image2D fullDelta;
+#ifdef PHEN_REFRACTION
+layout(binding = 2, rg16f) uniform image2D fullDelta; // none without refraction
+#endif
 
 uniform int phenScale;
 
@@ -56,7 +58,9 @@ void main() {
             confidence = max(confidence, wd);
             A += w * texelFetch(lowA, q, 0);
             BD += w * texelFetch(lowBD, q, 0);
+#ifdef PHEN_REFRACTION
             delta += w * texelFetch(lowDelta, q, 0);
+#endif
             weightSum += w;
         }
     }
@@ -69,5 +73,7 @@ void main() {
     vec4 full = imageLoad(fullBD, p);
     imageStore(fullBD, p, vec4(full.rgb * mix(vec3(1.0), BD.rgb, confidence),
                                full.a + confidence * BD.a));
+#ifdef PHEN_REFRACTION
     imageStore(fullDelta, p, imageLoad(fullDelta, p) + delta);
+#endif
 }

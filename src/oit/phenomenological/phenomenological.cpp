@@ -95,8 +95,10 @@ public:
         if (lowRes()) {
             downsampleProgram_ = programs_.add(
                 gpu::ProgramDesc::compute("oit/phenomenological/downsample_depth.comp"));
-            upsampleProgram_ =
-                programs_.add(gpu::ProgramDesc::compute("oit/phenomenological/upsample.comp"));
+            std::vector<std::string> defines;
+            if (params_.refraction) defines.push_back("PHEN_REFRACTION");
+            upsampleProgram_ = programs_.add(
+                gpu::ProgramDesc::compute("oit/phenomenological/upsample.comp", defines));
         }
     }
 
@@ -112,6 +114,8 @@ public:
         std::vector<std::string> d;
         if (lowRes()) d.push_back(inner == 0 ? "PHEN_SKIP_BILLBOARDS" : "PHEN_LOWRES");
         if (volume() && inner == 0) d.push_back("PHEN_VOLUME");
+        // Without refraction there is no delta target (emit.glsl, upsample.comp).
+        if (params_.refraction) d.push_back("PHEN_REFRACTION");
         return d;
     }
 
@@ -119,17 +123,14 @@ public:
         const int w = targets.width, h = targets.height;
         accumA_ = makeTarget(GL_RGBA16F, w, h, GL_NEAREST);
         betaD_ = makeTarget(GL_RGBA16, w, h, GL_NEAREST);
-        delta_ = makeTarget(GL_RGBA16F, w, h, GL_NEAREST);
+        if (params_.refraction) delta_ = makeTarget(GL_RG16F, w, h, GL_NEAREST);
         depthCopy_ = makeTarget(GL_DEPTH_COMPONENT32F, w, h, GL_NEAREST);
         background_ = makeTarget(GL_RGBA16F, w, h, GL_LINEAR);
         VEIL_CHECK(targets.hdrColor->format() == GL_RGBA16F,
                    "phenomenological: the HDR target must be RGBA16F (copied for the resolve)");
         framebuffer_ = gpu::Framebuffer();
-        framebuffer_.attach(GL_COLOR_ATTACHMENT0, accumA_)
-            .attach(GL_COLOR_ATTACHMENT1, betaD_)
-            .attach(GL_COLOR_ATTACHMENT2, delta_)
-            .attach(GL_DEPTH_ATTACHMENT, *targets.depth)
-            .drawBuffers({GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2});
+        attachAccumulation(framebuffer_, accumA_, betaD_, delta_);
+        framebuffer_.attach(GL_DEPTH_ATTACHMENT, *targets.depth);
         framebuffer_.checkComplete("oit/phenomenological");
         if (volume()) {
             sliceFramebuffer_ = gpu::Framebuffer();
@@ -150,13 +151,11 @@ public:
             lowHeight_ = (h + s - 1) / s;
             lowA_ = makeTarget(GL_RGBA16F, lowWidth_, lowHeight_, GL_NEAREST);
             lowBetaD_ = makeTarget(GL_RGBA16, lowWidth_, lowHeight_, GL_NEAREST);
-            lowDelta_ = makeTarget(GL_RGBA16F, lowWidth_, lowHeight_, GL_NEAREST);
+            if (params_.refraction)
+                lowDelta_ = makeTarget(GL_RG16F, lowWidth_, lowHeight_, GL_NEAREST);
             lowDepth_ = makeTarget(GL_R32F, lowWidth_, lowHeight_, GL_NEAREST);
             lowFramebuffer_ = gpu::Framebuffer();
-            lowFramebuffer_.attach(GL_COLOR_ATTACHMENT0, lowA_)
-                .attach(GL_COLOR_ATTACHMENT1, lowBetaD_)
-                .attach(GL_COLOR_ATTACHMENT2, lowDelta_)
-                .drawBuffers({GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2});
+            attachAccumulation(lowFramebuffer_, lowA_, lowBetaD_, lowDelta_);
             lowFramebuffer_.checkComplete("oit/phenomenological (particles)");
         }
     }
@@ -177,12 +176,17 @@ public:
         // 000 appendix: all targets add; RT1 rgb: dst * (1 - src) (beta, Eq. 2), a: dst + src.
         state.blend[0] = gpu::BlendState::func(GL_ONE, GL_ONE);
         state.blend[1] = gpu::BlendState::separate(GL_ZERO, GL_ONE_MINUS_SRC_COLOR, GL_ONE, GL_ONE);
-        state.blend[2] = gpu::BlendState::func(GL_ONE, GL_ONE);
+        if (params_.refraction) state.blend[2] = gpu::BlendState::func(GL_ONE, GL_ONE);
+        // Without diffusion nothing writes D^2 (RT1 alpha stays at its clear value, 0).
+        if (!params_.diffusion) state.colorMask[1] = glm::bvec4(true, true, true, false);
+        const bool inferAO = params_.inferredAO && targets.ambientOcclusion && pass == 0;
         if (pass == 0) {
-            // The surfaces read the opaque depth (z_B of 000 Eq. 7) while it is attached for
-            // the depth test: sample a copy, not a texture in the feedback loop.
-            glCopyImageSubData(targets.depth->id(), GL_TEXTURE_2D, 0, 0, 0, 0, depthCopy_.id(),
-                               GL_TEXTURE_2D, 0, 0, 0, 0, targets.width, targets.height, 1);
+            // The surfaces read the opaque depth (z_B of 000 Eq. 7, the inferred AO, the
+            // particles' depth key) while it is attached for the depth test: sample a copy,
+            // not a texture in the feedback loop. Nothing reads it without those.
+            if (params_.diffusion || inferAO || lowRes())
+                glCopyImageSubData(targets.depth->id(), GL_TEXTURE_2D, 0, 0, 0, 0, depthCopy_.id(),
+                                   GL_TEXTURE_2D, 0, 0, 0, 0, targets.width, targets.height, 1);
             depthCopy_.bind(VEIL_PHEN_TEX_DEPTH);
         } else {
             // Low-resolution particles: depth key, then a depth test by hand (emit.glsl).
@@ -206,11 +210,10 @@ public:
         const float zero[4] = {0, 0, 0, 0}, betaClear[4] = {1, 1, 1, 0};
         glClearNamedFramebufferfv(fbo->id(), GL_COLOR, 0, zero);
         glClearNamedFramebufferfv(fbo->id(), GL_COLOR, 1, betaClear);
-        glClearNamedFramebufferfv(fbo->id(), GL_COLOR, 2, zero);
+        if (params_.refraction) glClearNamedFramebufferfv(fbo->id(), GL_COLOR, 2, zero);
         program.set("phenThicknessRef", params_.thicknessReference)
             .set("phenVolumeBlur", params_.volumeBlur);
         // 001 section 6: inferred AO needs the frame's AO buffer (render.ao on).
-        const bool inferAO = params_.inferredAO && targets.ambientOcclusion && pass == 0;
         program.set("phenInferredAO", inferAO ? 1 : 0);
         if (inferAO) targets.ambientOcclusion->bind(VEIL_TEX_AO);
         prepareProgram(pass, program);
@@ -239,8 +242,9 @@ public:
                            GL_RGBA16F);
         glBindImageTexture(VEIL_IMG_OIT_TARGET0 + 1, betaD_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
                            GL_RGBA16);
-        glBindImageTexture(VEIL_IMG_OIT_TARGET0 + 2, delta_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
-                           GL_RGBA16F);
+        if (params_.refraction)
+            glBindImageTexture(VEIL_IMG_OIT_TARGET0 + 2, delta_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+                               GL_RG16F);
     }
 
     void endAccumulate(int) override { glBindFramebuffer(GL_FRAMEBUFFER, 0); }
@@ -258,7 +262,7 @@ public:
             .set("phenDiffusion", params_.diffusion ? 1 : 0);
         accumA_.bind(VEIL_PHEN_TEX_A);
         betaD_.bind(VEIL_PHEN_TEX_BD);
-        delta_.bind(VEIL_PHEN_TEX_DELTA);
+        if (params_.refraction) delta_.bind(VEIL_PHEN_TEX_DELTA);
         background_.bind(VEIL_PHEN_TEX_BKG);
         glBindImageTexture(VEIL_IMG_OUTPUT, targets.hdrColor->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
                            GL_RGBA16F);
@@ -270,7 +274,8 @@ public:
 
     std::size_t bytesPerPixel() const override {
         const int s = params_.particleDownsample;
-        return 8 + 8 + 8 + 4 + 8 + (lowRes() ? (8 + 8 + 8 + 4) / (s * s) : 0) +
+        const std::size_t delta = params_.refraction ? 4 : 0;
+        return 8 + 8 + delta + 4 + 8 + (lowRes() ? (8 + 8 + delta + 4) / (s * s) : 0) +
                (volume() ? 8 * 16 + 8 : 0);
     }
 
@@ -294,6 +299,17 @@ public:
 private:
     bool lowRes() const { return params_.particleDownsample > 1; }
     bool volume() const { return params_.volumeRefraction; }
+    // RT0 A, RT1 (beta, D^2) and, with refraction, RT2 delta (none without it).
+    void attachAccumulation(gpu::Framebuffer& fbo, const gpu::Texture& a, const gpu::Texture& bd,
+                            const gpu::Texture& delta) const {
+        fbo.attach(GL_COLOR_ATTACHMENT0, a).attach(GL_COLOR_ATTACHMENT1, bd);
+        if (params_.refraction) {
+            fbo.attach(GL_COLOR_ATTACHMENT2, delta)
+                .drawBuffers({GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2});
+        } else {
+            fbo.drawBuffers({GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1});
+        }
+    }
     bool isThicknessPass(int pass) const { return volume() && pass == 0; }
     // The pass index without the slice-map pass (0: full resolution, 1: particles).
     int innerPass(int pass) const { return volume() ? pass - 1 : pass; }
@@ -337,11 +353,12 @@ private:
         depthCopy_.bind(VEIL_PHEN_TEX_DEPTH);
         lowA_.bind(VEIL_PHEN_TEX_A);
         lowBetaD_.bind(VEIL_PHEN_TEX_BD);
-        lowDelta_.bind(VEIL_PHEN_TEX_DELTA);
+        if (params_.refraction) lowDelta_.bind(VEIL_PHEN_TEX_DELTA);
         lowDepth_.bind(VEIL_PHEN_TEX_BKG);
         glBindImageTexture(0, accumA_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA16F);
         glBindImageTexture(1, betaD_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA16);
-        glBindImageTexture(2, delta_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA16F);
+        if (params_.refraction)
+            glBindImageTexture(2, delta_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG16F);
         glDispatchCompute((targets.width + 7) / 8, (targets.height + 7) / 8, 1);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         for (GLuint unit = 0; unit < 3; ++unit)

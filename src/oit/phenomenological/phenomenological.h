@@ -46,11 +46,14 @@
 //   RT0 A          RGBA16F    as the paper.
 //   RT1 beta, D^2  RGBA16 UNORM instead of RGBA8: 8 bits give 1/255 steps in beta, far from the
 //                  "exactly matches sorted two-pass" claim of 000 Fig. 2 (tested to 1e-3).
-//                  Alpha holds D^2 / maxDiffusionPixels^2 (Table 2: D^2 / 63^2).
-//   RT2 delta      RGBA16F (sum c_i delta_i in pixels, sum c_i, -) instead of RG8_SNORM
-//                  delta / 63: 001 section 4.3.2 averages the layers' offsets weighted by net
-//                  coverage c_i, which needs the weight sum.
-// 24 bytes per pixel of accumulation plus a depth copy (4) and a background copy (8).
+//                  Alpha holds D^2 / maxDiffusionPixels^2 (Table 2: D^2 / 63^2); without
+//                  diffusion it is write-masked (stays 0) and the opaque depth is not copied.
+//   RT2 delta      RG16F sum c_i w_i delta_i / 64 (pixels) instead of RG8_SNORM delta / 63,
+//                  only with refraction: the resolve divides by RT0's A_a = sum c_i w_i, so the
+//                  layers' offsets are averaged (001 section 4.3.2) with the weights of their
+//                  reflected light (emit.glsl's header says why not by c_i alone).
+// 20 bytes per transparent fragment blended (16 without refraction) plus, per pixel, a depth
+// copy (4) and a background copy (8); before 2026-12-01 RT2 was RGBA16F (24 bytes).
 // volumeRefraction adds 8 RGBA32UI slice targets (128) and an RG32F thickness, count (8).
 //
 // Not implemented: caustic stochastic shadow maps (Eq. 10-12). The fog's per-pixel

@@ -27,7 +27,9 @@
 // Opaque depth: the frame's depth is single-sample; before every pass that z-tests, a
 // fullscreen fragment pass (copy_depth.frag, depth func ALWAYS) writes it into all samples of
 // the technique's own multisampled DEPTH_COMPONENT32F texture, which the stochastic passes
-// then test (and the stochastic passes write) per sample.
+// then test (and the stochastic passes write) per sample. Skipped where no pass wrote depth
+// since the last copy (the first stochastic pass after the total-alpha pass): P copies per
+// frame for stochastic-alpha and -depth instead of 1 + P (stats() "depth_copies").
 #include "oit/stochastic/stochastic.h"
 
 #include "base/error.h"
@@ -161,8 +163,15 @@ public:
         targets.state->apply(state); // clears obey the colour masks: state first
         if (pass == 0) clearAccumulation();
         // Every pass that writes depth starts from the opaque depth; the total-alpha pass
-        // (pass 0) also needs it.
-        if (info.kind != PassKind::Accumulate) copyOpaqueDepth(targets);
+        // (pass 0) also needs it. Only passes that write depth (stochastic colour or depth)
+        // change it: the first of those after the total-alpha pass finds the copy intact.
+        if (pass == 0) {
+            msDepthHoldsOpaque_ = false;
+            depthCopies_ = 0;
+        }
+        if (info.kind != PassKind::Accumulate && !msDepthHoldsOpaque_) copyOpaqueDepth(targets);
+        msDepthHoldsOpaque_ = info.kind == PassKind::TotalAlpha ||
+                              (msDepthHoldsOpaque_ && info.kind == PassKind::Accumulate);
         switch (info.kind) {
         case PassKind::TotalAlpha: // 004 3.5 step 2, multiplicative blend
             totalFbo_.bind();
@@ -236,7 +245,8 @@ public:
         return {{"effective_samples", samples_},
                 {"passes", passes_},
                 {"mask_bits", maskBits_},
-                {"geometry_passes", geometryPasses()}};
+                {"geometry_passes", geometryPasses()},
+                {"depth_copies", depthCopies_}};
     }
 
     std::size_t bytesPerPixel() const override {
@@ -292,6 +302,7 @@ private:
     }
 
     void copyOpaqueDepth(const OitFrameTargets& targets) {
+        ++depthCopies_;
         depthFbo_.bind();
         gpu::PipelineState state;
         state.view(targets.width, targets.height).depth(GL_ALWAYS, true);
@@ -312,7 +323,9 @@ private:
     gpu::ProgramManager* programs_;
     int samples_ = 4, passes_ = 1, maskBits_ = 4;
     bool grouped_ = true;
-    std::uint32_t seed_ = 1; // OitFrameTargets::seed of the current frame
+    bool msDepthHoldsOpaque_ = false; // msDepth_ = the opaque depth (no pass wrote it since)
+    int depthCopies_ = 0;             // full-screen MSAA depth copies of the last frame (stats())
+    std::uint32_t seed_ = 1;          // OitFrameTargets::seed of the current frame
     gpu::ProgramHandle copyProgram_, foldProgram_, resolveProgram_;
     gpu::Buffer masks_{gpu::NoCreate};
     gpu::VertexArray vao_{gpu::NoCreate};
