@@ -4,6 +4,7 @@
 #include "base/log.h"
 #include "shadows/common/depth_maps.h"
 #include "shadows/opaque/opaque.h"
+#include "shadows/volume/classify.h"
 #include "shadows/volume/geometry.h"
 #include "shadows/volume/pipeline_counters.h"
 
@@ -127,7 +128,8 @@ private:
     gpu::Framebuffer fbo_{gpu::NoCreate};
     gpu::VertexArray emptyVao_{gpu::NoCreate}, volumeVao_{gpu::NoCreate};
     gpu::Buffer receivers_{gpu::NoCreate}, occluders_{gpu::NoCreate}, casters_{gpu::NoCreate},
-        bounds_{gpu::NoCreate}, draw_{gpu::NoCreate}, triangles_{gpu::NoCreate};
+        footprints_{gpu::NoCreate}, bounds_{gpu::NoCreate}, draw_{gpu::NoCreate},
+        triangles_{gpu::NoCreate};
     std::vector<VolumeLight> lights_;
     nlohmann::json stats_ = nlohmann::json::object();
 };
@@ -218,6 +220,8 @@ void VolumeTechnique::classify(const ShadowFrame& frame, const std::vector<int>&
     if (casters_.size() < entries * 4) {
         casters_ = gpu::Buffer();
         casters_.setStorage(entries * 4, nullptr);
+        footprints_ = gpu::Buffer();
+        footprints_.setStorage(entries * 8, nullptr);
         bounds_ = gpu::Buffer();
         bounds_.setStorage(std::max<std::size_t>(casters.size(), 1) * 32, nullptr);
     }
@@ -287,8 +291,7 @@ void VolumeTechnique::classify(const ShadowFrame& frame, const std::vector<int>&
         .set("casterCount", static_cast<int>(casters.size()))
         .set("slotCount", slots_);
     glUniform3i(p.uniformLocation("uEnable"), casterCulling_, receiverCulling_, clamping_);
-    glDispatchCompute(static_cast<GLuint>(casters.size() * slots_), 1, 1); // a group each
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    runClassify(p, footprints_, static_cast<int>(casters.size()) * slots_, grid_);
     glBindSampler(VEIL_TEX_SHADOW3, 0);
 }
 
