@@ -12,6 +12,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 
 #include <algorithm>
+#include <functional>
 
 namespace veil::shadows {
 
@@ -104,7 +105,9 @@ public:
 private:
     void prepare(const ShadowFrame& frame);
     void render(const ShadowFrame& frame);
-    void classify(const ShadowFrame& frame, const std::vector<int>& casters);
+    // `stamp` (the `timing` GL_TIMESTAMP) after the receivers and the occluders.
+    void classify(const ShadowFrame& frame, const std::vector<int>& casters,
+                  const std::function<void(const char*)>& stamp);
     void buildVolumes(const ShadowFrame& frame, int casterCount, int slot);
 
     gpu::ProgramManager& programs_;
@@ -214,7 +217,8 @@ void setSlotViews(const gpu::Program& program, const std::vector<VolumeLight>& l
 
 // 003 Sec. 3.2: the receivers into each light's slice map, the occluders' far depth per
 // column, and per caster and light: culled, clamped or infinite (casters_).
-void VolumeTechnique::classify(const ShadowFrame& frame, const std::vector<int>& casters) {
+void VolumeTechnique::classify(const ShadowFrame& frame, const std::vector<int>& casters,
+                               const std::function<void(const char*)>& stamp) {
     const bool any = casterCulling_ || receiverCulling_ || clamping_;
     const std::size_t entries = std::max<std::size_t>(casters.size() * slots_, 1);
     if (casters_.size() < entries * 4) {
@@ -268,6 +272,7 @@ void VolumeTechnique::classify(const ShadowFrame& frame, const std::vector<int>&
             .set("slotCount", slots_);
         depthStencil_.bind(VEIL_TEX_SHADOW2);
         glDispatchCompute((width_ + 7) / 8, (height_ + 7) / 8, 1);
+        stamp("receivers");
     }
     if (casterCulling_) { // the opaque map's far depth per column
         const gpu::Program& p = programs_.get(occludersProgram_);
@@ -281,6 +286,7 @@ void VolumeTechnique::classify(const ShadowFrame& frame, const std::vector<int>&
             p.set("slot", s);
             glDispatchCompute((grid_ + 7) / 8, (grid_ + 7) / 8, 1);
         }
+        stamp("occluders");
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     const gpu::Program& p = programs_.get(classifyProgram_);
@@ -374,7 +380,7 @@ void VolumeTechnique::render(const ShadowFrame& frame) {
     if (measure_) prepassStats.end();
     stamp("prepass");
 
-    classify(frame, casters);
+    classify(frame, casters, stamp);
     stamp("classify");
 
     // Per light: the stencil count of the volumes (depth-fail), then the visibility layer.
