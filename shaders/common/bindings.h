@@ -72,6 +72,9 @@
 #define VEIL_SSBO_SHADOW_VOLUME_RECEIVERS 14
 #define VEIL_SSBO_SHADOW_VOLUME_OCCLUDERS 15
 #define VEIL_SSBO_SHADOW_VOLUME_BOUNDS 16
+// ... and classify.comp's per caster and light partial reductions (farthest occluder bits,
+// farthest receiver slice + 1).
+#define VEIL_SSBO_SHADOW_VOLUME_FOOTPRINTS 24
 // ... and the volumes' geometry: every opaque object's vertices in world space, their source
 // (mesh position, object), the objects' model matrices, the casters' adjacency (world vertex
 // indices) and triangle ranges, the indirect commands with the surviving casters' work list,

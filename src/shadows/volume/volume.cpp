@@ -4,6 +4,7 @@
 #include "base/log.h"
 #include "shadows/common/depth_maps.h"
 #include "shadows/opaque/opaque.h"
+#include "shadows/volume/classify.h"
 #include "shadows/volume/geometry.h"
 #include "shadows/volume/pipeline_counters.h"
 
@@ -11,6 +12,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 
 #include <algorithm>
+#include <functional>
 
 namespace veil::shadows {
 
@@ -103,7 +105,9 @@ public:
 private:
     void prepare(const ShadowFrame& frame);
     void render(const ShadowFrame& frame);
-    void classify(const ShadowFrame& frame, const std::vector<int>& casters);
+    // `stamp` (the `timing` GL_TIMESTAMP) after the receivers and the occluders.
+    void classify(const ShadowFrame& frame, const std::vector<int>& casters,
+                  const std::function<void(const char*)>& stamp);
     void buildVolumes(const ShadowFrame& frame, int casterCount, int slot);
 
     gpu::ProgramManager& programs_;
@@ -127,7 +131,8 @@ private:
     gpu::Framebuffer fbo_{gpu::NoCreate};
     gpu::VertexArray emptyVao_{gpu::NoCreate}, volumeVao_{gpu::NoCreate};
     gpu::Buffer receivers_{gpu::NoCreate}, occluders_{gpu::NoCreate}, casters_{gpu::NoCreate},
-        bounds_{gpu::NoCreate}, draw_{gpu::NoCreate}, triangles_{gpu::NoCreate};
+        footprints_{gpu::NoCreate}, bounds_{gpu::NoCreate}, draw_{gpu::NoCreate},
+        triangles_{gpu::NoCreate};
     std::vector<VolumeLight> lights_;
     nlohmann::json stats_ = nlohmann::json::object();
 };
@@ -212,12 +217,15 @@ void setSlotViews(const gpu::Program& program, const std::vector<VolumeLight>& l
 
 // 003 Sec. 3.2: the receivers into each light's slice map, the occluders' far depth per
 // column, and per caster and light: culled, clamped or infinite (casters_).
-void VolumeTechnique::classify(const ShadowFrame& frame, const std::vector<int>& casters) {
+void VolumeTechnique::classify(const ShadowFrame& frame, const std::vector<int>& casters,
+                               const std::function<void(const char*)>& stamp) {
     const bool any = casterCulling_ || receiverCulling_ || clamping_;
     const std::size_t entries = std::max<std::size_t>(casters.size() * slots_, 1);
     if (casters_.size() < entries * 4) {
         casters_ = gpu::Buffer();
         casters_.setStorage(entries * 4, nullptr);
+        footprints_ = gpu::Buffer();
+        footprints_.setStorage(entries * 8, nullptr);
         bounds_ = gpu::Buffer();
         bounds_.setStorage(std::max<std::size_t>(casters.size(), 1) * 32, nullptr);
     }
@@ -264,6 +272,7 @@ void VolumeTechnique::classify(const ShadowFrame& frame, const std::vector<int>&
             .set("slotCount", slots_);
         depthStencil_.bind(VEIL_TEX_SHADOW2);
         glDispatchCompute((width_ + 7) / 8, (height_ + 7) / 8, 1);
+        stamp("receivers");
     }
     if (casterCulling_) { // the opaque map's far depth per column
         const gpu::Program& p = programs_.get(occludersProgram_);
@@ -277,6 +286,7 @@ void VolumeTechnique::classify(const ShadowFrame& frame, const std::vector<int>&
             p.set("slot", s);
             glDispatchCompute((grid_ + 7) / 8, (grid_ + 7) / 8, 1);
         }
+        stamp("occluders");
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     const gpu::Program& p = programs_.get(classifyProgram_);
@@ -287,8 +297,7 @@ void VolumeTechnique::classify(const ShadowFrame& frame, const std::vector<int>&
         .set("casterCount", static_cast<int>(casters.size()))
         .set("slotCount", slots_);
     glUniform3i(p.uniformLocation("uEnable"), casterCulling_, receiverCulling_, clamping_);
-    glDispatchCompute(static_cast<GLuint>(casters.size() * slots_), 1, 1); // a group each
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    runClassify(p, footprints_, static_cast<int>(casters.size()) * slots_, grid_);
     glBindSampler(VEIL_TEX_SHADOW3, 0);
 }
 
@@ -371,7 +380,7 @@ void VolumeTechnique::render(const ShadowFrame& frame) {
     if (measure_) prepassStats.end();
     stamp("prepass");
 
-    classify(frame, casters);
+    classify(frame, casters, stamp);
     stamp("classify");
 
     // Per light: the stencil count of the volumes (depth-fail), then the visibility layer.
