@@ -312,8 +312,15 @@ void frameSection(ViewSession& s, PanelState& st) {
         ImGui::EndTable();
     }
     if (ImGui::TreeNode("gpu memory", "GPU memory %.1f MiB", r.gpuBytes() / 1048576.0)) {
-        for (const DebugViewEntry& e : debugViewEntries(r))
-            if (e.bytes > 0) ImGui::Text("%-26s %9.1f KiB", e.resource.c_str(), e.bytes / 1024.0);
+        // oit.accumulation is the technique's whole storage; its declared targets
+        // (oit.<technique>.*) are listed too, indented, and are not added to the total again.
+        for (const DebugViewEntry& e : debugViewEntries(r)) {
+            if (e.bytes == 0) continue;
+            const bool target =
+                e.resource.rfind("oit.", 0) == 0 && e.resource != "oit.accumulation";
+            ImGui::Text("%s%-*s %9.1f KiB", target ? "  " : "", target ? 24 : 26,
+                        e.resource.c_str(), e.bytes / 1024.0);
+        }
         if (const volume::FogPass* fog = r.fog())
             for (std::size_t i = 0; i < fog->stats().size(); ++i)
                 ImGui::Text("volume %-19zu %9.1f KiB", i, fog->stats()[i].gpuBytes / 1024.0);
