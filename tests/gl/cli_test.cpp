@@ -142,8 +142,8 @@ TEST(CliTest, InfoListsVdbGridsAndRefusesCorruptFiles) {
 }
 
 TEST(CliTest, InfoSummarisesScene) {
-    const CommandResult r = runCommand(
-        veilExe() + " info '" + (sourceDir() / "datasets/scenes/room.json").string() + "'");
+    const CommandResult r = runCommand(veilExe() + " info '" +
+                                       (sourceDir() / "datasets/scenes/room.json").string() + "'");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("11 ("), std::string::npos) << r.output; // 11 objects
     EXPECT_NE(r.output.find("spot"), std::string::npos);

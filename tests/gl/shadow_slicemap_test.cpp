@@ -145,7 +145,8 @@ TEST_F(SlicemapShadowTest, PerspectiveViewsGiveT) {
 // SliceMap::countOccupied, on random words of 2 views x 3 classes x 5 columns x 1..1024
 // slices, probes at random prefixes (including word boundaries).
 TEST_F(SlicemapShadowTest, BitCountAttenuationMatchesCpuModel) {
-    gpu::Program probe(gpu::ProgramDesc::compute("shadows/transmittance_slicemap/count_probe.comp"));
+    gpu::Program probe(
+        gpu::ProgramDesc::compute("shadows/transmittance_slicemap/count_probe.comp"));
     const std::vector<glm::dvec3> classT = {{0.9, 0.7, 0.5}, {0.99, 0.98, 0.97}, {0.5, 0.8, 0.95}};
     std::mt19937 rng(11);
     for (int slices : {1, 31, 32, 33, 100, 128, 1000, 1024}) {

@@ -118,8 +118,8 @@ public:
             programs.add(gpu::ProgramDesc::graphics("frame/mesh.vert", frag, {"DEPTH_PASS"}));
         packProgram_ = programs.add(gpu::ProgramDesc::compute("voxelize/pack.comp"));
         if (fog_)
-            fogProgram_ = programs.add(
-                gpu::ProgramDesc::compute("shadows/transmittance_slicemap/fog.comp"));
+            fogProgram_ =
+                programs.add(gpu::ProgramDesc::compute("shadows/transmittance_slicemap/fog.comp"));
     }
 
     std::string name() const override { return "transmittance-slicemap"; }
@@ -147,14 +147,17 @@ public:
         sliceFbo_ = gpu::Framebuffer();
         for (int t = 0; t < targets; ++t)
             sliceFbo_.attach(GL_COLOR_ATTACHMENT0 + t, targets_[t]);
-        auto buf = [&](int t) { return t < targets ? GLenum(GL_COLOR_ATTACHMENT0 + t) : GLenum(GL_NONE); };
+        auto buf = [&](int t) {
+            return t < targets ? GLenum(GL_COLOR_ATTACHMENT0 + t) : GLenum(GL_NONE);
+        };
         sliceFbo_.drawBuffers({buf(0), buf(1), buf(2), buf(3), buf(4), buf(5), buf(6), buf(7)});
         sliceFbo_.checkComplete("transmittance-slicemap slice pass");
         rangeFbo_ = gpu::Framebuffer();
         words_ = gpu::Buffer{gpu::NoCreate};
         fogTau_ = gpu::Texture(GL_TEXTURE_3D);
-        fogTau_.storage3D(1, GL_R32F, fog_ ? fogColumns_ : 1, fog_ ? fogColumns_ : 1,
-                          fog_ ? std::max(views_, 1) * (slices_ + 1) : 1)
+        fogTau_
+            .storage3D(1, GL_R32F, fog_ ? fogColumns_ : 1, fog_ ? fogColumns_ : 1,
+                       fog_ ? std::max(views_, 1) * (slices_ + 1) : 1)
             .parameter(GL_TEXTURE_MIN_FILTER, GL_LINEAR)
             .parameter(GL_TEXTURE_MAG_FILTER, GL_LINEAR)
             .parameter(GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE)
@@ -318,8 +321,8 @@ private:
                                        slices_);
                     pack.set("uPass", p).set("uWordOffset", static_cast<unsigned>(offset));
                     for (int t = 0; t < 8; ++t)
-                        targets_[std::min<std::size_t>(t, targets_.size() - 1)].bind(
-                            VEIL_TEX_VOX0 + t);
+                        targets_[std::min<std::size_t>(t, targets_.size() - 1)].bind(VEIL_TEX_VOX0 +
+                                                                                     t);
                     words_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_VOX_WORDS);
                     pack.use();
                     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
