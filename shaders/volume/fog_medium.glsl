@@ -137,5 +137,5 @@ bool fogMedium(vec3 P, vec3 V, out float sigma, out vec3 source) {
 // The first step index past the exit of the leaf at P (empty-space skipping), for steps of
 // dt from t0 with sample offset `offset`.
 int fogSkipEmptyLeaf(vec3 P, vec3 rd, float t, float t0, float dt, float offset) {
-    return int(ceil((t + volumesLeafExit(P, rd) - t0) / dt - offset));
+    return firstStepPast(t, volumesLeafExit(P, rd), t0, dt, offset);
 }

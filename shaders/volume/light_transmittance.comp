@@ -47,7 +47,7 @@ void main() {
         float t = (float(s) + 0.5) * dt;
         bool empty;
         tau += volumeExtinctionOrEmpty(P + L * t, empty) * dt;
-        if (empty) s = max(s, int(ceil((t + volumesLeafExit(P + L * t, L)) / dt - 0.5)) - 1);
+        if (empty) s = max(s, firstStepPast(t, volumesLeafExit(P + L * t, L), 0.0, dt, 0.5) - 1);
     }
     imageStore(lightTransmittance, c, vec4(exp(-tau)));
 }

@@ -98,10 +98,28 @@ float volumeExtinction(vec3 w) {
     return sigma;
 }
 
-// Distance along the ray to leave the 8^3 leaf containing world point P (index space of i).
+// Distance along the ray over which volume i stays empty from world point P, where
+// sampleVolumeIndex() calls P's leaf empty: the exit of P's 8^3 leaf (index space of i), or,
+// where P is outside the stored bounds, the entry into them (less a thousandth of a voxel for
+// rounding), which need not be a leaf boundary: the dense path's bounds are the voxels' box.
 float leafExit(int i, vec3 P, vec3 rd) {
     vec3 p = (volumes[i].worldToIndex * vec4(P, 1.0)).xyz;
     vec3 d = mat3(volumes[i].worldToIndex) * rd;
+    if (any(lessThan(p, volumes[i].indexMin)) || any(greaterThanEqual(p, volumes[i].indexMax))) {
+        float tNear = 0.0, tFar = 1e30;
+        for (int k = 0; k < 3; ++k) {
+            if (abs(d[k]) > 1e-12) {
+                float ta = (volumes[i].indexMin[k] - p[k]) / d[k];
+                float tb = (volumes[i].indexMax[k] - p[k]) / d[k];
+                tNear = max(tNear, min(ta, tb));
+                tFar = min(tFar, max(ta, tb));
+            } else if (p[k] < volumes[i].indexMin[k] || p[k] >= volumes[i].indexMax[k]) {
+                return 1e30; // parallel to this slab and outside it: never enters
+            }
+        }
+        if (tNear > tFar) return 1e30;
+        return max(tNear - 1e-3 / max(length(d), 1e-20), 0.0);
+    }
     vec3 leafLo = floor(p / float(kLeafSize)) * float(kLeafSize);
     vec3 bound = mix(leafLo, leafLo + float(kLeafSize), greaterThan(d, vec3(0.0)));
     float tMin = 1e30;
@@ -117,6 +135,13 @@ float volumesLeafExit(vec3 P, vec3 rd) {
     for (int i = 0; i < VEIL_VOLUME_SLOTS; ++i)
         if (i < volumeCount) exitT = min(exitT, leafExit(i, P, rd));
     return exitT;
+}
+
+// The first index of steps of dt from t0 (sample offset `offset` in [0, 1)) whose sample lies
+// at or past t + skip: where a march resumes after empty space. Capped so that the int cannot
+// overflow (volumesLeafExit() is 1e30 where the ray meets no more data).
+int firstStepPast(float t, float skip, float t0, float dt, float offset) {
+    return int(min(ceil((t + skip - t0) / dt - offset), 1e9));
 }
 
 // Extinction at w as volumeExtinction(); allEmpty is set where every volume's leaf is empty

@@ -141,4 +141,36 @@ TEST_F(ShadowMomentTest, SmokeBallDarkensTheFloorByItsOpticalDepth) {
         EXPECT_NEAR(got[c], std::exp(-tau), 1e-2 * std::exp(-tau)) << "channel " << c;
 }
 
+TEST_F(ShadowMomentTest, MediaMarchSkipsEmptyLeavesWithTheSameSums) {
+    // Two balls of the previous test on the same (directional) shadow ray, 0.7 apart, so the
+    // media march (media.comp) crosses empty leaves before, between and after them. Jumping
+    // over them (media_skip_empty, the default) must give bit for bit the image of visiting
+    // every step, and the floor is in a real shadow (both balls: T near exp(-2 tau) = 0.14).
+    auto render = [&](bool skip) {
+        nlohmann::json doc = ss::base(
+            {{"type", "moment"}, {"size", 512}, {"media_steps", 256}, {"media_skip_empty", skip}});
+        for (double h : {1.0, 2.2})
+            doc["volumes"].push_back({{"name", "ball" + std::to_string(int(h * 10))},
+                                      {"procedural", "sphere"},
+                                      {"size", 1.0},
+                                      {"voxel_size", 0.02},
+                                      {"density_scale", 1.0},
+                                      {"albedo", 0.0},
+                                      {"transform", {{"translate", {ss::kShadowX - h, h, 0.0}}}}});
+        const scene::Scene sc = scene::parseScene(doc, sourceDir());
+        frame::Renderer renderer(sc, info());
+        renderer.render();
+        return renderer.readHdr();
+    };
+    const ImageF skipped = render(true), every = render(false);
+    ASSERT_EQ(skipped.pixels.size(), every.pixels.size());
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < skipped.pixels.size(); ++i)
+        differing += skipped.pixels[i] != every.pixels[i];
+    EXPECT_EQ(differing, 0u);
+    const std::array<double, 3> t = gpuT(skipped);
+    for (int c = 0; c < 3; ++c) // exp(-2) = 0.135; one ball alone would give 0.37
+        EXPECT_LT(t[c], 0.2) << "channel " << c;
+}
+
 } // namespace veil::test

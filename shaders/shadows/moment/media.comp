@@ -18,6 +18,7 @@ layout(binding = 2, rgba32f) uniform image2DArray mediaMomentImage;
 uniform mat4 clipToWorld[VEIL_MAX_SHADOW_VIEWS]; // inverse view projection per view
 uniform int firstLayer;                          // views [firstLayer, firstLayer + gl_NumWorkGroups.z)
 uniform int steps;
+uniform int skipEmptyLeaves; // media_skip_empty
 
 void main() {
     ivec3 c = ivec3(gl_GlobalInvocationID.xy, firstLayer + int(gl_GlobalInvocationID.z));
@@ -43,9 +44,18 @@ void main() {
     float dt = (t1 - t0) / float(steps);
     float sumB0 = 0.0;
     vec4 sumB = vec4(0.0);
+    // Steps in leaves that are empty in every volume add nothing, so they are jumped over to the
+    // first step past the leaf's exit (as light_transmittance.comp does): the same sums as
+    // visiting every step, at a fraction of the cost on sparse smoke (on llvmpipe this pass
+    // took 3.7 s of fog.json's frame: 2048^2 texels x 64 steps).
     for (int s = 0; s < steps; ++s) {
         float t = t0 + (float(s) + 0.5) * dt;
-        float sigma = volumeExtinction(pNear + rd * t);
+        bool empty;
+        float sigma = volumeExtinctionOrEmpty(pNear + rd * t, empty);
+        if (empty && skipEmptyLeaves != 0) {
+            s = max(s, firstStepPast(t, volumesLeafExit(pNear + rd * t, rd), t0, dt, 0.5) - 1);
+            continue;
+        }
         if (sigma <= 0.0) continue;
         float absorbance = sigma * dt;
         float z = clamp(t / len, 0.0, 1.0) * 2.0 - 1.0; // linear depth: t / len along the axis
