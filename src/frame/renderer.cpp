@@ -238,6 +238,7 @@ void Renderer::setOitTechnique(const std::string& name, const nlohmann::json& pr
 }
 
 void Renderer::rebuildPasses() {
+    refine_.active = false; // another pass list: a refinement in progress starts again
     passes_ = PassList();
     buildPasses();
 }
@@ -247,6 +248,7 @@ void Renderer::resize(int width, int height) {
                "image size {}x{} out of range 1..16384", width, height);
     if (width == width_ && height == height_) return;
     checkFogWork(scene_, context_, width, height);
+    refine_.active = false;
     width_ = width;
     height_ = height;
     shadowFrame_.width = width_; // screen-space shadow techniques
@@ -363,13 +365,23 @@ void Renderer::drawObjects(const gpu::Program& program, Subset subset) const {
 }
 
 void Renderer::render() {
-    updateUniforms();
+    beginFrame();
+    runPasses(0, passes_.passes().size());
+    passTimes_ = timer_.collect();
+}
+
+void Renderer::bindFrameState() {
     // Whatever ran since the last frame (another renderer, a voxelization, the viewer's UI)
     // may have changed GL state: the first pass sets all of its declared state.
     state_.invalidate();
     cameraUbo_.bindBase(GL_UNIFORM_BUFFER, VEIL_UBO_CAMERA);
     lightsUbo_.bindBase(GL_UNIFORM_BUFFER, VEIL_UBO_LIGHTS);
     shadowsUbo_.bindBase(GL_UNIFORM_BUFFER, VEIL_UBO_SHADOWS);
+}
+
+void Renderer::beginFrame() {
+    updateUniforms();
+    bindFrameState();
 
     const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
     fogTargets_ = {};
@@ -385,11 +397,88 @@ void Renderer::render() {
         fogTargets_.prepareReceiver = [this](const gpu::Program& program) {
             shadows_->prepareReceiver(program, shadowFrame_);
         };
-    for (const Pass& pass : passes_.passes()) {
-        gpu::TimerScope t(timer_, pass.name);
-        pass.execute();
+    region_ = glm::ivec4(0, 0, width_, height_);
+}
+
+void Renderer::runPasses(std::size_t first, std::size_t end) {
+    const std::vector<Pass>& passes = passes_.passes();
+    for (std::size_t i = first; i < end; ++i) {
+        gpu::TimerScope t(timer_, passes[i].name);
+        passes[i].execute();
     }
+}
+
+namespace {
+void copyRect(const gpu::Texture& from, const gpu::Texture& to, glm::ivec4 r) {
+    glCopyImageSubData(from.id(), GL_TEXTURE_2D, 0, r.x, r.y, 0, to.id(), GL_TEXTURE_2D, 0, r.x,
+                       r.y, 0, r.z - r.x, r.w - r.y, 1);
+}
+gpu::Texture likeTexture(const gpu::Texture& t, GLenum format) {
+    gpu::Texture copy(GL_TEXTURE_2D);
+    copy.storage2D(1, format, t.width(), t.height());
+    return copy;
+}
+} // namespace
+
+void Renderer::beginRefinement(int tilePx) {
+    VEIL_CHECK(tilePx > 0, "refinement tile size {} is not positive", tilePx);
+    refine_ = {};
+    refine_.tilePx = tilePx;
+    refine_.columns = (width_ + tilePx - 1) / tilePx;
+    refine_.tiles = refine_.columns * ((height_ + tilePx - 1) / tilePx);
+    // The per-frame passes, once: shadow maps, the AO, the opaque image and depth, and the
+    // fog's light transmittance volumes (FogPass::updateLightVolumes, march() step 1).
+    beginFrame();
+    runPasses(0, firstPerPixelPass_);
+    if (fog_) {
+        if (shadowSet_.viewCount > 0) shadows_->bindForReceivers();
+        fog_->updateLightVolumes(fogTargets_);
+    }
+    if (!opaqueHdr_ || opaqueHdr_.width() != width_ || opaqueHdr_.height() != height_) {
+        opaqueHdr_ = likeTexture(hdr_, GL_RGBA16F);
+        refinedHdr_ = likeTexture(hdr_, GL_RGBA16F);
+        refinedLdr_ = likeTexture(ldr_, GL_RGBA8);
+    }
+    copyRect(hdr_, opaqueHdr_, glm::ivec4(0, 0, width_, height_));
+    refine_.active = true;
     passTimes_ = timer_.collect();
+}
+
+bool Renderer::refineStep() {
+    if (!refine_.active) return true;
+    const int t = refine_.tilePx;
+    const int index = refine_.done;
+    const int x0 = (index % refine_.columns) * t, y0 = (index / refine_.columns) * t;
+    const glm::ivec4 tile(x0, y0, std::min(width_, x0 + t), std::min(height_, y0 + t));
+    // The per-pixel passes over the tile and a margin (kRefineMarginPx): a pixel's result in
+    // them depends on its own pixel and neighbours within the margin only (the fog's
+    // bilateral upsampling), so the tile comes out as in the whole frame.
+    const glm::ivec4 r(std::max(0, tile.x - kRefineMarginPx), std::max(0, tile.y - kRefineMarginPx),
+                       std::min(width_, tile.z + kRefineMarginPx),
+                       std::min(height_, tile.w + kRefineMarginPx));
+    bindFrameState();
+    // The resolve composites over the whole hdr target (the techniques' resolves are compute
+    // over the frame): it starts from the opaque image every tile.
+    copyRect(opaqueHdr_, hdr_, glm::ivec4(0, 0, width_, height_));
+    region_ = r;
+    fogTargets_.region = r;
+    state_.setScissorLimit(glm::ivec4(r.x, r.y, r.z - r.x, r.w - r.y));
+    runPasses(firstPerPixelPass_, passes_.passes().size());
+    state_.setScissorLimit(std::nullopt);
+    state_.apply(gpu::PipelineState{}); // the scissor test off again for whoever draws next
+    region_ = glm::ivec4(0, 0, width_, height_);
+    fogTargets_.region = glm::ivec4(0);
+    copyRect(hdr_, refinedHdr_, tile);
+    copyRect(ldr_, refinedLdr_, tile);
+    refine_.lastRegion = r;
+    ++refine_.done;
+    passTimes_ = timer_.collect();
+    if (refine_.done < refine_.tiles) return false;
+    // Complete: the frame targets hold the frame, as after render().
+    copyRect(refinedHdr_, hdr_, glm::ivec4(0, 0, width_, height_));
+    copyRect(refinedLdr_, ldr_, glm::ivec4(0, 0, width_, height_));
+    refine_.active = false;
+    return true;
 }
 
 void Renderer::buildPasses() {
@@ -457,6 +546,8 @@ void Renderer::buildPasses() {
                      glBindFramebuffer(GL_FRAMEBUFFER, 0);
                  }});
 
+    // From here on the passes are per pixel (the tiled refinement runs them per tile).
+    firstPerPixelPass_ = passes_.passes().size();
     std::vector<std::string> transparentReads = plus({"depth"}, shadowResources);
     if (ao_) transparentReads.push_back("ao.visibility"); // inferred AO (001 Listing 2)
     if (fog_) {
@@ -521,11 +612,13 @@ void Renderer::buildPasses() {
                      const gpu::Program& program = programs_.get(tonemapProgram_);
                      program.use();
                      program.set("exposure", scene_.render.exposure)
-                         .set("operatorId", scene_.render.tonemap == "clamp" ? 1 : 0);
+                         .set("operatorId", scene_.render.tonemap == "clamp" ? 1 : 0)
+                         .set("region", region_);
                      hdr_.bind(VEIL_TEX_HDR);
                      glBindImageTexture(VEIL_IMG_OUTPUT, ldr_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
                                         GL_RGBA8);
-                     glDispatchCompute((width_ + 7) / 8, (height_ + 7) / 8, 1);
+                     glDispatchCompute((region_.z - region_.x + 7) / 8,
+                                       (region_.w - region_.y + 7) / 8, 1);
                      glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
                  }});
     passes_.validate();
