@@ -292,7 +292,8 @@ void runView(const ViewArgs& args) {
     auto lastMove = std::chrono::steady_clock::now();
     double lastFullMs = 0.0;
     auto refineStart = std::chrono::steady_clock::now();
-    double refineMs = 0.0; // pass times of the refinement in progress
+    double refineMs = 0.0;    // pass times of the refinement in progress
+    bool lastRefined = false; // the frame's resources are from a refinement
     while (!window.shouldClose()) {
         window.pollEvents();
         window.framebufferSize(fw, fh);
@@ -355,11 +356,14 @@ void runView(const ViewArgs& args) {
         }
         // A frame in one piece, or a refinement begun (the frame's per-frame passes) and then
         // one tile per UI frame (camera input or an edit changes the version: it starts again).
+        // A debug view shows the frame's resources, which a refinement leaves holding the last
+        // tile's work (the OIT targets): under a debug view the frame renders in one piece.
         bool ran = false, completed = false;
-        if (force || session.version() != renderedVersion) {
+        if (force || session.version() != renderedVersion || (view.active() && lastRefined)) {
             refineStart = std::chrono::steady_clock::now();
             refineMs = 0.0;
-            completed = session.renderFrame(!preview);
+            completed = session.renderFrame(!preview && !view.active());
+            lastRefined = session.refining();
             ran = true;
             renderedVersion = session.version();
         } else if (session.refining()) {

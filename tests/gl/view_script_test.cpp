@@ -418,8 +418,13 @@ TEST(ViewScriptTest, TiledRefinementEqualsTheWholeFrame) {
                                    shot("tiled-wboit.exr"),
                                    shot("tiled-wboit.png"),
                                    {{"status", (d / "status-wboit.json").string()}},
+                                   {{"view", "oit.wboit.accum"}},
+                                   shot("accum-refine-on.exr"),
+                                   {{"view", "frame"}},
                                    {{"refine_tile_px", 0}},
-                                   shot("whole-wboit.exr")};
+                                   shot("whole-wboit.exr"),
+                                   {{"view", "oit.wboit.accum"}},
+                                   shot("accum-refine-off.exr")};
     writeFile(d / "script.json", script.dump());
     const std::string options = " --width 150 --height 97 --set render.shadows.size=256 --set "
                                 "render.fog_resolution=4";
@@ -437,6 +442,9 @@ TEST(ViewScriptTest, TiledRefinementEqualsTheWholeFrame) {
         expectNotFlat(d / ("tiled-" + oit + ".png"));
     }
     EXPECT_EQ(readJson(d / "status-wboit.json")["refinement"]["completed"], 2);
+    // Under a debug view the frame renders in one piece (a refinement leaves the OIT targets
+    // holding its last tile's work): the accumulation target is the whole frame's.
+    expectSame(d / "accum-refine-on.exr", d / "accum-refine-off.exr", 4);
     // Against the one-shot `veil render` of the same values (the viewer's reference default
     // pool_overflow=drop included).
     r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(d / "rendered.exr") + options +
