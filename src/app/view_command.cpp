@@ -182,6 +182,9 @@ void scriptOutput(const ScriptAction& a, ViewSession& session, const DebugView& 
                            {"max_tiles_per_ui_frame", log.maxTilesPerUiFrame},
                            {"max_pixels_per_ui_frame", log.maxPixelsPerUiFrame},
                            {"margin_px", frame::Renderer::kRefineMarginPx},
+                           {"first_ui_frame_ms", log.firstUiFrameMs},
+                           {"max_tile_ui_frame_ms", log.maxTileUiFrameMs},
+                           {"total_ms", log.totalMs},
                            {"complete", log.complete},
                            {"completed", log.completed},
                            {"refining", session.refining()}};

@@ -390,6 +390,15 @@ void ViewSession::copyToDisplay() {
                        0, ldr.width(), ldr.height(), 1);
 }
 
+namespace {
+double passMs(const frame::Renderer& r) {
+    double ms = 0.0;
+    for (const auto& p : r.passTimes())
+        ms += p.milliseconds;
+    return ms;
+}
+} // namespace
+
 bool ViewSession::renderFrame(bool refine) {
     if (frameFailed_) return false; // until the next change: the error would only repeat
     try {
@@ -402,6 +411,9 @@ bool ViewSession::renderFrame(bool refine) {
             refineLog_.maxTilesPerUiFrame = 0;
             refineLog_.maxPixelsPerUiFrame = 0;
             refineLog_.complete = false;
+            refineLog_.firstUiFrameMs = passMs(*renderer_);
+            refineLog_.maxTileUiFrameMs = 0.0;
+            refineLog_.totalMs = refineLog_.firstUiFrameMs;
             uiFrameRefines_ = true;
             return false;
         }
@@ -426,6 +438,7 @@ bool ViewSession::refineStep() {
         const glm::ivec4 r = renderer_->refinement().lastRegion;
         ++uiFrameTiles_;
         uiFramePixels_ += static_cast<long long>(r.z - r.x) * (r.w - r.y);
+        uiFrameMs_ += passMs(*renderer_);
         uiFrameRefines_ = true;
         if (!done) return false;
         copyToDisplay();
@@ -457,7 +470,10 @@ void ViewSession::endUiFrame() {
         ++refineLog_.uiFrames;
         refineLog_.maxTilesPerUiFrame = std::max(refineLog_.maxTilesPerUiFrame, uiFrameTiles_);
         refineLog_.maxPixelsPerUiFrame = std::max(refineLog_.maxPixelsPerUiFrame, uiFramePixels_);
+        refineLog_.maxTileUiFrameMs = std::max(refineLog_.maxTileUiFrameMs, uiFrameMs_);
+        refineLog_.totalMs += uiFrameMs_;
     }
+    uiFrameMs_ = 0.0;
     uiFrameTiles_ = 0;
     uiFramePixels_ = 0;
     uiFrameRefines_ = false;

@@ -93,6 +93,9 @@ public:
         int maxTilesPerUiFrame = 0;
         // The most pixels the per-pixel passes covered in one UI frame (a tile and its margin).
         long long maxPixelsPerUiFrame = 0;
+        // Pass times (reported, never asserted): the first UI frame's (the per-frame passes),
+        // the longest of the tiles' UI frames, and all of them together.
+        double firstUiFrameMs = 0.0, maxTileUiFrameMs = 0.0, totalMs = 0.0;
         bool complete = false;
         int completed = 0; // refinements completed since the start
     };
@@ -175,6 +178,7 @@ private:
     int uiFrameTiles_ = 0;        // tiles refined since the last endUiFrame()
     long long uiFramePixels_ = 0; // per-pixel pass pixels since then
     bool uiFrameRefines_ = false; // a refinement ran (begun or stepped) in this UI frame
+    double uiFrameMs_ = 0.0;      // its pass times
     std::uint64_t version_ = 0, rebuilds_ = 0, valueChanges_ = 0;
     nlohmann::json sourceDoc_;
 };
