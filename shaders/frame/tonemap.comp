@@ -20,10 +20,14 @@ vec3 srgbEncode(vec3 c) {
     return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(0.0031308, c));
 }
 
+// The pixels of this dispatch, [x0, y0) .. [x1, y1): the whole frame or one tile of the
+// viewer's tiled refinement (Renderer::beginRefinement).
+uniform ivec4 region;
+
 void main() {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy) + region.xy;
     ivec2 size = textureSize(hdrImage, 0);
-    if (p.x >= size.x || p.y >= size.y) return;
+    if (p.x >= min(size.x, region.z) || p.y >= min(size.y, region.w)) return;
     vec3 c = max(texelFetch(hdrImage, p, 0).rgb, vec3(0.0)) * exposure;
     c = operatorId == 0 ? acesFit(c) : clamp(c, 0.0, 1.0);
     imageStore(ldrImage, p, vec4(srgbEncode(c), 1.0));

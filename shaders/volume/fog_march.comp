@@ -15,11 +15,14 @@ layout(binding = VEIL_IMG_FOG_RADIANCE, rgba16f) uniform writeonly image2D fogRa
 layout(binding = VEIL_IMG_FOG_TRANSMITTANCE, rgba16f) uniform writeonly image2D fogTransmittance;
 
 uniform int resolutionDivisor;
+// The fog texels marched by this dispatch, [x0, y0) .. [x1, y1): the whole target, or one tile
+// of the viewer's tiled refinement (FogTargets::region).
+uniform ivec4 marchRegion;
 
 void main() {
-    ivec2 q = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 q = ivec2(gl_GlobalInvocationID.xy) + marchRegion.xy;
     ivec2 size = imageSize(fogRadiance);
-    if (q.x >= size.x || q.y >= size.y) return;
+    if (q.x >= min(size.x, marchRegion.z) || q.y >= min(size.y, marchRegion.w)) return;
     ivec2 full = textureSize(opaqueDepth, 0);
     // Full-resolution pixel at the centre of this fog texel's block.
     ivec2 p = min(q * resolutionDivisor + resolutionDivisor / 2, full - 1);

@@ -16,6 +16,8 @@ ivec2 fogPixel;
 layout(local_size_x = 8, local_size_y = 8) in;
 
 uniform ivec2 targetSize;
+// The pixels of this dispatch, [x0, y0) .. [x1, y1): the whole frame or one refinement tile.
+uniform ivec4 marchRegion;
 
 // The segment being accumulated: radiance arriving at its front end, its transmittance.
 vec3 segL = vec3(0.0);
@@ -43,8 +45,10 @@ void flushSegment(float backDepth) {
 }
 
 void main() {
-    fogPixel = ivec2(gl_GlobalInvocationID.xy);
-    if (fogPixel.x >= targetSize.x || fogPixel.y >= targetSize.y) return;
+    fogPixel = ivec2(gl_GlobalInvocationID.xy) + marchRegion.xy;
+    if (fogPixel.x >= min(targetSize.x, marchRegion.z) ||
+        fogPixel.y >= min(targetSize.y, marchRegion.w))
+        return;
     FogRay r = fogRay(fogPixel);
     if (!(r.t0 < r.t1)) return;
     uint list = oitSurfaceList(fogPixel);

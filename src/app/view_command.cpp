@@ -45,6 +45,8 @@ struct ViewArgs {
     int width = 0, height = 0;
     int windowWidth = 0, windowHeight = 0; // scripted: the window (default: the frame size)
     int frames = 0;                        // 0 = interactive
+    int refineTilePx = -1; // view.refine_tile_px; -1 = the default (128 on a software
+                           // renderer when interactive, else 0 = off)
     std::vector<std::string> overrides;
 };
 
@@ -173,6 +175,19 @@ void scriptOutput(const ScriptAction& a, ViewSession& session, const DebugView& 
                             {"height", r.height()},
                             {"overrides", session.overrides()},
                             {"renderer", session.context().renderer}};
+        const ViewSession::RefineLog& log = session.refineLog();
+        j["refinement"] = {{"tile_px", session.refineTilePx()},
+                           {"tiles", log.tiles},
+                           {"ui_frames", log.uiFrames},
+                           {"max_tiles_per_ui_frame", log.maxTilesPerUiFrame},
+                           {"max_pixels_per_ui_frame", log.maxPixelsPerUiFrame},
+                           {"margin_px", frame::Renderer::kRefineMarginPx},
+                           {"first_ui_frame_ms", log.firstUiFrameMs},
+                           {"max_tile_ui_frame_ms", log.maxTileUiFrameMs},
+                           {"total_ms", log.totalMs},
+                           {"complete", log.complete},
+                           {"completed", log.completed},
+                           {"refining", session.refining()}};
         if (view.errorView() && view.error())
             j["error_vs_reference"] = {{"rmse", view.error()->error().rmse},
                                        {"max_abs", view.error()->maxAbs()}};
@@ -216,7 +231,9 @@ int scriptApply(const ScriptAction& a, ViewSession& s, DebugView& view, PanelSta
         panel.expand.clear();
         for (const auto& name : v)
             panel.expand.insert(name.get<std::string>());
-    } else if (a.kind == "frames")
+    } else if (a.kind == "refine_tile_px")
+        s.setRefineTilePx(v.get<int>());
+    else if (a.kind == "frames")
         return v.get<int>();
     return 1;
 }
@@ -257,6 +274,9 @@ void runView(const ViewArgs& args) {
     if (!args.oit.empty() && !session.selectOit(args.oit)) throw Error(session.lastError());
     if (!args.shadows.empty() && !session.selectShadows(args.shadows))
         throw Error(session.lastError());
+    session.setRefineTilePx(args.refineTilePx >= 0                        ? args.refineTilePx
+                            : !scripted && window.info().softwareRenderer ? 128
+                                                                          : 0);
 
     std::unique_ptr<ImGuiSession> gui;
     if (args.frames == 0) gui = std::make_unique<ImGuiSession>(window.window(), !scripted);
@@ -274,12 +294,17 @@ void runView(const ViewArgs& args) {
     bool preview = false; // reduced resolution while the camera moves
     auto lastMove = std::chrono::steady_clock::now();
     double lastFullMs = 0.0;
+    auto refineStart = std::chrono::steady_clock::now();
+    double refineMs = 0.0;    // pass times of the refinement in progress
+    bool lastRefined = false; // the frame's resources are from a refinement
     while (!window.shouldClose()) {
         window.pollEvents();
         window.framebufferSize(fw, fh);
         const ScriptAction* action = nullptr;
         bool force = false;
-        if (wait > 0) {
+        if (session.refining()) {
+            // The script waits for the refined frame (its next action sees the whole frame).
+        } else if (wait > 0) {
             --wait;
             force = true;
         } else if (next < script.size()) {
@@ -332,22 +357,35 @@ void runView(const ViewArgs& args) {
                 session.open(f);
             droppedFiles().clear();
         }
-        if (force || session.version() != renderedVersion) {
-            const auto t0 = std::chrono::steady_clock::now();
-            if (session.renderFrame()) {
-                double ms = 0.0;
-                for (const auto& p : session.renderer().passTimes())
-                    ms += p.milliseconds;
-                panel.frameMs.push_back(static_cast<float>(ms));
-                if (panel.frameMs.size() > 240) panel.frameMs.pop_front();
-                if (!preview)
-                    lastFullMs = std::chrono::duration<double, std::milli>(
-                                     std::chrono::steady_clock::now() - t0)
-                                     .count();
-                renderedView = "\x01"; // the debug view reads the new frame
-            }
+        // A frame in one piece, or a refinement begun (the frame's per-frame passes) and then
+        // one tile per UI frame (camera input or an edit changes the version: it starts again).
+        // A debug view shows the frame's resources, which a refinement leaves holding the last
+        // tile's work (the OIT targets): under a debug view the frame renders in one piece.
+        bool ran = false, completed = false;
+        if (force || session.version() != renderedVersion || (view.active() && lastRefined)) {
+            refineStart = std::chrono::steady_clock::now();
+            refineMs = 0.0;
+            completed = session.renderFrame(!preview && !view.active());
+            lastRefined = session.refining();
+            ran = true;
             renderedVersion = session.version();
+        } else if (session.refining()) {
+            completed = session.refineStep();
+            ran = true;
         }
+        if (ran)
+            for (const auto& p : session.renderer().passTimes())
+                refineMs += p.milliseconds;
+        if (completed) {
+            panel.frameMs.push_back(static_cast<float>(refineMs));
+            if (panel.frameMs.size() > 240) panel.frameMs.pop_front();
+            if (!preview) // the whole frame's wall time, over all of its UI frames
+                lastFullMs = std::chrono::duration<double, std::milli>(
+                                 std::chrono::steady_clock::now() - refineStart)
+                                 .count();
+            renderedView = "\x01"; // the debug view reads the new frame
+        }
+        session.endUiFrame();
         if (view.resource() != renderedView || view.layer() != renderedLayer) {
             // The shown view was another technique's target (the technique was switched):
             // back to the frame. (A view chosen now that does not exist is an error below.)
@@ -401,9 +439,10 @@ void runView(const ViewArgs& args) {
             }
             break;
         }
-        if (!args.script.empty() && next >= script.size() && wait == 0) break;
+        if (!args.script.empty() && next >= script.size() && wait == 0 && !session.refining())
+            break;
         // Nothing to do: wait for input instead of spinning.
-        if (!scripted && session.version() == renderedVersion && !preview)
+        if (!scripted && session.version() == renderedVersion && !preview && !session.refining())
             glfwWaitEventsTimeout(0.1);
     }
     if (!session.errors().empty() && scripted)
@@ -435,6 +474,11 @@ void addViewCommand(CLI::App& app) {
     cmd->add_option("--set", args->overrides, "Override a scene value: key=value");
     cmd->add_option("--script", args->script,
                     "Run the actions of this JSON file in the window, then exit (docs/viewer.md)");
+    cmd->add_option("--refine-tile-px", args->refineTilePx,
+                    "view.refine_tile_px: refine full-size frames in tiles of this many pixels, "
+                    "one per UI frame (0 = off; default: 128 on a software renderer, "
+                    "interactive only)")
+        ->check(CLI::Range(0, 16384));
     cmd->add_option("--frames", args->frames,
                     "Render this many frames without the GUI, then exit (for tests)")
         ->check(CLI::Range(1, 100000));

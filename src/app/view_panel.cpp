@@ -290,6 +290,15 @@ void frameSection(ViewSession& s, PanelState& st) {
     if (!section("Frame", st, true)) return;
     const frame::Renderer& r = s.renderer();
     ImGui::TextWrapped("%s", s.context().renderer.c_str());
+    // view.refine_tile_px: full-size frames refined in tiles, one per UI frame (0 = off).
+    int tile = s.refineTilePx();
+    if (ImGui::InputInt("refine_tile_px", &tile, 32, 128, ImGuiInputTextFlags_EnterReturnsTrue))
+        s.setRefineTilePx(std::max(0, tile));
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Refine full-size frames in tiles of this many pixels, one tile per UI "
+                          "frame, showing the last complete image meanwhile (0 = in one piece)");
+    if (r.refining())
+        ImGui::Text("refining: tile %d of %d", r.refinement().done + 1, r.refinement().tiles);
     ImGui::Text("%d x %d, timer: %s", r.width(), r.height(),
                 r.timerMode() == gpu::GpuTimer::Mode::Query ? "GL_TIME_ELAPSED"
                                                             : "glFinish + CPU clock");

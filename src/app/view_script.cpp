@@ -24,7 +24,7 @@ Want wantFor(const std::string& kind) {
         "view",         "open",       "screenshot", "window_screenshot",
         "copy_command", "save_scene", "status"};
     if (strings.count(kind)) return Want::String;
-    if (kind == "frames") return Want::Number;
+    if (kind == "frames" || kind == "refine_tile_px") return Want::Number;
     if (kind == "reset_camera" || kind == "reload_shaders") return Want::Bool;
     return Want::Array; // orbit, pan, resize, expand
 }
@@ -42,6 +42,7 @@ bool known(const std::string& kind) {
                                               "resize",
                                               "reload_shaders",
                                               "frames",
+                                              "refine_tile_px",
                                               "screenshot",
                                               "window_screenshot",
                                               "copy_command",
@@ -76,7 +77,8 @@ std::vector<ScriptAction> loadViewScript(const std::filesystem::path& path) {
             if (extras.count(key)) continue;
             VEIL_CHECK(known(key),
                        "{}: unknown action '{}' (known: set, oit, shadows, camera, reset_camera, "
-                       "orbit, pan, view, open, resize, reload_shaders, frames, screenshot, "
+                       "orbit, pan, view, open, resize, reload_shaders, frames, refine_tile_px, "
+                       "screenshot, "
                        "window_screenshot, copy_command, save_scene, status, expand)",
                        where, printable(key));
             VEIL_CHECK(act.kind.empty(), "{}: two actions ('{}', '{}') in one object", where,
@@ -90,16 +92,19 @@ std::vector<ScriptAction> loadViewScript(const std::filesystem::path& path) {
         const bool setList = act.kind == "set" && act.value.is_array() &&
                              std::all_of(act.value.begin(), act.value.end(),
                                          [](const nlohmann::json& x) { return x.is_string(); });
+        // frames: 1..100000; refine_tile_px: 0 (off)..16384.
+        const bool tile = act.kind == "refine_tile_px";
+        const long long lo = tile ? 0 : 1, hi = tile ? 16384 : 100000;
         const bool ok = setList || (want == Want::String && act.value.is_string()) ||
                         (want == Want::Number && act.value.is_number_integer() &&
-                         act.value.get<long long>() >= 1 && act.value.get<long long>() <= 100000) ||
+                         act.value.get<long long>() >= lo && act.value.get<long long>() <= hi) ||
                         (want == Want::Bool && act.value.is_boolean()) ||
                         (want == Want::Array && act.value.is_array());
         VEIL_CHECK(ok, "{}: '{}' expects {}, not {}", where, act.kind,
-                   want == Want::String   ? "a string"
-                   : want == Want::Number ? "an integer in 1..100000"
-                   : want == Want::Bool   ? "true or false"
-                                          : "an array",
+                   want == Want::String   ? std::string("a string")
+                   : want == Want::Number ? fmt::format("an integer in {}..{}", lo, hi)
+                   : want == Want::Bool   ? std::string("true or false")
+                                          : std::string("an array"),
                    scene::describeJson(act.value));
         if (act.kind == "orbit" || act.kind == "pan" || act.kind == "resize") {
             VEIL_CHECK(act.value.size() == 2 && act.value[0].is_number() &&

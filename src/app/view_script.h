@@ -10,6 +10,9 @@
 //   {"view": "shadow.depth", "layer": 0}     debug view of a frame resource ("" = the frame)
 //   {"open": "scene.json"}                   another scene or .vdb (as the file dialog does)
 //   {"resize": [w, h]}, {"reload_shaders": true}, {"frames": N}
+//   {"refine_tile_px": 64}                   refine frames in 64 px tiles, one per displayed
+//                                            frame (0 = off); the script waits for each
+//                                            refined frame before its next action
 //   {"screenshot": "out.png"}                the shown image (frame or debug view) at frame
 //                                            size; .exr: linear HDR (frame) or the raw values
 //                                            of the debug view's resource (its layer)

@@ -390,18 +390,93 @@ void ViewSession::copyToDisplay() {
                        0, ldr.width(), ldr.height(), 1);
 }
 
-bool ViewSession::renderFrame() {
+namespace {
+double passMs(const frame::Renderer& r) {
+    double ms = 0.0;
+    for (const auto& p : r.passTimes())
+        ms += p.milliseconds;
+    return ms;
+}
+} // namespace
+
+bool ViewSession::renderFrame(bool refine) {
     if (frameFailed_) return false; // until the next change: the error would only repeat
     try {
+        const int t = refineTilePx_;
+        if (refine && t > 0 && (width_ > t || height_ > t)) {
+            renderer_->beginRefinement(t);
+            refineLog_.tilePx = t;
+            refineLog_.tiles = renderer_->refinement().tiles;
+            refineLog_.uiFrames = 0;
+            refineLog_.maxTilesPerUiFrame = 0;
+            refineLog_.maxPixelsPerUiFrame = 0;
+            refineLog_.complete = false;
+            refineLog_.firstUiFrameMs = passMs(*renderer_);
+            refineLog_.maxTileUiFrameMs = 0.0;
+            refineLog_.totalMs = refineLog_.firstUiFrameMs;
+            uiFrameRefines_ = true;
+            return false;
+        }
+        renderer_->cancelRefinement();
         renderer_->render();
+        uiFramePixels_ += static_cast<long long>(width_) * height_;
         copyToDisplay();
         return true;
     } catch (const Error& e) {
         frameFailed_ = true;
+        renderer_->cancelRefinement();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         record(fmt::format("frame failed (the last good frame stays): {}", e.what()));
         return false;
     }
+}
+
+bool ViewSession::refineStep() {
+    if (!renderer_->refining()) return false;
+    try {
+        const bool done = renderer_->refineStep();
+        const glm::ivec4 r = renderer_->refinement().lastRegion;
+        ++uiFrameTiles_;
+        uiFramePixels_ += static_cast<long long>(r.z - r.x) * (r.w - r.y);
+        uiFrameMs_ += passMs(*renderer_);
+        uiFrameRefines_ = true;
+        if (!done) return false;
+        copyToDisplay();
+        refineLog_.complete = true;
+        ++refineLog_.completed;
+        return true;
+    } catch (const Error& e) {
+        frameFailed_ = true;
+        renderer_->cancelRefinement();
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        record(fmt::format("frame failed (the last good frame stays): {}", e.what()));
+        return false;
+    }
+}
+
+void ViewSession::setRefineTilePx(int px) {
+    if (px < 0) {
+        record(fmt::format("refine tile size {} is negative (0 = off)", px));
+        return;
+    }
+    if (px == refineTilePx_) return;
+    refineTilePx_ = px;
+    status_ = px > 0 ? fmt::format("refining in {} px tiles", px) : "refinement off";
+    ++version_;
+}
+
+void ViewSession::endUiFrame() {
+    if (uiFrameRefines_) {
+        ++refineLog_.uiFrames;
+        refineLog_.maxTilesPerUiFrame = std::max(refineLog_.maxTilesPerUiFrame, uiFrameTiles_);
+        refineLog_.maxPixelsPerUiFrame = std::max(refineLog_.maxPixelsPerUiFrame, uiFramePixels_);
+        refineLog_.maxTileUiFrameMs = std::max(refineLog_.maxTileUiFrameMs, uiFrameMs_);
+        refineLog_.totalMs += uiFrameMs_;
+    }
+    uiFrameMs_ = 0.0;
+    uiFrameTiles_ = 0;
+    uiFramePixels_ = 0;
+    uiFrameRefines_ = false;
 }
 
 std::vector<std::string> ViewSession::cameraOverrides() const {

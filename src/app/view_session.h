@@ -71,8 +71,36 @@ public:
     void resetCamera(); // back to the scene's camera
 
     // Renders one frame; on failure the error is recorded and the last good frame stays
-    // (displayTexture()). Returns whether a new frame was made.
-    bool renderFrame();
+    // (displayTexture()). Returns whether a new frame was made. With refineTilePx() > 0 and
+    // `refine` (the viewer passes false for its reduced-size frames while the camera moves) a
+    // frame larger than one tile is refined in tiles instead (frame::Renderer::
+    // beginRefinement): this call runs the frame's per-frame passes and returns false, each
+    // refineStep() one tile; displayTexture() keeps the last complete image until then.
+    bool renderFrame(bool refine = true);
+    // One tile of the refinement in progress; true when that completed the frame (the display
+    // then shows it). A failure is recorded as for renderFrame() and ends the refinement.
+    bool refineStep();
+    bool refining() const { return renderer_->refining(); }
+    // The refinement's tile size in pixels (0: every frame in one piece, the default); a
+    // change renders the frame again.
+    void setRefineTilePx(int px);
+    int refineTilePx() const { return refineTilePx_; }
+    // What the refinements did per UI frame (endUiFrame() closes one): tests check that no UI
+    // frame ran the per-pixel passes over more than one tile.
+    struct RefineLog {
+        int tilePx = 0, tiles = 0; // of the last refinement begun
+        int uiFrames = 0;          // UI frames it has spanned so far (its begin included)
+        int maxTilesPerUiFrame = 0;
+        // The most pixels the per-pixel passes covered in one UI frame (a tile and its margin).
+        long long maxPixelsPerUiFrame = 0;
+        // Pass times (reported, never asserted): the first UI frame's (the per-frame passes),
+        // the longest of the tiles' UI frames, and all of them together.
+        double firstUiFrameMs = 0.0, maxTileUiFrameMs = 0.0, totalMs = 0.0;
+        bool complete = false;
+        int completed = 0; // refinements completed since the start
+    };
+    const RefineLog& refineLog() const { return refineLog_; }
+    void endUiFrame();
 
     const frame::Renderer& renderer() const { return *renderer_; }
     frame::Renderer& renderer() { return *renderer_; }
@@ -145,6 +173,12 @@ private:
     std::vector<std::string> errors_;
     std::string lastError_, status_;
     bool frameFailed_ = false;
+    int refineTilePx_ = 0;
+    RefineLog refineLog_;
+    int uiFrameTiles_ = 0;        // tiles refined since the last endUiFrame()
+    long long uiFramePixels_ = 0; // per-pixel pass pixels since then
+    bool uiFrameRefines_ = false; // a refinement ran (begun or stepped) in this UI frame
+    double uiFrameMs_ = 0.0;      // its pass times
     std::uint64_t version_ = 0, rebuilds_ = 0, valueChanges_ = 0;
     nlohmann::json sourceDoc_;
 };

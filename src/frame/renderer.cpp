@@ -238,6 +238,7 @@ void Renderer::setOitTechnique(const std::string& name, const nlohmann::json& pr
 }
 
 void Renderer::rebuildPasses() {
+    refine_.active = false; // another pass list: a refinement in progress starts again
     passes_ = PassList();
     buildPasses();
 }
@@ -247,6 +248,7 @@ void Renderer::resize(int width, int height) {
                "image size {}x{} out of range 1..16384", width, height);
     if (width == width_ && height == height_) return;
     checkFogWork(scene_, context_, width, height);
+    refine_.active = false;
     width_ = width;
     height_ = height;
     shadowFrame_.width = width_; // screen-space shadow techniques
@@ -363,13 +365,23 @@ void Renderer::drawObjects(const gpu::Program& program, Subset subset) const {
 }
 
 void Renderer::render() {
-    updateUniforms();
+    beginFrame();
+    runPasses(0, passes_.passes().size());
+    passTimes_ = timer_.collect();
+}
+
+void Renderer::bindFrameState() {
     // Whatever ran since the last frame (another renderer, a voxelization, the viewer's UI)
     // may have changed GL state: the first pass sets all of its declared state.
     state_.invalidate();
     cameraUbo_.bindBase(GL_UNIFORM_BUFFER, VEIL_UBO_CAMERA);
     lightsUbo_.bindBase(GL_UNIFORM_BUFFER, VEIL_UBO_LIGHTS);
     shadowsUbo_.bindBase(GL_UNIFORM_BUFFER, VEIL_UBO_SHADOWS);
+}
+
+void Renderer::beginFrame() {
+    updateUniforms();
+    bindFrameState();
 
     const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
     fogTargets_ = {};
@@ -385,11 +397,15 @@ void Renderer::render() {
         fogTargets_.prepareReceiver = [this](const gpu::Program& program) {
             shadows_->prepareReceiver(program, shadowFrame_);
         };
-    for (const Pass& pass : passes_.passes()) {
-        gpu::TimerScope t(timer_, pass.name);
-        pass.execute();
+    region_ = glm::ivec4(0, 0, width_, height_);
+}
+
+void Renderer::runPasses(std::size_t first, std::size_t end) {
+    const std::vector<Pass>& passes = passes_.passes();
+    for (std::size_t i = first; i < end; ++i) {
+        gpu::TimerScope t(timer_, passes[i].name);
+        passes[i].execute();
     }
-    passTimes_ = timer_.collect();
 }
 
 void Renderer::buildPasses() {
@@ -457,6 +473,8 @@ void Renderer::buildPasses() {
                      glBindFramebuffer(GL_FRAMEBUFFER, 0);
                  }});
 
+    // From here on the passes are per pixel (the tiled refinement runs them per tile).
+    firstPerPixelPass_ = passes_.passes().size();
     std::vector<std::string> transparentReads = plus({"depth"}, shadowResources);
     if (ao_) transparentReads.push_back("ao.visibility"); // inferred AO (001 Listing 2)
     if (fog_) {
@@ -521,11 +539,13 @@ void Renderer::buildPasses() {
                      const gpu::Program& program = programs_.get(tonemapProgram_);
                      program.use();
                      program.set("exposure", scene_.render.exposure)
-                         .set("operatorId", scene_.render.tonemap == "clamp" ? 1 : 0);
+                         .set("operatorId", scene_.render.tonemap == "clamp" ? 1 : 0)
+                         .set("region", region_);
                      hdr_.bind(VEIL_TEX_HDR);
                      glBindImageTexture(VEIL_IMG_OUTPUT, ldr_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
                                         GL_RGBA8);
-                     glDispatchCompute((width_ + 7) / 8, (height_ + 7) / 8, 1);
+                     glDispatchCompute((region_.z - region_.x + 7) / 8,
+                                       (region_.w - region_.y + 7) / 8, 1);
                      glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
                  }});
     passes_.validate();

@@ -59,6 +59,30 @@ public:
     Renderer& operator=(const Renderer&) = delete;
 
     void render();
+
+    // Progressive refinement (the viewer on slow drivers, docs/viewer.md "Slow drivers"): the
+    // same frame as render(), bit for bit, split over several calls so that none takes much
+    // longer than the frame's per-pixel passes over one tile. beginRefinement() runs the
+    // per-frame passes (shadow maps, AO, opaque, the fog's light transmittance volumes) once;
+    // each refineStep() runs the per-pixel passes (fog march, transparent, resolve, tonemap)
+    // for the next tilePx x tilePx screen tile plus kRefineMarginPx around it (scissor box of
+    // the state tracker, region of the compute dispatches) and keeps the tile; it returns true
+    // once every tile is done, and the frame targets then hold the frame. Until then
+    // hdrTexture()/ldrTexture() hold partial work: show the last complete image. The camera and
+    // scene must not change between the calls (begin again instead: that cancels). The OIT
+    // resolve still runs over the whole frame per tile (the techniques' resolves dispatch over
+    // the frame; the accumulation outside the tile is empty there, and only the tile is kept).
+    static constexpr int kRefineMarginPx = 16;
+    void beginRefinement(int tilePx);
+    bool refineStep();
+    void cancelRefinement() { refine_.active = false; }
+    bool refining() const { return refine_.active; }
+    struct Refinement {
+        bool active = false;
+        int tilePx = 0, columns = 0, tiles = 0, done = 0;
+        glm::ivec4 lastRegion{0}; // pixels of the last step's per-pixel passes, x0 y0 x1 y1
+    };
+    const Refinement& refinement() const { return refine_; }
     // Times of the passes of the last render().
     const std::vector<gpu::PassTime>& passTimes() const { return passTimes_; }
 
@@ -132,6 +156,9 @@ private:
     void addTechniquePrograms();
     void configureFogSegments();
     void updateUniforms();
+    void beginFrame();
+    void bindFrameState();
+    void runPasses(std::size_t first, std::size_t end);
     enum class Subset { Opaque, Transparent, OpaqueCasters, TransparentCasters };
     void drawObjects(const gpu::Program& program, Subset subset) const;
 
@@ -165,6 +192,10 @@ private:
     oit::OitFrameTargets targets_;
     volume::FogTargets fogTargets_;
     PassList passes_;
+    std::size_t firstPerPixelPass_ = 0; // fog, transparent, resolve, tonemap from here on
+    glm::ivec4 region_{0};              // the per-pixel passes' pixels, x0 y0 x1 y1
+    Refinement refine_;
+    gpu::Texture opaqueHdr_{gpu::NoCreate}, refinedHdr_{gpu::NoCreate}, refinedLdr_{gpu::NoCreate};
     gpu::StateTracker state_; // every pass's fixed-function state goes through it
     gpu::GpuTimer timer_;
     std::vector<gpu::PassTime> passTimes_;

@@ -1,5 +1,6 @@
 #include "gpu/pipeline_state.h"
 
+#include <algorithm>
 #include <limits>
 
 namespace veil::gpu {
@@ -42,7 +43,20 @@ void applyStencilFace(GLenum face, const StencilFace& s) {
 
 } // namespace
 
-void StateTracker::apply(const PipelineState& s) {
+void StateTracker::apply(const PipelineState& state) {
+    if (!limit_) return applyExactly(state);
+    // Clipped to the limit: the scissor test on with the intersection of the boxes.
+    PipelineState clipped = state;
+    const glm::ivec4 l = *limit_;
+    glm::ivec4 box = state.scissorTest ? state.scissor : l;
+    const int x0 = std::max(box.x, l.x), y0 = std::max(box.y, l.y);
+    const int x1 = std::min(box.x + box.z, l.x + l.z), y1 = std::min(box.y + box.w, l.y + l.w);
+    clipped.scissorTest = true;
+    clipped.scissor = glm::ivec4(x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0));
+    applyExactly(clipped);
+}
+
+void StateTracker::applyExactly(const PipelineState& s) {
     const PipelineState* c = current_ ? &*current_ : nullptr;
     int calls = 0;
     // `changed(member)` is true when there is no cache or the cached value differs.

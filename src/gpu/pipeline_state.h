@@ -89,13 +89,23 @@ public:
     void apply(const PipelineState& state);
     // Forget what was applied: the next apply() sets everything.
     void invalidate() { current_.reset(); }
+    // While set, every applied state is clipped to this box (x, y, width, height): the scissor
+    // test on, with the state's own box intersected with it, so the draws and clears that
+    // follow stay inside. The viewer's tiled refinement keeps a frame's passes to one screen
+    // tile this way (frame/renderer.h, beginRefinement). nullopt: no limit (the default).
+    void setScissorLimit(std::optional<glm::ivec4> box) {
+        limit_ = box;
+        current_.reset();
+    }
     // GL calls the last apply() made (tests: a repeated apply makes none).
     int lastCallCount() const { return calls_; }
     // Reads the fixed-function state of the current context back from GL (tests, debugging).
     static PipelineState query(bool hasConservativeRaster = false);
 
 private:
+    void applyExactly(const PipelineState& state);
     std::optional<PipelineState> current_;
+    std::optional<glm::ivec4> limit_;
     int calls_ = 0;
 };
 

@@ -242,6 +242,10 @@ const Program& Program::set(const char* name, const glm::ivec3& v) const {
     glProgramUniform3iv(id_, uniformLocation(name), 1, glm::value_ptr(v));
     return *this;
 }
+const Program& Program::set(const char* name, const glm::ivec4& v) const {
+    glProgramUniform4iv(id_, uniformLocation(name), 1, glm::value_ptr(v));
+    return *this;
+}
 const Program& Program::set(const char* name, const glm::mat3& v) const {
     glProgramUniformMatrix3fv(id_, uniformLocation(name), 1, GL_FALSE, glm::value_ptr(v));
     return *this;

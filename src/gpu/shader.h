@@ -77,6 +77,7 @@ public:
     const Program& set(const char* name, const glm::vec4& v) const;
     const Program& set(const char* name, const glm::ivec2& v) const;
     const Program& set(const char* name, const glm::ivec3& v) const;
+    const Program& set(const char* name, const glm::ivec4& v) const;
     const Program& set(const char* name, const glm::mat3& v) const;
     const Program& set(const char* name, const glm::mat4& v) const;
 };

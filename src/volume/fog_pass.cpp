@@ -126,6 +126,30 @@ void FogPass::setVolumeUniforms(const gpu::Program& program) const {
 
 void FogPass::march(const FogTargets& targets) {
     if (!active()) return;
+    updateLightVolumes(targets);
+    // 2. March (not needed beside the piecewise march, perPixelMarchRuns()).
+    if (!perPixelMarchRuns()) return;
+    ++perPixelMarches_;
+    const gpu::Program& mp = programs_.get(marchProgram_);
+    setMarchUniforms(mp, targets);
+    // The region in fog texels: every texel whose block meets the pixel region.
+    glm::ivec4 r(0, 0, width_, height_);
+    if (targets.region.z > 0)
+        r = glm::ivec4(targets.region.x / divisor_, targets.region.y / divisor_,
+                       std::min(width_, (targets.region.z + divisor_ - 1) / divisor_),
+                       std::min(height_, (targets.region.w + divisor_ - 1) / divisor_));
+    mp.set("resolutionDivisor", divisor_).set("marchRegion", r);
+    mp.use();
+    glBindImageTexture(VEIL_IMG_FOG_RADIANCE, radiance_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                       GL_RGBA16F);
+    glBindImageTexture(VEIL_IMG_FOG_TRANSMITTANCE, transmittance_.id(), 0, GL_FALSE, 0,
+                       GL_WRITE_ONLY, GL_RGBA16F);
+    glDispatchCompute((r.z - r.x + 7) / 8, (r.w - r.y + 7) / 8, 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+}
+
+void FogPass::updateLightVolumes(const FogTargets& targets) {
+    if (!active()) return;
     if (targets.width != width_ * divisor_ || targets.height != height_ * divisor_ || !radiance_)
         resize(targets.width, targets.height);
     // 1. Transmittance toward the primary light through all volumes (self-shadowing).
@@ -159,19 +183,6 @@ void FogPass::march(const FogTargets& targets) {
         }
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     }
-    // 2. March (not needed beside the piecewise march, perPixelMarchRuns()).
-    if (!perPixelMarchRuns()) return;
-    ++perPixelMarches_;
-    const gpu::Program& mp = programs_.get(marchProgram_);
-    setMarchUniforms(mp, targets);
-    mp.set("resolutionDivisor", divisor_);
-    mp.use();
-    glBindImageTexture(VEIL_IMG_FOG_RADIANCE, radiance_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
-                       GL_RGBA16F);
-    glBindImageTexture(VEIL_IMG_FOG_TRANSMITTANCE, transmittance_.id(), 0, GL_FALSE, 0,
-                       GL_WRITE_ONLY, GL_RGBA16F);
-    glDispatchCompute((width_ + 7) / 8, (height_ + 7) / 8, 1);
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 }
 
 std::string FogPass::slotsDefine() const {
@@ -210,10 +221,12 @@ void FogPass::marchSegments(const FogTargets& targets,
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     const gpu::Program& program = programs_.get(segmentsProgram_);
     setMarchUniforms(program, targets);
-    program.set("targetSize", glm::ivec2(targets.width, targets.height));
+    const glm::ivec4 r =
+        targets.region.z > 0 ? targets.region : glm::ivec4(0, 0, targets.width, targets.height);
+    program.set("targetSize", glm::ivec2(targets.width, targets.height)).set("marchRegion", r);
     prepareOit(program);
     program.use();
-    glDispatchCompute((targets.width + 7) / 8, (targets.height + 7) / 8, 1);
+    glDispatchCompute((r.z - r.x + 7) / 8, (r.w - r.y + 7) / 8, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 }
 

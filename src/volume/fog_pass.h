@@ -32,6 +32,11 @@ struct FogTargets {
     std::uint32_t seed = 1;
     // Called on the march program before it runs: the shadow technique's receiver uniforms.
     std::function<void(const gpu::Program&)> prepareReceiver;
+    // The pixels to march, full-resolution [x0, y0) .. [x1, y1) in texel coordinates (row 0 at
+    // the bottom); x1 = 0: the whole frame. The viewer's tiled refinement (Renderer::
+    // beginRefinement) marches one screen tile per call; every pixel's march is the same as
+    // in the whole frame (its jitter hashes its own coordinate).
+    glm::ivec4 region{0, 0, 0, 0};
 };
 
 class FogPass {
@@ -52,6 +57,9 @@ public:
     // Recomputes the light transmittance volumes and marches every pixel. Expects the camera
     // and lights uniform blocks and the shadow map bound (renderer.cpp does this).
     void march(const FogTargets& targets);
+    // Step 1 of march() alone: resizes to the targets and recomputes the light transmittance
+    // volumes when invalid. The tiled refinement runs it once before its first tile.
+    void updateLightVolumes(const FogTargets& targets);
     // Binds the fog results for fog_emit.frag and sets its uniforms on `program`.
     void bindForEmit(const gpu::Program& program, const FogTargets& targets) const;
     // Draws the full-screen triangle (the emit program must be in use).

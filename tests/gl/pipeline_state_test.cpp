@@ -118,4 +118,38 @@ TEST_F(PipelineStateGLTest, OnlyChangesAreSent) {
     VEIL_EXPECT_NO_GL_ERROR();
 }
 
+// The scissor limit (the viewer's tiled refinement): every state applied under it has the
+// scissor test on with its own box clipped to the limit (the limit itself for a state without
+// one), what GL then reports; clearing it gives the states their own scissor back.
+TEST_F(PipelineStateGLTest, ScissorLimitClipsEveryAppliedState) {
+    gpu::StateTracker tracker;
+    auto box = [] {
+        glm::ivec4 b(0);
+        glGetIntegerv(GL_SCISSOR_BOX, &b.x);
+        return b;
+    };
+    tracker.setScissorLimit(glm::ivec4(10, 5, 20, 8)); // x 10..30, y 5..13
+    gpu::PipelineState plain;
+    plain.view(64, 32);
+    tracker.apply(plain);
+    EXPECT_TRUE(glIsEnabled(GL_SCISSOR_TEST));
+    EXPECT_EQ(box(), glm::ivec4(10, 5, 20, 8));
+    gpu::PipelineState own = plain;
+    own.scissorTest = true;
+    own.scissor = {25, 0, 30, 10}; // x 25..55, y 0..10: clipped to x 25..30, y 5..10
+    tracker.apply(own);
+    EXPECT_EQ(box(), glm::ivec4(25, 5, 5, 5));
+    own.scissor = {40, 0, 5, 5}; // outside: an empty box
+    tracker.apply(own);
+    EXPECT_EQ(box(), glm::ivec4(40, 5, 0, 0));
+    tracker.setScissorLimit(std::nullopt);
+    tracker.apply(plain);
+    EXPECT_FALSE(glIsEnabled(GL_SCISSOR_TEST));
+    own.scissor = {1, 2, 3, 4};
+    tracker.apply(own);
+    EXPECT_EQ(box(), glm::ivec4(1, 2, 3, 4));
+    tracker.apply(gpu::PipelineState{});
+    VEIL_EXPECT_NO_GL_ERROR();
+}
+
 } // namespace veil::test

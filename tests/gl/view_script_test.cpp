@@ -395,4 +395,102 @@ TEST(ViewScriptTest, ErrorViewAgainstReference) {
     expectNotFlat(d / "error-wboit.png");
 }
 
+// Progressive refinement (docs/viewer.md "Slow drivers"): datasets/scenes/fog.json refined
+// in 40 px tiles (4 x 3 on 150 x 97, the last column and row partial) with the fog marched at
+// 1/4 resolution (its joint-bilateral upsampling reads fog texels across tile edges: without
+// the refinement's margin the tile edges differ, by up to 0.033) equals the frame in one
+// piece bit for bit, for the scene's `reference` (fog in segments between the surfaces) and
+// for `wboit` (fog through the per-pixel emission), and equals `veil render` of the same
+// values. Exact, not within a tolerance: each pixel runs the same shaders on the same values
+// in both (its march jitter hashes its own coordinate), so any difference is a real one.
+TEST(ViewScriptTest, TiledRefinementEqualsTheWholeFrame) {
+    const fs::path d = folder("view-script-refine");
+    const fs::path scene = sourceDir() / "datasets/scenes/fog.json";
+    const auto shot = [&](const std::string& name) {
+        return nlohmann::json{{"screenshot", (d / name).string()}};
+    };
+    const nlohmann::json script = {shot("whole-reference.exr"),
+                                   {{"refine_tile_px", 40}},
+                                   shot("tiled-reference.exr"),
+                                   shot("tiled-reference.png"),
+                                   {{"status", (d / "status-reference.json").string()}},
+                                   {{"oit", "wboit"}},
+                                   shot("tiled-wboit.exr"),
+                                   shot("tiled-wboit.png"),
+                                   {{"status", (d / "status-wboit.json").string()}},
+                                   {{"view", "oit.wboit.accum"}},
+                                   shot("accum-refine-on.exr"),
+                                   {{"view", "frame"}},
+                                   {{"refine_tile_px", 0}},
+                                   shot("whole-wboit.exr"),
+                                   {{"view", "oit.wboit.accum"}},
+                                   shot("accum-refine-off.exr")};
+    writeFile(d / "script.json", script.dump());
+    const std::string options = " --width 150 --height 97 --set render.shadows.size=256 --set "
+                                "render.fog_resolution=4";
+    CommandResult r = view(scene, d / "script.json", options);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    for (const std::string oit : {"reference", "wboit"}) {
+        SCOPED_TRACE(oit);
+        const nlohmann::json st = readJson(d / ("status-" + oit + ".json"));
+        EXPECT_TRUE(st["errors"].empty()) << st;
+        EXPECT_EQ(st["oit"], oit);
+        // The screenshot was of a refined frame: 12 tiles, all done.
+        EXPECT_EQ(st["refinement"]["tiles"], 12) << st;
+        EXPECT_EQ(st["refinement"]["complete"], true) << st;
+        expectSame(d / ("tiled-" + oit + ".exr"), d / ("whole-" + oit + ".exr"), 4);
+        expectNotFlat(d / ("tiled-" + oit + ".png"));
+    }
+    EXPECT_EQ(readJson(d / "status-wboit.json")["refinement"]["completed"], 2);
+    // Under a debug view the frame renders in one piece (a refinement leaves the OIT targets
+    // holding its last tile's work): the accumulation target is the whole frame's.
+    expectSame(d / "accum-refine-on.exr", d / "accum-refine-off.exr", 4);
+    // Against the one-shot `veil render` of the same values (the viewer's reference default
+    // pool_overflow=drop included).
+    r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(d / "rendered.exr") + options +
+                   " --set render.oit.pool_overflow=drop");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    expectSame(d / "tiled-reference.exr", d / "rendered.exr", 4);
+    // The two techniques differ (the comparison above is not of one image with itself).
+    EXPECT_GT(compareImages(exr(d / "tiled-reference.exr"), exr(d / "tiled-wboit.exr")).maxAbs,
+              1e-3);
+}
+
+// With refinement on, no UI frame runs the per-pixel passes over more than one tile: the
+// session counts, per displayed frame, the tiles refined and the pixels the per-pixel passes
+// covered (a tile and its margin), so the check is on work done, not on time. In one piece
+// the frame would be 96 x 64 = 6144 pixels in one UI frame; in 16 px tiles (6 x 4) at most
+// (16 + 2 margin)^2. The refinement spans one UI frame for its per-frame passes plus one per
+// tile, and a camera move during it (a script action waits for it, so the orbit comes after
+// it completed) refines again from the start.
+TEST(ViewScriptTest, EachUiFrameRefinesAtMostOneTile) {
+    const fs::path d = folder("view-script-refine-frames");
+    const fs::path scene = writeFile(d / "scene.json", kScene);
+    const nlohmann::json script = {{{"refine_tile_px", 16}},
+                                   {{"status", (d / "status.json").string()}},
+                                   {{"orbit", {0.2, 0.05}}},
+                                   {{"status", (d / "status-orbit.json").string()}},
+                                   {{"screenshot", (d / "orbit.png").string()}}};
+    writeFile(d / "script.json", script.dump());
+    CommandResult r = view(scene, d / "script.json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    for (const char* name : {"status.json", "status-orbit.json"}) {
+        SCOPED_TRACE(name);
+        const nlohmann::json st = readJson(d / name);
+        const nlohmann::json& f = st["refinement"];
+        EXPECT_TRUE(st["errors"].empty()) << st;
+        EXPECT_EQ(f["tile_px"], 16);
+        EXPECT_EQ(f["tiles"], 24) << f;
+        EXPECT_EQ(f["complete"], true) << f;
+        EXPECT_EQ(f["max_tiles_per_ui_frame"], 1) << f;
+        EXPECT_EQ(f["ui_frames"], 24 + 1) << f;
+        const long long side = 16 + 2 * f["margin_px"].get<long long>();
+        EXPECT_LE(f["max_pixels_per_ui_frame"].get<long long>(), side * side) << f;
+        EXPECT_LT(side * side, 96 * 64) << "the bound would not tell a tile from the frame";
+    }
+    EXPECT_EQ(readJson(d / "status.json")["refinement"]["completed"], 1);
+    EXPECT_EQ(readJson(d / "status-orbit.json")["refinement"]["completed"], 2);
+    expectNotFlat(d / "orbit.png");
+}
+
 } // namespace veil::test
