@@ -39,25 +39,8 @@ bool section(const char* name, const PanelState& state, bool defaultOpen = false
     return ImGui::CollapsingHeader(name, defaultOpen ? ImGuiTreeNodeFlags_DefaultOpen : 0);
 }
 
-std::string jsonFloat(float f) { return nlohmann::json(static_cast<double>(f)).dump(); }
 std::string jsonVec(const glm::vec3& v) {
     return nlohmann::json::array({double(v.x), double(v.y), double(v.z)}).dump();
-}
-
-// One scalar scene value as a widget; an edit becomes the override `key=value`.
-void sceneFloat(ViewSession& s, const std::string& key, const char* label, float value, float lo,
-                float hi, const char* doc, bool logarithmic = false) {
-    if (ImGui::SliderFloat(label, &value, lo, hi, "%.4g",
-                           logarithmic ? ImGuiSliderFlags_Logarithmic : 0))
-        s.set(key + "=" + jsonFloat(value));
-    tip(doc);
-}
-
-void sceneColour(ViewSession& s, const std::string& key, const char* label, glm::vec3 value,
-                 const char* doc) {
-    if (ImGui::ColorEdit3(label, &value.x, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR))
-        s.set(key + "=" + jsonVec(value));
-    tip(doc);
 }
 
 // The generated widgets of a schema over `values`; each changed key is set as prefix.KEY.
@@ -140,17 +123,8 @@ void cameraSection(ViewSession& s, const PanelState& st) {
 
 void renderSection(ViewSession& s, const PanelState& st) {
     if (!section("Render", st)) return;
-    const scene::RenderSettings& r = s.scene().render;
-    sceneFloat(s, "render.exposure", "exposure", r.exposure, 0.05f, 16.0f,
-               "multiplies the linear radiance before the tone map", true);
-    sceneColour(s, "render.ambient", "ambient", r.ambient,
-                "constant ambient irradiance (times the base colour)");
-    sceneColour(s, "render.background", "background", r.background,
-                "radiance where nothing is drawn");
-    const char* ops[] = {"aces", "clamp"};
-    int op = r.tonemap == "clamp" ? 1 : 0;
-    if (ImGui::Combo("tone map", &op, ops, 2)) s.set(std::string("render.tonemap=") + ops[op]);
-    tip("aces: Narkowicz's ACES fit; clamp: none");
+    schemaWidgets(s, scene::renderOutputProperties(), scene::renderOutputValues(s.scene().render),
+                  "render");
 }
 
 void techniqueSections(ViewSession& s, const PanelState& st) {

@@ -27,6 +27,23 @@ const PropertySchema& fogMarcherProperties() {
     return schema;
 }
 
+const PropertySchema& renderOutputProperties() {
+    static const PropertySchema schema = [] {
+        const RenderSettings d;
+        PropertySchema s;
+        // The parser takes any exposure > 0; the widget's range is what a tone map can use.
+        s.real("exposure", d.exposure, 1e-3, 1e3,
+               "multiplies the linear radiance before the tone map")
+            .color("ambient", d.ambient, "constant ambient irradiance (times the base colour)")
+            .color("background", d.background, "radiance where nothing is drawn")
+            .choice("tonemap", d.tonemap, {"aces", "clamp"},
+                    "aces: Narkowicz's fit of the ACES filmic curve; clamp: none",
+                    "Narkowicz 2015, ACES Filmic Tone Mapping Curve");
+        return s;
+    }();
+    return schema;
+}
+
 const PropertySchema& volumeProperties() {
     static const PropertySchema schema = [] {
         const VolumeRef d;
@@ -86,6 +103,13 @@ nlohmann::json fogMarcherValues(const RenderSettings& r) {
     return {{"fog_steps", r.fogSteps},
             {"fog_resolution", r.fogResolution},
             {"fog_jitter", r.fogJitter}};
+}
+
+nlohmann::json renderOutputValues(const RenderSettings& r) {
+    return {{"exposure", double(r.exposure)},
+            {"ambient", vec(r.ambient)},
+            {"background", vec(r.background)},
+            {"tonemap", r.tonemap}};
 }
 
 nlohmann::json volumeValues(const VolumeRef& v) {

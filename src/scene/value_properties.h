@@ -13,6 +13,8 @@ namespace veil::scene {
 
 // render.fog_steps, fog_resolution, fog_jitter.
 const PropertySchema& fogMarcherProperties();
+// render.exposure, ambient, background, tonemap: the frame's output values.
+const PropertySchema& renderOutputProperties();
 // A grid volume's density_scale, albedo, anisotropy, emission.
 const PropertySchema& volumeProperties();
 // A light's color, intensity and, by type, position and the spot cones (its aim is edited in
@@ -23,6 +25,7 @@ const PropertySchema& cameraProperties(CameraType type);
 
 // The current values as the {key: value} object the widgets edit.
 nlohmann::json fogMarcherValues(const RenderSettings& render);
+nlohmann::json renderOutputValues(const RenderSettings& render);
 nlohmann::json volumeValues(const VolumeRef& volume);
 nlohmann::json lightValues(const Light& light);
 nlohmann::json cameraValues(const Camera& camera);

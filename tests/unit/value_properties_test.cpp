@@ -40,6 +40,8 @@ std::vector<json> samples(const PropertyDecl& d) {
         return {json::array({0.0, 0.5, 1.0}), json::array({0.25, 0.25, 0.25})};
     case PropertyType::Vec3:
         return {json::array({d.min, 0.0, d.max}), json::array({1.5, -2.0, 3.0})};
+    case PropertyType::Enum:
+        return {d.choices.begin(), d.choices.end()};
     default:
         return {};
     }
@@ -84,6 +86,8 @@ void check(const PropertySchema& schema, const json::json_pointer& path,
 TEST(ValuePropertiesTest, DeclaredKeysRangesAndDefaultsMatchTheParser) {
     check(fogMarcherProperties(), json::json_pointer("/render"),
           [](const Scene& s) { return fogMarcherValues(s.render); });
+    check(renderOutputProperties(), json::json_pointer("/render"),
+          [](const Scene& s) { return renderOutputValues(s.render); });
     check(volumeProperties(), json::json_pointer("/volumes/0"),
           [](const Scene& s) { return volumeValues(s.volumes[0]); });
     const LightType types[] = {LightType::Spot, LightType::Point, LightType::Directional};
@@ -98,8 +102,9 @@ TEST(ValuePropertiesTest, DeclaredKeysRangesAndDefaultsMatchTheParser) {
 
 TEST(ValuePropertiesTest, EveryDeclarationHasADocLine) {
     for (const PropertySchema* s :
-         {&fogMarcherProperties(), &volumeProperties(), &lightProperties(LightType::Spot),
-          &cameraProperties(CameraType::Perspective), &cameraProperties(CameraType::Orthographic)})
+         {&fogMarcherProperties(), &renderOutputProperties(), &volumeProperties(),
+          &lightProperties(LightType::Spot), &cameraProperties(CameraType::Perspective),
+          &cameraProperties(CameraType::Orthographic)})
         for (const PropertyDecl& d : s->all())
             EXPECT_FALSE(d.doc.empty()) << d.key;
 }
