@@ -15,18 +15,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path dir() {
-    const fs::path d = outputDir() / "compare-cli";
-    fs::create_directories(d);
-    return d;
-}
-
-// Quoted for the shell. (Written with append: GCC 12's -Wrestrict misfires on "'" + s + "'".)
-std::string q(const fs::path& p) {
-    std::string s = "'";
-    s.append(p.string()).push_back('\'');
-    return s;
-}
+fs::path dir() { return outputSubdir("compare-cli"); }
 
 // A w x h RGB image of value v + 0.01 x (a gradient that keeps SSIM defined).
 fs::path image(const std::string& name, float v, int w = 24, int h = 16) {
@@ -58,7 +47,8 @@ TEST(CompareCliTest, IdenticalImagesPassAndWriteAHeatMap) {
     const fs::path a = image("same-a.exr", 0.5f), b = image("same-b.exr", 0.5f);
     const fs::path diff = dir() / "same-diff.png";
     fs::remove(diff);
-    const CommandResult r = compare(q(a) + " " + q(b) + " --fail 0 --diff " + q(diff));
+    const CommandResult r =
+        compare(shellQuote(a) + " " + shellQuote(b) + " --fail 0 --diff " + shellQuote(diff));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     for (const char* m : {"rmse", "maxabs", "relmse", "p99", "psnr", "ssim", "PASS"})
         EXPECT_NE(r.output.find(m), std::string::npos) << m << "\n" << r.output;
@@ -73,17 +63,19 @@ TEST(CompareCliTest, IdenticalImagesPassAndWriteAHeatMap) {
 TEST(CompareCliTest, ExitStatusFollowsFailThreshold) {
     // A constant offset of 0.125 (exact in half floats): rmse = maxabs = p99 = 0.125.
     const fs::path a = image("off-a.exr", 0.625f), b = image("off-b.exr", 0.5f);
-    CommandResult r = compare(q(a) + " " + q(b) + " --metric rmse --metric maxabs --fail 0.1");
+    CommandResult r =
+        compare(shellQuote(a) + " " + shellQuote(b) + " --metric rmse --metric maxabs --fail 0.1");
     EXPECT_EQ(r.exitCode, 1) << r.output;
     EXPECT_NE(r.output.find("rmse    0.125"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("FAILURE: rmse 0.125 > 0.1"), std::string::npos) << r.output;
-    r = compare(q(a) + " " + q(b) + " --metric rmse --fail 0.2 --warn 0.1");
+    r = compare(shellQuote(a) + " " + shellQuote(b) + " --metric rmse --fail 0.2 --warn 0.1");
     EXPECT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("WARNING: rmse 0.125"), std::string::npos) << r.output;
     // METRIC=T forms; psnr and ssim are lower bounds.
-    r = compare(q(a) + " " + q(b) + " --metric p99 --fail maxabs=0.13 --fail psnr=10");
+    r = compare(shellQuote(a) + " " + shellQuote(b) +
+                " --metric p99 --fail maxabs=0.13 --fail psnr=10");
     EXPECT_EQ(r.exitCode, 0) << r.output;
-    r = compare(q(a) + " " + q(b) + " --fail ssim=0.9999");
+    r = compare(shellQuote(a) + " " + shellQuote(b) + " --fail ssim=0.9999");
     EXPECT_EQ(r.exitCode, 1) << r.output;
     EXPECT_NE(r.output.find("FAILURE: ssim"), std::string::npos) << r.output;
 }
@@ -94,8 +86,9 @@ TEST(CompareCliTest, HeatMapShowsWhereTheImagesDiffer) {
     io::writeImage(dir() / "spot-a.exr", a);
     io::writeImage(dir() / "spot-b.exr", b);
     const fs::path diff = dir() / "spot-diff.png";
-    const CommandResult r = compare(q(dir() / "spot-a.exr") + " " + q(dir() / "spot-b.exr") +
-                                    " --diff " + q(diff) + " --diff-scale 1");
+    const CommandResult r =
+        compare(shellQuote(dir() / "spot-a.exr") + " " + shellQuote(dir() / "spot-b.exr") +
+                " --diff " + shellQuote(diff) + " --diff-scale 1");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     const ImageF d = io::readImage(diff);
     EXPECT_EQ(d.at(3, 2, 0) + d.at(3, 2, 1) + d.at(3, 2, 2), 3.0f); // white: error = scale
@@ -104,10 +97,11 @@ TEST(CompareCliTest, HeatMapShowsWhereTheImagesDiffer) {
 
 TEST(CompareCliTest, MissingUnreadableOrMismatchedFilesNameTheFile) {
     const fs::path a = image("ok-a.exr", 0.5f), small = image("ok-small.exr", 0.5f, 8, 8);
-    expectOneErrorLine(compare(q(a) + " " + q(dir() / "nope.exr")), "nope.exr");
+    expectOneErrorLine(compare(shellQuote(a) + " " + shellQuote(dir() / "nope.exr")), "nope.exr");
     std::ofstream(dir() / "garbage.exr") << "not an image";
-    expectOneErrorLine(compare(q(dir() / "garbage.exr") + " " + q(a)), "garbage.exr");
-    const CommandResult r = compare(q(a) + " " + q(small));
+    expectOneErrorLine(compare(shellQuote(dir() / "garbage.exr") + " " + shellQuote(a)),
+                       "garbage.exr");
+    const CommandResult r = compare(shellQuote(a) + " " + shellQuote(small));
     expectOneErrorLine(r, "24x16");
     EXPECT_NE(r.output.find("ok-small.exr"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("8x8"), std::string::npos) << r.output;
@@ -115,11 +109,15 @@ TEST(CompareCliTest, MissingUnreadableOrMismatchedFilesNameTheFile) {
 
 TEST(CompareCliTest, UsageErrorsAreOneLine) {
     const fs::path a = image("u-a.exr", 0.5f);
-    expectOneErrorLine(compare(q(a) + " " + q(a) + " --metric mse"), "unknown metric 'mse'");
-    expectOneErrorLine(compare(q(a) + " " + q(a) + " --fail rmse=abc"), "not a finite number");
-    expectOneErrorLine(compare(q(a) + " " + q(a) + " --fail -1"), ">= 0");
-    expectOneErrorLine(compare(q(a)), "reference", 2);
-    expectOneErrorLine(compare(q(a) + " " + q(a) + " --diff " + q(dir() / "x.txt")), "x.txt");
+    expectOneErrorLine(compare(shellQuote(a) + " " + shellQuote(a) + " --metric mse"),
+                       "unknown metric 'mse'");
+    expectOneErrorLine(compare(shellQuote(a) + " " + shellQuote(a) + " --fail rmse=abc"),
+                       "not a finite number");
+    expectOneErrorLine(compare(shellQuote(a) + " " + shellQuote(a) + " --fail -1"), ">= 0");
+    expectOneErrorLine(compare(shellQuote(a)), "reference", 2);
+    expectOneErrorLine(
+        compare(shellQuote(a) + " " + shellQuote(a) + " --diff " + shellQuote(dir() / "x.txt")),
+        "x.txt");
 }
 
 } // namespace veil::test

@@ -15,19 +15,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path dir() {
-    const fs::path d = outputDir() / "compare_to";
-    fs::create_directories(d);
-    return d;
-}
-
-// Single-quoted for the shell (appended: GCC 12 warns falsely on "'" + string + "'").
-std::string q(const fs::path& p) {
-    std::string s = "'";
-    s += p.string();
-    s += '\'';
-    return s;
-}
+fs::path dir() { return outputSubdir("compare_to"); }
 
 const char* kPlane = R"({
   "render": {"width": 80, "height": 60, "background": 0.7},
@@ -47,13 +35,14 @@ nlohmann::json readJson(const fs::path& p) {
 TEST(CompareToTest, StoredImageGivesTheClosedFormError) {
     const fs::path scene = dir() / "plane.json", stored = dir() / "stored.exr";
     std::ofstream(scene) << kPlane;
-    CommandResult r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(stored));
+    CommandResult r =
+        runCommand(veilExe() + " render " + shellQuote(scene) + " -o " + shellQuote(stored));
     ASSERT_EQ(r.exitCode, 0) << r.output;
 
     // The same frame: identical.
     const fs::path same = dir() / "same.exr", sameReport = dir() / "same.json";
-    r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(same) + " --compare-to " +
-                   q(stored) + " --report " + q(sameReport));
+    r = runCommand(veilExe() + " render " + shellQuote(scene) + " -o " + shellQuote(same) +
+                   " --compare-to " + shellQuote(stored) + " --report " + shellQuote(sameReport));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("stored.exr: RMSE 0,"), std::string::npos) << r.output;
     EXPECT_EQ(readJson(sameReport)["compare"]["rmse"], 0.0);
@@ -73,9 +62,9 @@ TEST(CompareToTest, StoredImageGivesTheClosedFormError) {
         double(zs.size());
     ASSERT_GT(sky, 0.1);
     const fs::path brighter = dir() / "brighter.png", report = dir() / "brighter.json";
-    r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(brighter) +
-                   " --set render.background=0.8 --compare-to " + q(stored) + " --report " +
-                   q(report));
+    r = runCommand(veilExe() + " render " + shellQuote(scene) + " -o " + shellQuote(brighter) +
+                   " --set render.background=0.8 --compare-to " + shellQuote(stored) +
+                   " --report " + shellQuote(report));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     // The GPU target is RGBA16F: 0.7 and 0.8 are each within 2^-12 of their half values.
     EXPECT_NEAR(readJson(report)["compare"]["rmse"].get<double>(), 0.1 * std::sqrt(sky), 3e-4)
@@ -85,19 +74,19 @@ TEST(CompareToTest, StoredImageGivesTheClosedFormError) {
     // A different size is one clear error naming both sizes; nothing written.
     const fs::path small = dir() / "small.exr";
     fs::remove(small);
-    r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(small) +
-                   " --width 40 --height 30 --compare-to " + q(stored));
+    r = runCommand(veilExe() + " render " + shellQuote(scene) + " -o " + shellQuote(small) +
+                   " --width 40 --height 30 --compare-to " + shellQuote(stored));
     EXPECT_EQ(r.exitCode, 1) << r.output;
     EXPECT_NE(r.output.find("is 80x60, the render is 40x30"), std::string::npos) << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
     EXPECT_FALSE(fs::exists(small));
-    r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(small) + " --compare-to " +
-                   q(dir() / "missing.exr"));
+    r = runCommand(veilExe() + " render " + shellQuote(scene) + " -o " + shellQuote(small) +
+                   " --compare-to " + shellQuote(dir() / "missing.exr"));
     EXPECT_EQ(r.exitCode, 1) << r.output;
     EXPECT_NE(r.output.find("missing.exr': no such image file"), std::string::npos) << r.output;
     // The output may not replace the image it is compared with.
-    r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(stored) + " --compare-to " +
-                   q(stored));
+    r = runCommand(veilExe() + " render " + shellQuote(scene) + " -o " + shellQuote(stored) +
+                   " --compare-to " + shellQuote(stored));
     EXPECT_EQ(r.exitCode, 1) << r.output;
 }
 
@@ -117,8 +106,9 @@ TEST(CompareToTest, CpuFogReference) {
     const fs::path scene = dir() / "ball.json", out = dir() / "ball.exr",
                    report = dir() / "ball.json.report.json";
     std::ofstream(scene) << doc.dump();
-    CommandResult r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(out) +
-                                 " --compare-to cpu --report " + q(report));
+    CommandResult r =
+        runCommand(veilExe() + " render " + shellQuote(scene) + " -o " + shellQuote(out) +
+                   " --compare-to cpu --report " + shellQuote(report));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("vs cpu: RMSE"), std::string::npos) << r.output;
     const nlohmann::json j = readJson(report);
@@ -127,8 +117,8 @@ TEST(CompareToTest, CpuFogReference) {
 
     // No volumes: refused before rendering.
     std::ofstream(dir() / "plane.json") << kPlane;
-    r = runCommand(veilExe() + " render " + q(dir() / "plane.json") + " -o " +
-                   q(dir() / "plane-cpu.exr") + " --compare-to cpu");
+    r = runCommand(veilExe() + " render " + shellQuote(dir() / "plane.json") + " -o " +
+                   shellQuote(dir() / "plane-cpu.exr") + " --compare-to cpu");
     EXPECT_EQ(r.exitCode, 1) << r.output;
     EXPECT_NE(r.output.find("has no volumes"), std::string::npos) << r.output;
 }

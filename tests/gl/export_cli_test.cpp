@@ -1,6 +1,7 @@
 // `veil export grid.vdb -o grid.vti` (issue 12 item 5), read back with VTK's own
 // vtkXMLImageDataReader and checked against OpenVDB's values and sampling at the same points.
 #include "support/test_support.h"
+#include "support/vdb_read.h"
 
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>
@@ -20,28 +21,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path dir() {
-    const fs::path d = outputDir() / "export_cli";
-    fs::create_directories(d);
-    return d;
-}
-
-// Single-quoted for the shell (appended: GCC 12 warns falsely on "'" + string + "'").
-std::string q(const fs::path& p) {
-    std::string s = "'";
-    s += p.string();
-    s += '\'';
-    return s;
-}
-
-openvdb::GridPtrVecPtr readGrids(const fs::path& path) {
-    openvdb::initialize();
-    openvdb::io::File file(path.string());
-    file.open();
-    openvdb::GridPtrVecPtr grids = file.getGrids();
-    file.close();
-    return grids;
-}
+fs::path dir() { return outputSubdir("export_cli"); }
 
 vtkSmartPointer<vtkImageData> readVti(const fs::path& path) {
     vtkNew<vtkXMLImageDataReader> reader;
@@ -63,11 +43,12 @@ double valueAt(vtkImageData* image, int x, int y, int z, int component = 0) {
 TEST(ExportCliTest, SmokeGridMatchesOpenVdb) {
     const fs::path vdb = dataDir() / "vdb-smoke" / "smoke.vdb", out = dir() / "smoke.vti";
     fs::remove(out);
-    const CommandResult r = runCommand(veilExe() + " export " + q(vdb) + " -o " + q(out));
+    const CommandResult r =
+        runCommand(veilExe() + " export " + shellQuote(vdb) + " -o " + shellQuote(out));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("grid 0 'density' (float)"), std::string::npos) << r.output;
 
-    const openvdb::GridPtrVecPtr grids = readGrids(vdb);
+    const openvdb::GridPtrVecPtr grids = readVdbGrids(vdb);
     const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(grids->at(0));
     ASSERT_TRUE(grid);
     const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
@@ -110,10 +91,11 @@ TEST(ExportCliTest, SmokeGridMatchesOpenVdb) {
 
 TEST(ExportCliTest, BoxAndResampleFollowOpenVdbSampling) {
     const fs::path vdb = dataDir() / "vdb-smoke" / "smoke.vdb", out = dir() / "box.vti";
-    const CommandResult r = runCommand(veilExe() + " export " + q(vdb) + " -o " + q(out) +
-                                       " --grid 0 --box 40 60 40 60 90 70 --resample 2");
+    const CommandResult r =
+        runCommand(veilExe() + " export " + shellQuote(vdb) + " -o " + shellQuote(out) +
+                   " --grid 0 --box 40 60 40 60 90 70 --resample 2");
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(readGrids(vdb)->at(0));
+    const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(readVdbGrids(vdb)->at(0));
     const vtkSmartPointer<vtkImageData> image = readVti(out);
     int dims[3];
     double spacing[3], origin[3];
@@ -157,7 +139,8 @@ TEST(ExportCliTest, VectorGridsAndBadSelectionsNameFileAndGrid) {
     openvdb::io::File(vdb.string()).write({mask, velocity});
 
     const fs::path out = dir() / "v.vti";
-    CommandResult r = runCommand(veilExe() + " export " + q(vdb) + " -o " + q(out));
+    CommandResult r =
+        runCommand(veilExe() + " export " + shellQuote(vdb) + " -o " + shellQuote(out));
     ASSERT_EQ(r.exitCode, 0) << r.output; // the first float or vec3 grid: index 1
     EXPECT_NE(r.output.find("grid 1 'v' (vec3s)"), std::string::npos) << r.output;
     const vtkSmartPointer<vtkImageData> image = readVti(out);
@@ -184,13 +167,15 @@ TEST(ExportCliTest, VectorGridsAndBadSelectionsNameFileAndGrid) {
                              "'v' (vec3s))"},
              {"--grid 7", "mixed.vdb' has no grid 7"},
              {"--box 3 3 3 1 1 1", "--box"}}) {
-        r = runCommand(veilExe() + " export " + q(vdb) + " -o " + q(bad) + " " + c.args);
+        r = runCommand(veilExe() + " export " + shellQuote(vdb) + " -o " + shellQuote(bad) + " " +
+                       c.args);
         EXPECT_EQ(r.exitCode, 1) << c.args << "\n" << r.output;
         EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.args << "\n" << r.output;
         EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
         EXPECT_FALSE(fs::exists(bad));
     }
-    r = runCommand(veilExe() + " export " + q(dir() / "missing.vdb") + " -o " + q(bad));
+    r = runCommand(veilExe() + " export " + shellQuote(dir() / "missing.vdb") + " -o " +
+                   shellQuote(bad));
     EXPECT_EQ(r.exitCode, 1) << r.output;
     EXPECT_NE(r.output.find("missing.vdb"), std::string::npos) << r.output;
 }

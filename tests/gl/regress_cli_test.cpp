@@ -17,13 +17,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path dir() {
-    const fs::path d = outputDir() / "regress-cli";
-    fs::create_directories(d);
-    return d;
-}
-
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+fs::path dir() { return outputSubdir("regress-cli"); }
 
 void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
 
@@ -93,7 +87,8 @@ fs::path prepare(const fs::path& d) {
     fs::create_directories(d);
     write(d / "scene.json", kScene);
     write(d / "suite.json", suite());
-    const CommandResult r = regress(q(d / "suite.json") + " --update -o " + q(d / "update"));
+    const CommandResult r =
+        regress(shellQuote(d / "suite.json") + " --update -o " + shellQuote(d / "update"));
     EXPECT_EQ(r.exitCode, 0) << r.output;
     return d / "suite.json";
 }
@@ -107,20 +102,20 @@ TEST(RegressCliTest, UpdateCreatesStoredReferencesThenRunsPass) {
     write(d / "scene.json", kScene);
     write(d / "suite.json", suite());
     // Without the stored reference the suite is refused before rendering.
-    CommandResult r = regress(q(d / "suite.json") + " -o " + q(d / "out"));
+    CommandResult r = regress(shellQuote(d / "suite.json") + " -o " + shellQuote(d / "out"));
     EXPECT_EQ(r.exitCode, 1) << r.output;
     EXPECT_NE(r.output.find("/cases/1/reference: reference image"), std::string::npos) << r.output;
-    r = regress(q(d / "suite.json") + " --update -o " + q(d / "out"));
+    r = regress(shellQuote(d / "suite.json") + " --update -o " + shellQuote(d / "out"));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("updated " + (d / "stored.exr").string() + " (created)"),
               std::string::npos)
         << r.output;
     EXPECT_EQ(io::readImage(d / "stored.exr").width, 40);
-    r = regress(q(d / "suite.json") + " -o " + q(d / "out"));
+    r = regress(shellQuote(d / "suite.json") + " -o " + shellQuote(d / "out"));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("5 of 5 cases passed"), std::string::npos) << r.output;
     // A second update reports what changed: nothing.
-    r = regress(q(d / "suite.json") + " --update -o " + q(d / "out"));
+    r = regress(shellQuote(d / "suite.json") + " --update -o " + shellQuote(d / "out"));
     EXPECT_NE(r.output.find("rmse 0, max-abs 0 against the old one"), std::string::npos)
         << r.output;
     for (const char* f :
@@ -136,32 +131,34 @@ TEST(RegressCliTest, UpdateCreatesStoredReferencesThenRunsPass) {
 TEST(RegressCliTest, ShardsMergedEqualOneUnshardedRun) {
     const fs::path d = dir() / "shards";
     const fs::path s = prepare(d);
-    CommandResult r = regress(q(s) + " -o " + q(d / "all"));
+    CommandResult r = regress(shellQuote(s) + " -o " + shellQuote(d / "all"));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     // Shards 0 and 2 by option, shard 1 through the Slurm array variables (ids from 1).
-    r = regress(q(s) + " --shard 0/3 -o " + q(d / "s0"));
+    r = regress(shellQuote(s) + " --shard 0/3 -o " + shellQuote(d / "s0"));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("2 of 5 cases (shard 0/3)"), std::string::npos) << r.output;
-    r = regress(q(s) + " -o " + q(d / "s1"),
+    r = regress(shellQuote(s) + " -o " + shellQuote(d / "s1"),
                 "SLURM_ARRAY_TASK_ID=2 SLURM_ARRAY_TASK_MIN=1 SLURM_ARRAY_TASK_COUNT=3");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("2 of 5 cases (shard 1/3)"), std::string::npos) << r.output;
-    r = regress(q(s) + " -o " + q(d / "s2"), "JOB_COMPLETION_INDEX=2 VEIL_SHARD_COUNT=3");
+    r = regress(shellQuote(s) + " -o " + shellQuote(d / "s2"),
+                "JOB_COMPLETION_INDEX=2 VEIL_SHARD_COUNT=3");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("1 of 5 cases (shard 2/3)"), std::string::npos) << r.output;
-    r = regress(q(s) + " --merge " + q(d / "s0") + " " + q(d / "s1") + " " + q(d / "s2") + " -o " +
-                q(d / "merged"));
+    r = regress(shellQuote(s) + " --merge " + shellQuote(d / "s0") + " " + shellQuote(d / "s1") +
+                " " + shellQuote(d / "s2") + " -o " + shellQuote(d / "merged"));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     const auto all = metricsOf(d / "all"), merged = metricsOf(d / "merged");
     EXPECT_EQ(all.size(), 5u);
     EXPECT_EQ(all, merged);
     EXPECT_TRUE(fs::exists(d / "merged/images/wide-diff.png"));
     // --jobs runs the shards as child processes and merges them the same way.
-    r = regress(q(s) + " --jobs 3 -o " + q(d / "jobs"));
+    r = regress(shellQuote(s) + " --jobs 3 -o " + shellQuote(d / "jobs"));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_EQ(metricsOf(d / "jobs"), all);
     // A merge that misses a shard fails and names the cases no shard ran.
-    r = regress(q(s) + " --merge " + q(d / "s0") + " " + q(d / "s1") + " -o " + q(d / "part"));
+    r = regress(shellQuote(s) + " --merge " + shellQuote(d / "s0") + " " + shellQuote(d / "s1") +
+                " -o " + shellQuote(d / "part"));
     EXPECT_EQ(r.exitCode, 1) << r.output;
     // Case 2 (stochastic) was shard 2's.
     EXPECT_NE(r.output.find("1 case(s) failed: stochastic"), std::string::npos) << r.output;
@@ -173,7 +170,7 @@ TEST(RegressCliTest, ChangedInputFailsAndTheReportNamesTheCase) {
     prepare(d);
     // The light twice as bright: the stored reference no longer matches.
     write(d / "suite.json", suite(R"("lights.0.intensity=4")"));
-    CommandResult r = regress(q(d / "suite.json") + " -o " + q(d / "out"));
+    CommandResult r = regress(shellQuote(d / "suite.json") + " -o " + shellQuote(d / "out"));
     EXPECT_EQ(r.exitCode, 1) << r.output;
     EXPECT_NE(r.output.find("FAIL stored"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("1 case(s) failed: stored"), std::string::npos) << r.output;
@@ -186,7 +183,7 @@ TEST(RegressCliTest, ChangedInputFailsAndTheReportNamesTheCase) {
     ImageF ref = io::readImage(d / "stored.exr");
     ref.at(5, 5, 0) += 0.5f;
     io::writeImage(d / "stored.exr", ref);
-    r = regress(q(d / "suite.json") + " -o " + q(d / "out2"));
+    r = regress(shellQuote(d / "suite.json") + " -o " + shellQuote(d / "out2"));
     EXPECT_EQ(r.exitCode, 1) << r.output;
     EXPECT_NE(read(d / "out2/index.html").find("<a href=\"#stored\">stored</a>"),
               std::string::npos);
@@ -235,7 +232,7 @@ TEST(RegressCliTest, BadSuitesAreOneLineNamingFileAndPointer) {
     for (std::size_t i = 0; i < bad.size(); ++i) {
         const fs::path s = d / ("bad" + std::to_string(i) + ".json");
         write(s, bad[i].text);
-        const CommandResult r = regress(q(s) + " -o " + q(d / "out"));
+        const CommandResult r = regress(shellQuote(s) + " -o " + shellQuote(d / "out"));
         EXPECT_EQ(r.exitCode, 1) << bad[i].text << "\n" << r.output;
         EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
         EXPECT_NE(r.output.find("veil: error: " + s.string() + ": "), std::string::npos)
@@ -243,10 +240,10 @@ TEST(RegressCliTest, BadSuitesAreOneLineNamingFileAndPointer) {
         EXPECT_NE(r.output.find(bad[i].expected), std::string::npos) << bad[i].text << "\n"
                                                                      << r.output;
     }
-    const CommandResult r = regress(q(d / "missing-suite.json"));
+    const CommandResult r = regress(shellQuote(d / "missing-suite.json"));
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.output.find("missing-suite.json"), std::string::npos) << r.output;
-    EXPECT_NE(regress(q(d / "bad0.json") + " --shard 3/3").exitCode, 0);
+    EXPECT_NE(regress(shellQuote(d / "bad0.json") + " --shard 3/3").exitCode, 0);
 }
 
 } // namespace veil::test

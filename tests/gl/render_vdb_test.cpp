@@ -16,19 +16,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path dir() {
-    const fs::path d = outputDir() / "render_vdb";
-    fs::create_directories(d);
-    return d;
-}
-
-// Single-quoted for the shell (appended: GCC 12 warns falsely on "'" + string + "'").
-std::string q(const fs::path& p) {
-    std::string s = "'";
-    s += p.string();
-    s += '\'';
-    return s;
-}
+fs::path dir() { return outputSubdir("render_vdb"); }
 
 } // namespace
 
@@ -36,8 +24,9 @@ TEST(RenderVdbTest, BareVolumeIsFramedAndLit) {
     const fs::path vdb = dataDir() / "vdb-sphere-fog" / "sphere.vdb", out = dir() / "sphere.exr",
                    report = dir() / "sphere.json";
     fs::remove(out);
-    const CommandResult r = runCommand(veilExe() + " render " + q(vdb) + " -o " + q(out) +
-                                       " --width 64 --height 64 --report " + q(report));
+    const CommandResult r =
+        runCommand(veilExe() + " render " + shellQuote(vdb) + " -o " + shellQuote(out) +
+                   " --width 64 --height 64 --report " + shellQuote(report));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("grid 0 'density' (float, 465 active voxels"), std::string::npos)
         << r.output;
@@ -91,18 +80,21 @@ TEST(RenderVdbTest, BareVolumeIsFramedAndLit) {
 TEST(RenderVdbTest, GridChoiceAndErrors) {
     // torus01.vdb's only grid is not called "density": the first float grid is taken.
     const fs::path torus = dataDir() / "vdb-torus-fog" / "torus01.vdb";
-    CommandResult r = runCommand(veilExe() + " render " + q(torus) + " -o " +
-                                 q(dir() / "torus.png") + " --width 48 --height 48");
+    CommandResult r = runCommand(veilExe() + " render " + shellQuote(torus) + " -o " +
+                                 shellQuote(dir() / "torus.png") + " --width 48 --height 48");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("grid 0 'voxel_fog_density'"), std::string::npos) << r.output;
     const fs::path three = dataDir() / "vdb-three-density-grids" / "grids.vdb";
     const fs::path out = dir() / "bad.png";
     fs::remove(out);
     for (const auto& [args, expect] : std::vector<std::pair<std::string, std::string>>{
-             {fmt::format("{} --grid smoke", q(three)), "grids.vdb' has no grid named 'smoke'"},
-             {fmt::format("{} --grid 1", q(three)), "grid 1 shares its name 'density' with grid 0"},
-             {q(dataDir() / "vdb-smoke" / "missing.vdb"), "missing.vdb"}}) {
-        r = runCommand(veilExe() + " render " + args + " -o " + q(out) + " --width 32 --height 32");
+             {fmt::format("{} --grid smoke", shellQuote(three)),
+              "grids.vdb' has no grid named 'smoke'"},
+             {fmt::format("{} --grid 1", shellQuote(three)),
+              "grid 1 shares its name 'density' with grid 0"},
+             {shellQuote(dataDir() / "vdb-smoke" / "missing.vdb"), "missing.vdb"}}) {
+        r = runCommand(veilExe() + " render " + args + " -o " + shellQuote(out) +
+                       " --width 32 --height 32");
         EXPECT_EQ(r.exitCode, 1) << args << "\n" << r.output;
         EXPECT_NE(r.output.find(expect), std::string::npos) << args << "\n" << r.output;
         EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;

@@ -1,6 +1,7 @@
 // `veil voxelize mesh.obj|.ply` without a scene and `veil info file.vdb` per grid (issue 12
 // item 7), checked against bounds read from the OBJ text and values read through OpenVDB.
 #include "support/test_support.h"
+#include "support/vdb_read.h"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -15,28 +16,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path dir() {
-    const fs::path d = outputDir() / "voxelize_mesh_info";
-    fs::create_directories(d);
-    return d;
-}
-
-// Single-quoted for the shell (appended: GCC 12 warns falsely on "'" + string + "'").
-std::string q(const fs::path& p) {
-    std::string s = "'";
-    s += p.string();
-    s += '\'';
-    return s;
-}
-
-openvdb::GridPtrVecPtr readGrids(const fs::path& path) {
-    openvdb::initialize();
-    openvdb::io::File file(path.string());
-    file.open();
-    openvdb::GridPtrVecPtr grids = file.getGrids();
-    file.close();
-    return grids;
-}
+fs::path dir() { return outputSubdir("voxelize_mesh_info"); }
 
 } // namespace
 
@@ -58,10 +38,10 @@ TEST(VoxelizeMeshTest, ObjGetsCubicVoxelsFittedToItsBounds) {
     const fs::path out = dir() / "teapot.vdb";
     fs::remove(out);
     const CommandResult r =
-        runCommand(veilExe() + " voxelize " + q(dataDir() / "utah-teapot" / "teapot.obj") +
-                   " --res 32 -o " + q(out));
+        runCommand(veilExe() + " voxelize " + shellQuote(dataDir() / "utah-teapot" / "teapot.obj") +
+                   " --res 32 -o " + shellQuote(out));
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    const auto grids = readGrids(out);
+    const auto grids = readVdbGrids(out);
     const openvdb::GridBase::Ptr density = grids->at(0);
     EXPECT_EQ(density->getName(), "density");
     const openvdb::Vec3d vs = density->voxelSize();
@@ -88,32 +68,35 @@ TEST(VoxelizeMeshTest, FlatPlyIsOneSliceAndBadMeshIsNamed) {
                           "property list uchar int vertex_indices\nend_header\n"
                           "0 0 0\n2 0 0\n2 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n";
     const fs::path out = dir() / "quad.vdb";
-    CommandResult r = runCommand(veilExe() + " voxelize " + q(ply) + " --res 16 -o " + q(out));
+    CommandResult r =
+        runCommand(veilExe() + " voxelize " + shellQuote(ply) + " --res 16 -o " + shellQuote(out));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("16x8x1"), std::string::npos) << r.output;
-    const auto grids = readGrids(out);
+    const auto grids = readVdbGrids(out);
     const openvdb::CoordBBox box = grids->at(0)->evalActiveVoxelBoundingBox();
     EXPECT_EQ(box.dim().z(), 1);
     EXPECT_EQ(box.dim().x(), 16);
 
     const fs::path broken = dir() / "broken.obj";
     std::ofstream(broken) << "v 0 0 0\nf 1 2 3\n";
-    r = runCommand(veilExe() + " voxelize " + q(broken) + " -o " + q(dir() / "broken.vdb"));
+    r = runCommand(veilExe() + " voxelize " + shellQuote(broken) + " -o " +
+                   shellQuote(dir() / "broken.vdb"));
     EXPECT_EQ(r.exitCode, 1) << r.output;
     EXPECT_NE(r.output.find("broken.obj"), std::string::npos) << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
     EXPECT_FALSE(fs::exists(dir() / "broken.vdb"));
-    r = runCommand(veilExe() + " voxelize " + q(ply) + " --perspective -o " + q(out));
+    r = runCommand(veilExe() + " voxelize " + shellQuote(ply) + " --perspective -o " +
+                   shellQuote(out));
     EXPECT_EQ(r.exitCode, 1) << r.output;
     EXPECT_NE(r.output.find("need a scene file"), std::string::npos) << r.output;
 }
 
 TEST(InfoVdbTest, EveryGridWithRangeAndMetadataSelectableByNameAndIndex) {
     const fs::path smoke = dataDir() / "vdb-smoke" / "smoke.vdb";
-    CommandResult r = runCommand(veilExe() + " info " + q(smoke));
+    CommandResult r = runCommand(veilExe() + " info " + shellQuote(smoke));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     // The range, computed here over the active values.
-    const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(readGrids(smoke)->at(0));
+    const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(readVdbGrids(smoke)->at(0));
     float lo = 1e30f, hi = -1e30f;
     for (auto it = grid->cbeginValueOn(); it; ++it)
         lo = std::min(lo, *it), hi = std::max(hi, *it);
@@ -131,14 +114,14 @@ TEST(InfoVdbTest, EveryGridWithRangeAndMetadataSelectableByNameAndIndex) {
          std::vector<std::pair<std::string, std::string>>{{"1", "1 'density' float"},
                                                           {"2", "2 'density' float"},
                                                           {"density", "0 'density' float"}}) {
-        r = runCommand(veilExe() + " info " + q(three) + " --grid " + selector);
+        r = runCommand(veilExe() + " info " + shellQuote(three) + " --grid " + selector);
         ASSERT_EQ(r.exitCode, 0) << r.output;
         EXPECT_NE(r.output.find(expect), std::string::npos) << selector << "\n" << r.output;
         EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\''), 2) << r.output; // one grid
     }
-    r = runCommand(veilExe() + " info " + q(three) + " --grid 1");
+    r = runCommand(veilExe() + " info " + shellQuote(three) + " --grid 1");
     EXPECT_NE(r.output.find("2222 active voxels"), std::string::npos) << r.output;
-    r = runCommand(veilExe() + " info " + q(three) + " --grid 3");
+    r = runCommand(veilExe() + " info " + shellQuote(three) + " --grid 3");
     EXPECT_EQ(r.exitCode, 1) << r.output;
     EXPECT_NE(r.output.find("grids.vdb' has no grid 3 (3 grids"), std::string::npos) << r.output;
 }

@@ -20,6 +20,23 @@ fs::path outputDir() {
     return dir;
 }
 
+fs::path outputSubdir(const std::string& name) {
+    const fs::path dir = outputDir() / name;
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::string shellQuote(const fs::path& path) {
+    std::string s(1, '\'');
+    for (const char c : path.string())
+        if (c == '\'')
+            s.append("'\\''");
+        else
+            s.push_back(c);
+    s.push_back('\'');
+    return s;
+}
+
 ImageDiff compareImages(const ImageF& a, const ImageF& b, int channels) {
     ImageDiff d;
     if (a.width != b.width || a.height != b.height || a.channels < channels ||

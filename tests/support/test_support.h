@@ -11,6 +11,11 @@ namespace veil::test {
 std::filesystem::path sourceDir(); // repository root
 std::filesystem::path dataDir();   // datasets/third_party (third-party data, in the repository)
 std::filesystem::path outputDir(); // build/test-output, created on demand
+// outputDir() / name, created on demand (kept between runs).
+std::filesystem::path outputSubdir(const std::string& name);
+
+// The path in single quotes for the shell, a quote inside it written as '\''.
+std::string shellQuote(const std::filesystem::path& path);
 
 struct ImageDiff {
     double maxAbs = 0.0; // largest per-channel absolute difference
