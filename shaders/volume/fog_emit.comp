@@ -12,9 +12,13 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
+// The pixels [x0, y0) .. [x1, y1) of this dispatch (the whole frame, or a tile of the viewer's
+// refinement: frame::Renderer::refineStep).
+uniform ivec4 emitRegion;
+
 void main() {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(p, textureSize(opaqueDepth, 0)))) return;
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy) + emitRegion.xy;
+    if (any(greaterThanEqual(p, min(emitRegion.zw, textureSize(opaqueDepth, 0))))) return;
     vec4 L, T;
     if (!fogContribution(p, L, T)) return;
     float depth = fogWindowDepth(L.a);

@@ -11,11 +11,12 @@ uniform mat4 lightToWorld; // [0,1]^3 of the target texture -> world
 uniform vec4 lightPositionType; // xyz position (or travel direction for directional), w = type
 uniform int steps;
 uniform float maxDistance; // world distance that covers all volumes
+uniform ivec2 zRange;      // the z slices [x, y) of this dispatch (from x; the whole depth in one piece)
 
 void main() {
     ivec3 size = imageSize(lightTransmittance);
-    ivec3 c = ivec3(gl_GlobalInvocationID);
-    if (any(greaterThanEqual(c, size))) return;
+    ivec3 c = ivec3(gl_GlobalInvocationID) + ivec3(0, 0, zRange.x);
+    if (any(greaterThanEqual(c, size)) || c.z >= zRange.y) return;
     vec3 uvw = (vec3(c) + 0.5) / vec3(size);
     vec3 P = (lightToWorld * vec4(uvw, 1.0)).xyz;
     vec3 L;

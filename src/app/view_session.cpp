@@ -410,6 +410,9 @@ bool ViewSession::renderFrame(bool refine) {
             refineLog_.uiFrames = 0;
             refineLog_.maxTilesPerUiFrame = 0;
             refineLog_.maxPixelsPerUiFrame = 0;
+            refineLog_.lightSlabs = 0;
+            refineLog_.maxLightSlabsPerUiFrame = 0;
+            refineLog_.maxUiFrameMs = passMs(*renderer_);
             refineLog_.complete = false;
             refineLog_.firstUiFrameMs = passMs(*renderer_);
             refineLog_.maxTileUiFrameMs = 0.0;
@@ -435,9 +438,15 @@ bool ViewSession::refineStep() {
     if (!renderer_->refining()) return false;
     try {
         const bool done = renderer_->refineStep();
-        const glm::ivec4 r = renderer_->refinement().lastRegion;
-        ++uiFrameTiles_;
-        uiFramePixels_ += static_cast<long long>(r.z - r.x) * (r.w - r.y);
+        const frame::Renderer::Refinement& f = renderer_->refinement();
+        if (f.lastStep == frame::Renderer::Refinement::Step::LightSlab) {
+            ++uiFrameLightSlabs_;
+            ++refineLog_.lightSlabs;
+        } else {
+            const glm::ivec4 r = f.lastRegion;
+            ++uiFrameTiles_;
+            uiFramePixels_ += static_cast<long long>(r.z - r.x) * (r.w - r.y);
+        }
         uiFrameMs_ += passMs(*renderer_);
         uiFrameRefines_ = true;
         if (!done) return false;
@@ -470,11 +479,16 @@ void ViewSession::endUiFrame() {
         ++refineLog_.uiFrames;
         refineLog_.maxTilesPerUiFrame = std::max(refineLog_.maxTilesPerUiFrame, uiFrameTiles_);
         refineLog_.maxPixelsPerUiFrame = std::max(refineLog_.maxPixelsPerUiFrame, uiFramePixels_);
-        refineLog_.maxTileUiFrameMs = std::max(refineLog_.maxTileUiFrameMs, uiFrameMs_);
+        refineLog_.maxLightSlabsPerUiFrame =
+            std::max(refineLog_.maxLightSlabsPerUiFrame, uiFrameLightSlabs_);
+        if (uiFrameTiles_ > 0)
+            refineLog_.maxTileUiFrameMs = std::max(refineLog_.maxTileUiFrameMs, uiFrameMs_);
+        refineLog_.maxUiFrameMs = std::max(refineLog_.maxUiFrameMs, uiFrameMs_);
         refineLog_.totalMs += uiFrameMs_;
     }
     uiFrameMs_ = 0.0;
     uiFrameTiles_ = 0;
+    uiFrameLightSlabs_ = 0;
     uiFramePixels_ = 0;
     uiFrameRefines_ = false;
 }

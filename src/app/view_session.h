@@ -91,11 +91,14 @@ public:
         int tilePx = 0, tiles = 0; // of the last refinement begun
         int uiFrames = 0;          // UI frames it has spanned so far (its begin included)
         int maxTilesPerUiFrame = 0;
+        // Light transmittance slabs (frame::Renderer::kRefineLightSlabTexels z slices of one
+        // volume) computed by it, and the most in one UI frame.
+        int lightSlabs = 0, maxLightSlabsPerUiFrame = 0;
         // The most pixels the per-pixel passes covered in one UI frame (a tile and its margin).
         long long maxPixelsPerUiFrame = 0;
         // Pass times (reported, never asserted): the first UI frame's (the per-frame passes),
-        // the longest of the tiles' UI frames, and all of them together.
-        double firstUiFrameMs = 0.0, maxTileUiFrameMs = 0.0, totalMs = 0.0;
+        // the longest of the tiles' UI frames, the longest UI frame of all, and all together.
+        double firstUiFrameMs = 0.0, maxTileUiFrameMs = 0.0, maxUiFrameMs = 0.0, totalMs = 0.0;
         bool complete = false;
         int completed = 0; // refinements completed since the start
     };
@@ -176,6 +179,7 @@ private:
     int refineTilePx_ = 0;
     RefineLog refineLog_;
     int uiFrameTiles_ = 0;        // tiles refined since the last endUiFrame()
+    int uiFrameLightSlabs_ = 0;   // light transmittance slabs since the last endUiFrame()
     long long uiFramePixels_ = 0; // per-pixel pass pixels since then
     bool uiFrameRefines_ = false; // a refinement ran (begun or stepped) in this UI frame
     double uiFrameMs_ = 0.0;      // its pass times

@@ -511,7 +511,9 @@ void Renderer::buildPasses() {
                              fogProgram.use();
                              if (fogMode == oit::PerPixelEmit::Compute) {
                                  oit_->bindPerPixelEmit(pass, targets_);
-                                 glDispatchCompute((width_ + 7) / 8, (height_ + 7) / 8, 1);
+                                 fogProgram.set("emitRegion", region_); // a tile's pixels only
+                                 glDispatchCompute((region_.z - region_.x + 7) / 8,
+                                                   (region_.w - region_.y + 7) / 8, 1);
                                  // The pass's blending, texel fetches and image loads see it.
                                  glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT |
                                                  GL_TEXTURE_FETCH_BARRIER_BIT |

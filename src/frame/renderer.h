@@ -63,16 +63,19 @@ public:
     // Progressive refinement (the viewer on slow drivers, docs/viewer.md "Slow drivers"): the
     // same frame as render(), bit for bit, split over several calls so that none takes much
     // longer than the frame's per-pixel passes over one tile. beginRefinement() runs the
-    // per-frame passes (shadow maps, AO, opaque, the fog's light transmittance volumes) once;
-    // each refineStep() runs the per-pixel passes (fog march, transparent, resolve, tonemap)
-    // for the next tilePx x tilePx screen tile plus kRefineMarginPx around it (scissor box of
-    // the state tracker, region of the compute dispatches) and keeps the tile; it returns true
-    // once every tile is done, and the frame targets then hold the frame. Until then
-    // hdrTexture()/ldrTexture() hold partial work: show the last complete image. The camera and
-    // scene must not change between the calls (begin again instead: that cancels). The OIT
-    // resolve still runs over the whole frame per tile (the techniques' resolves dispatch over
-    // the frame; the accumulation outside the tile is empty there, and only the tile is kept).
+    // per-frame passes (shadow maps, AO, opaque) once; while the fog's light transmittance
+    // volumes are not valid each refineStep() computes kRefineLightSlabTexels z slices of one
+    // of them (FogPass::updateLightVolumesSlab); then each refineStep() runs the per-pixel passes
+    // (fog march, transparent, resolve, tonemap) for the next tilePx x tilePx screen tile plus
+    // kRefineMarginPx around it (scissor box of the state tracker, region of the compute
+    // dispatches) and keeps the tile; it returns true once every tile is done, and the frame
+    // targets then hold the frame. Until then hdrTexture()/ldrTexture() hold partial work: show the
+    // last complete image. The camera and scene must not change between the calls (begin again
+    // instead: that cancels). The OIT resolve still runs over the whole frame per tile (the
+    // techniques' resolves dispatch over the frame; the accumulation outside the tile is empty
+    // there, and only the tile is kept).
     static constexpr int kRefineMarginPx = 16;
+    static constexpr int kRefineLightSlabTexels = 8;
     void beginRefinement(int tilePx);
     bool refineStep();
     void cancelRefinement() { refine_.active = false; }
@@ -80,7 +83,9 @@ public:
     struct Refinement {
         bool active = false;
         int tilePx = 0, columns = 0, tiles = 0, done = 0;
-        glm::ivec4 lastRegion{0}; // pixels of the last step's per-pixel passes, x0 y0 x1 y1
+        glm::ivec4 lastRegion{0}; // pixels of the last tile's per-pixel passes, x0 y0 x1 y1
+        enum class Step { None, LightSlab, Tile } lastStep = Step::None; // the last refineStep()
+        int lightSlabs = 0; // light transmittance slabs computed by refineStep()
     };
     const Refinement& refinement() const { return refine_; }
     // Times of the passes of the last render().

@@ -26,14 +26,10 @@ void Renderer::beginRefinement(int tilePx) {
     refine_.tilePx = tilePx;
     refine_.columns = (width_ + tilePx - 1) / tilePx;
     refine_.tiles = refine_.columns * ((height_ + tilePx - 1) / tilePx);
-    // The per-frame passes, once: shadow maps, the AO, the opaque image and depth, and the
-    // fog's light transmittance volumes (FogPass::updateLightVolumes, march() step 1).
+    // The per-frame passes, once: shadow maps, the AO, the opaque image and depth. The fog's
+    // light transmittance volumes (march() step 1) follow in slabs, one per refineStep().
     beginFrame();
     runPasses(0, firstPerPixelPass_);
-    if (fog_) {
-        if (shadowSet_.viewCount > 0) shadows_->bindForReceivers();
-        fog_->updateLightVolumes(fogTargets_);
-    }
     if (!opaqueHdr_ || opaqueHdr_.width() != width_ || opaqueHdr_.height() != height_) {
         opaqueHdr_ = likeTexture(hdr_, GL_RGBA16F);
         refinedHdr_ = likeTexture(hdr_, GL_RGBA16F);
@@ -46,6 +42,21 @@ void Renderer::beginRefinement(int tilePx) {
 
 bool Renderer::refineStep() {
     if (!refine_.active) return true;
+    bindFrameState();
+    bool slab = false;
+    if (fog_) {
+        // While the light transmittance volumes are not valid: their next slab, alone.
+        gpu::TimerScope timer(timer_, "fog.light_transmittance");
+        if (shadowSet_.viewCount > 0) shadows_->bindForReceivers();
+        slab = fog_->updateLightVolumesSlab(fogTargets_, kRefineLightSlabTexels);
+    }
+    if (slab) {
+        refine_.lastStep = Refinement::Step::LightSlab;
+        ++refine_.lightSlabs;
+        passTimes_ = timer_.collect();
+        return false;
+    }
+    refine_.lastStep = Refinement::Step::Tile;
     const int t = refine_.tilePx;
     const int index = refine_.done;
     const int x0 = (index % refine_.columns) * t, y0 = (index / refine_.columns) * t;
@@ -56,7 +67,6 @@ bool Renderer::refineStep() {
     const glm::ivec4 r(std::max(0, tile.x - kRefineMarginPx), std::max(0, tile.y - kRefineMarginPx),
                        std::min(width_, tile.z + kRefineMarginPx),
                        std::min(height_, tile.w + kRefineMarginPx));
-    bindFrameState();
     // The resolve composites over the whole hdr target (the techniques' resolves are compute
     // over the frame): it starts from the opaque image every tile.
     copyRect(opaqueHdr_, hdr_, glm::ivec4(0, 0, width_, height_));

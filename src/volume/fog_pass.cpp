@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace veil::volume {
 
@@ -148,41 +149,61 @@ void FogPass::march(const FogTargets& targets) {
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 }
 
-void FogPass::updateLightVolumes(const FogTargets& targets) {
-    if (!active()) return;
+bool FogPass::lightVolumesStale(const FogTargets& targets, glm::vec4& key) {
     if (targets.width != width_ * divisor_ || targets.height != height_ * divisor_ || !radiance_)
         resize(targets.width, targets.height);
     // 1. Transmittance toward the primary light through all volumes (self-shadowing).
     const scene::Light* light =
         primaryLight_ >= 0 ? &scene_.lights[static_cast<std::size_t>(primaryLight_)] : nullptr;
     const bool directional = light && light->type == scene::LightType::Directional;
-    const glm::vec4 key =
-        light ? glm::vec4(directional ? glm::normalize(light->direction) : light->position,
-                          directional ? float(VEIL_LIGHT_DIRECTIONAL) : float(VEIL_LIGHT_SPOT))
-              : glm::vec4(0.0f);
-    if (selfShadowing_ && light && !volumes_.empty() && (!lightValid_ || key != lightKey_)) {
-        lightKey_ = key;
-        lightValid_ = true;
-        const gpu::Program& lp = programs_.get(lightProgram_);
-        setVolumeUniforms(lp);
-        glm::vec3 lo(1e30f), hi(-1e30f);
-        for (const auto& e : volumes_) {
-            glm::vec3 a, b;
-            e.gpu->worldBounds(a, b);
-            lo = glm::min(lo, a);
-            hi = glm::max(hi, b);
-        }
-        lp.set("lightPositionType", key).set("steps", 64).set("maxDistance", glm::length(hi - lo));
-        lp.use();
-        for (const auto& e : volumes_) {
-            lp.set("lightToWorld", e.lightToWorld);
-            glBindImageTexture(VEIL_IMG_VOLUME_LIGHT, e.light.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
-                               GL_R16F);
-            glDispatchCompute((e.light.width() + 3) / 4, (e.light.height() + 3) / 4,
-                              (e.light.depth() + 3) / 4);
-        }
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    key = light ? glm::vec4(directional ? glm::normalize(light->direction) : light->position,
+                            directional ? float(VEIL_LIGHT_DIRECTIONAL) : float(VEIL_LIGHT_SPOT))
+                : glm::vec4(0.0f);
+    return selfShadowing_ && light && !volumes_.empty() && (!lightValid_ || key != lightKey_);
+}
+
+void FogPass::updateLightVolumes(const FogTargets& targets) {
+    while (updateLightVolumesSlab(targets, std::numeric_limits<int>::max())) {
     }
+}
+
+bool FogPass::updateLightVolumesSlab(const FogTargets& targets, int slabTexels) {
+    glm::vec4 key;
+    if (!active() || !lightVolumesStale(targets, key)) return false;
+    if (!slab_.started || slab_.key != key) slab_ = {true, key, 0, 0};
+    const Entry& e = volumes_[slab_.volume];
+    const gpu::Program& lp = programs_.get(lightProgram_);
+    setVolumeUniforms(lp);
+    glm::vec3 lo(1e30f), hi(-1e30f);
+    for (const auto& v : volumes_) {
+        glm::vec3 a, b;
+        v.gpu->worldBounds(a, b);
+        lo = glm::min(lo, a);
+        hi = glm::max(hi, b);
+    }
+    // Each texel's value depends on its own coordinate only: a slab's texels come out as in
+    // the volume computed in one piece.
+    const int z0 = slab_.z, z1 = z0 + std::min(slabTexels, e.light.depth() - z0);
+    lp.set("lightPositionType", key)
+        .set("steps", 64)
+        .set("maxDistance", glm::length(hi - lo))
+        .set("lightToWorld", e.lightToWorld)
+        .set("zRange", glm::ivec2(z0, z1));
+    lp.use();
+    glBindImageTexture(VEIL_IMG_VOLUME_LIGHT, e.light.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R16F);
+    glDispatchCompute((e.light.width() + 3) / 4, (e.light.height() + 3) / 4, (z1 - z0 + 3) / 4);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    ++lightSlabs_;
+    slab_.z = z1;
+    if (slab_.z >= e.light.depth()) {
+        slab_.z = 0;
+        if (++slab_.volume == volumes_.size()) {
+            slab_ = {};
+            lightKey_ = key;
+            lightValid_ = true;
+        }
+    }
+    return true;
 }
 
 std::string FogPass::slotsDefine() const {

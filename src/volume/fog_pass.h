@@ -60,6 +60,13 @@ public:
     // Step 1 of march() alone: resizes to the targets and recomputes the light transmittance
     // volumes when invalid. The tiled refinement runs it once before its first tile.
     void updateLightVolumes(const FogTargets& targets);
+    // Step 1 piecewise (the tiled refinement, one call per UI frame): while the light
+    // transmittance volumes are not valid, computes the next `slabTexels` z slices of one
+    // volume and returns true; false when they are valid (nothing computed). The slabs
+    // together equal updateLightVolumes() bit for bit (a texel depends on its coordinate only).
+    bool updateLightVolumesSlab(const FogTargets& targets, int slabTexels);
+    // Slabs computed since construction, a whole volume in one piece counting one (tests).
+    int lightSlabs() const { return lightSlabs_; }
     // Binds the fog results for fog_emit.frag and sets its uniforms on `program`.
     void bindForEmit(const gpu::Program& program, const FogTargets& targets) const;
     // Draws the full-screen triangle (the emit program must be in use).
@@ -104,7 +111,10 @@ public:
     // The next march() recomputes the light transmittance volumes: the volumes' values
     // (density scale, albedo) or a light changed in the scene, or a benchmark compares with
     // renderers that shadow every frame (veil-bench --relight).
-    void invalidateLightVolumes() { lightValid_ = false; }
+    void invalidateLightVolumes() {
+        lightValid_ = false;
+        slab_ = {};
+    }
     // The march's results at 1/divisor() resolution (frame resource "fog.radiance"; not
     // written when perPixelMarchRuns() is false): rgb
     // in-scattered radiance (a: its mean depth) and rgb transmittance (a: opaque view depth).
@@ -118,6 +128,7 @@ public:
 
 private:
     void resize(int width, int height);
+    bool lightVolumesStale(const FogTargets& targets, glm::vec4& key);
     void setVolumeUniforms(const gpu::Program& program) const;
     void setMarchUniforms(const gpu::Program& program, const FogTargets& targets) const;
     std::string slotsDefine() const;
@@ -146,6 +157,13 @@ private:
     // primary light moves (DESIGN.md: derived structures are rebuilt when the light moved).
     glm::vec4 lightKey_{0.0f};
     bool lightValid_ = false;
+    struct SlabProgress { // updateLightVolumesSlab(): the next slab while not valid
+        bool started = false;
+        glm::vec4 key{0.0f};
+        std::size_t volume = 0;
+        int z = 0;
+    } slab_;
+    int lightSlabs_ = 0;
     bool selfShadowing_ = true;
     gpu::Texture radiance_{gpu::NoCreate}, transmittance_{gpu::NoCreate};
     gpu::VertexArray emptyVao_{gpu::NoCreate};
