@@ -34,6 +34,7 @@ public:
         mediaProgram_ = programs.add(ProgramDesc::compute("shadows/moment/media.comp"));
         blur_ = programs.add(ProgramDesc::compute("shadows/moment/blur.comp"));
         quantize_ = programs.add(ProgramDesc::compute("shadows/moment/quantize.comp"));
+        clear_ = programs.add(ProgramDesc::compute("shadows/moment/clear.comp"));
     }
 
     std::string name() const override { return "moment"; }
@@ -121,23 +122,32 @@ private:
         s.depthTest = false; // 002 sec. 6: no depth test against the opaque casters
         s.depthWrite = false;
         s.blendAll(gpu::BlendState::func(GL_ONE, GL_ONE));
-        const glm::vec4 zero(0.0f);
+        clearMaps();
         for (const LightView& view : *f.views) {
             framebuffer_.attachLayer(GL_COLOR_ATTACHMENT0, absorbance_, view.layer)
                 .attachLayer(GL_COLOR_ATTACHMENT1, moments_, view.layer)
                 .attachLayer(GL_COLOR_ATTACHMENT2, media_, view.layer)
                 .drawBuffers({GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2});
             framebuffer_.bind();
-            f.state->apply(s); // before the clears: they obey the colour masks
-            glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 0, &zero.x);
-            glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 1, &zero.x);
-            glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 2, &zero.x);
+            f.state->apply(s);
             program.use();
             setCasterView(program, view);
             program.set("shadowView", view.layer);
             f.drawCasters(program, CasterSet::Transparent);
         }
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
+
+    // Every layer of the three arrays to zero by compute (shaders/shadows/moment/clear.comp
+    // says why not the framebuffer clear), visible to the blending that follows.
+    void clearMaps() {
+        programs_.get(clear_).use();
+        glBindImageTexture(1, absorbance_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindImageTexture(2, moments_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindImageTexture(3, media_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        dispatchLayers(size_, layers_);
+        glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                        GL_TEXTURE_FETCH_BARRIER_BIT);
     }
 
     void renderMedia(const ShadowFrame& f) {
@@ -201,7 +211,7 @@ private:
     int blurRadius_, mediaSteps_;
     bool mediaSkipEmpty_;
     float receiverOffset_;
-    gpu::ProgramHandle caster_, mediaProgram_, blur_, quantize_;
+    gpu::ProgramHandle caster_, mediaProgram_, blur_, quantize_, clear_;
     int size_ = 0, layers_ = 0;
     // absorbance_: surfaces' b0 per channel, media b0 in alpha; moments_: the surfaces' mean
     // absorbance moments; media_: the media's moments.
