@@ -39,7 +39,9 @@ namespace {
 //              transforms (MOMENTS-NOTES.md), a read-modify-write under
 //              GL_ARB_fragment_shader_interlock (storage16.glsl)
 //   Half       unnormalized moments in RGBA16F / RG16F and b_0 (with the per-channel b_0) in
-//              RGBA32F (b_0 in half doubled t4's error, tests/gl/oit_moment_test.cpp),
+//              RGBA32F (b_0 in half doubled t4's error, tests/gl/oit_moment_test.cpp), or
+//              in RGBA16F with b0_half (the default of p6-half only: same error there,
+//              2.60x instead of 3.23x of blend on oit-bench-1m, bench/RESULTS.md),
 //              the accumulation of pass 1 in RGBA16F, additive blending only, so
 //              drivers without interlock get half the bandwidth too; rounding errors then
 //              accumulate with the fragment count, which the paper counters with a stronger
