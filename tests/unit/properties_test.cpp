@@ -121,6 +121,10 @@ TEST(PropertiesTest, EveryOitTechniqueDeclaresValidDefaults) {
     EXPECT_DOUBLE_EQ(registry.resolve("moment-t3-16", json(), "t").getDouble("bias"), 6.5e-4);
     EXPECT_FALSE(registry.find("moment-p4")->properties.find("wrapping_zone"));
     EXPECT_TRUE(registry.find("moment-t4")->properties.find("wrapping_zone"));
+    // b_0 in RGBA16F by default for p6-half only (bench/RESULTS.md, oit-cost), half only.
+    EXPECT_TRUE(registry.resolve("moment-p6-half", json(), "t").getBool("b0_half"));
+    EXPECT_FALSE(registry.resolve("moment-t4-half", json(), "t").getBool("b0_half"));
+    EXPECT_FALSE(registry.find("moment-p6")->properties.find("b0_half"));
     EXPECT_EQ(registry.resolve("stochastic", json(), "t").getInt("samples"), 8);
 }
 

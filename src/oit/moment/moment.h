@@ -22,6 +22,9 @@ struct MomentTechniqueParams {
     // an application with a bounding sphere of its transparent geometry passes
     // cpu::depthRangeFromSphere(...) here.
     double zMin = 0.0, zMax = 0.0;
+    // Half storage only: b_0 and the per-channel b_0 (target 0) in RGBA16F instead of RGBA32F
+    // (8 instead of 16 bytes per pixel; 002 section 4.1 stores b_0 in 16 bits too).
+    bool b0Half = false;
 };
 
 // Variants in one table; `variant` is the name without "moment-" ("p4", ..., "t4", "p4-16", ...,
