@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Probe: fog.json at 1920x1080 with main's shaders vs the same without the leaf-exit bounds entry.
+set -uo pipefail
+R=$OUT
+end=$((SECONDS + 15))
+while [ $SECONDS -lt $end ]; do
+  veil-bench datasets/scenes/room.json --width 1920 --height 1080 --frames 300 --warmup 0 > /dev/null 2>&1
+done
+for rep in a b; do
+  for v in main noentry; do
+    if [ $v = main ]; then export VEIL_SHADER_DIR=$GPU_FILES/shaders; else export VEIL_SHADER_DIR=$GPU_FILES/shaders_noentry; fi
+    for t in blend reference; do
+      veil-bench datasets/scenes/fog.json --oit $t --width 1920 --height 1080 --frames 40 --warmup 10 \
+        --json "$R/$v.$t.$rep.json" > /dev/null 2>> "$R/log.txt" || echo "failed $v $t" >> "$R/log.txt"
+    done
+  done
+done
+python3 - "$R" <<'PY'
+import json, glob, os, sys
+for f in sorted(glob.glob(os.path.join(sys.argv[1], "*.json"))):
+    j = json.load(open(f)); p = {x["name"]: x["median_ms"] for x in j["passes"]}
+    print(f"{os.path.basename(f):28s} frame {j['total_median_ms']:8.3f} fog {p.get('fog',0):7.3f} transparent {p.get('transparent',0):7.3f} shadow.media {p.get('shadow.media',0):6.3f}")
+PY
+cat "$R/log.txt" 2>/dev/null | tail -3
