@@ -1,5 +1,9 @@
 #!/usr/bin/env bash
-# Probe: fog.json at 1920x1080 with main's shaders vs the same without the leaf-exit bounds entry.
+# Probe (fifth session): fog.json at 1920x1080, `blend` and `reference`, with main's shaders and
+# with a copy of them, shaders_noentry, where leafExit() in volume/volume_common.glsl lacks the
+# branch for points outside the stored bounds. Here: copy shaders/ to shaders_noentry, delete
+# that branch, then tools/gpu-bundle build/release/bench/veil-bench shaders shaders_noentry
+# bench/run_gpu_leafexit_probe.sh; there: bash $GPU_FILES/run_gpu_leafexit_probe.sh.
 set -uo pipefail
 R=$OUT
 end=$((SECONDS + 15))
