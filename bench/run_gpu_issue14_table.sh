@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Issue 14 after the fourth session's merges (oit-bytes, viewer2, svol-speed, svol-classify),
-# one device call, carry .gpu. Here: tools/gpu-bundle build/release/bench/veil-bench; there:
-#   bash bench/run_gpu_session4.sh  -> tables on stdout, per-case JSON in $OUT (8 come back).
+# Issue 14's table (used after the fourth and the fifth session's merges), one device call,
+# carry .gpu. Here: tools/gpu-bundle build/release/bench/veil-bench; there:
+#   bash bench/run_gpu_issue14_table.sh  -> tables on stdout, per-case JSON in $OUT (8 come back).
 # oit-bench-1m: transparent + resolve per technique, ratio to blend; fog.json: whole frame (sum
 # of pass medians) and the fog and transparent passes per technique; default.json and fog.json
 # under `reference`: the list statistics (dropped fragments) at 1920x1080.
