@@ -27,11 +27,12 @@ std::vector<std::uint8_t> rgba8(const gpu::Texture& t) {
     return v;
 }
 
-double meanByte(const std::vector<std::uint8_t>& v) {
+// Mean of the R, G, B bytes (not alpha): a black frame has 0.
+double meanRgb(const std::vector<std::uint8_t>& v) {
     double sum = 0.0;
-    for (std::uint8_t b : v)
-        sum += b;
-    return sum / double(v.size());
+    for (std::size_t i = 0; i < v.size(); ++i)
+        if (i % 4 != 3) sum += v[i];
+    return sum / (double(v.size()) * 0.75);
 }
 
 // datasets/scenes/fog.json (a shadowed spot light, window slats, glass, a smoke volume) small
@@ -87,12 +88,15 @@ TEST_P(ShadowReuseTest, OrbitKeepsTheMapsAndEqualsOneShotFrames) {
         const std::vector<std::uint8_t> got = rgba8(viewer.ldrTexture()),
                                         want = rgba8(oneShot.ldrTexture());
         EXPECT_TRUE(got == want) << GetParam() << ": pose " << k << " differs from one-shot";
-        EXPECT_GT(meanByte(got), 20.0) << "a dark frame";
-        if (k > 0) EXPECT_FALSE(got == previous) << "the camera did not move the image";
+        EXPECT_GT(meanRgb(got), 8.0) << "a black frame";
+        if (k > 0) {
+            EXPECT_FALSE(got == previous) << "the camera did not move the image";
+        }
         previous = got;
-        if (k == 0)
+        if (k == 1) {
             io::writeImage(outputDir() / (std::string("shadow-reuse-") + GetParam() + ".png"),
                            viewer.readLdr());
+        }
     }
     EXPECT_EQ(viewer.shadowMapRenders(), 1u) << "the maps were drawn again for a camera move";
     EXPECT_EQ(viewer.shadowMapReuses(), 2u);
@@ -131,7 +135,8 @@ TEST_F(ShadowReuseEditTest, LightAndMaterialEditsRedrawTheMaps) {
         EXPECT_TRUE(afterLight == rgba8(fresh.ldrTexture())) << "stale maps after a light edit";
     }
 
-    s.materials.at("slat").baseColor = glm::vec3(0.9f, 0.1f, 0.1f);
+    for (scene::Material& m : s.materials)
+        if (m.name == "slat") m.baseColor = glm::vec3(0.9f, 0.1f, 0.1f);
     viewer.invalidateShadowMaps();
     viewer.render();
     EXPECT_EQ(viewer.shadowMapRenders(), 3u) << "a material edit kept the old maps";
