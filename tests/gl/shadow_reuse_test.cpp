@@ -107,7 +107,8 @@ TEST_P(ShadowReuseTest, OrbitKeepsTheMapsAndEqualsOneShotFrames) {
 
 INSTANTIATE_TEST_SUITE_P(CameraIndependent, ShadowReuseTest,
                          ::testing::Values("opaque", "moment", "stochastic",
-                                           "transmittance_slicemap", "reference"));
+                                           "transmittance-slicemap", "stochastic-vsm",
+                                           "reference"));
 
 class ShadowReuseEditTest : public GlTest {};
 
