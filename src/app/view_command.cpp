@@ -241,6 +241,8 @@ int scriptApply(const ScriptAction& a, ViewSession& s, DebugView& view, PanelSta
             panel.expand.insert(name.get<std::string>());
     } else if (a.kind == "refine_tile_px")
         s.setRefineTilePx(v.get<int>());
+    else if (a.kind == "reuse_shadow_maps")
+        s.setReuseShadowMaps(v.get<bool>());
     else if (a.kind == "frames")
         return v.get<int>();
     return 1;

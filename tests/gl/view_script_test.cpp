@@ -537,12 +537,22 @@ TEST(ViewScriptTest, ShadowMapsKeptAcrossOrbitsRedrawnAfterEdits) {
     ASSERT_EQ(r.exitCode, 0) << line << "\n" << r.output;
     expectSame(d / "edited.png", d / "rendered.png");
 
-    r = view(scene, d / "script.json", "--reuse-shadow-maps false");
-    ASSERT_EQ(r.exitCode, 0) << r.output;
-    const nlohmann::json off = readJson(d / "orbit.json");
-    EXPECT_EQ(off["shadow_maps"]["reuse"], false) << off;
-    EXPECT_EQ(off["shadow_maps"]["reuses"], 0) << off;
-    EXPECT_GE(off["shadow_maps"]["renders"].get<int>(), 3) << off;
+    // Off by the option, and by the script action (view.reuse_shadow_maps both).
+    nlohmann::json actionOff = nlohmann::json::array({{{"reuse_shadow_maps", false}}});
+    for (const auto& a : script)
+        actionOff.push_back(a);
+    writeFile(d / "script-off.json", actionOff.dump());
+    for (const auto& [file, option] :
+         {std::pair<std::string, std::string>{"script.json", "--reuse-shadow-maps false"},
+          {"script-off.json", ""}}) {
+        SCOPED_TRACE(file);
+        r = view(scene, d / file, option);
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+        const nlohmann::json off = readJson(d / "orbit.json");
+        EXPECT_EQ(off["shadow_maps"]["reuse"], false) << off;
+        EXPECT_EQ(off["shadow_maps"]["reuses"], 0) << off;
+        EXPECT_GE(off["shadow_maps"]["renders"].get<int>(), 3) << off;
+    }
 }
 
 } // namespace veil::test
