@@ -45,8 +45,9 @@ struct ViewArgs {
     int width = 0, height = 0;
     int windowWidth = 0, windowHeight = 0; // scripted: the window (default: the frame size)
     int frames = 0;                        // 0 = interactive
-    int refineTilePx = -1; // view.refine_tile_px; -1 = the default (128 on a software
-                           // renderer when interactive, else 0 = off)
+    int refineTilePx = -1;       // view.refine_tile_px; -1 = the default (128 on a software
+                                 // renderer when interactive, else 0 = off)
+    bool reuseShadowMaps = true; // view.reuse_shadow_maps
     std::vector<std::string> overrides;
 };
 
@@ -191,6 +192,10 @@ void scriptOutput(const ScriptAction& a, ViewSession& session, const DebugView& 
                            {"complete", log.complete},
                            {"completed", log.completed},
                            {"refining", session.refining()}};
+        j["shadow_maps"] = {{"reuse", r.reusesShadowMaps()},
+                            {"depends_on_camera", r.shadowTechnique().dependsOnCamera()},
+                            {"renders", r.shadowMapRenders()},
+                            {"reuses", r.shadowMapReuses()}};
         if (view.errorView() && view.error())
             j["error_vs_reference"] = {{"rmse", view.error()->error().rmse},
                                        {"max_abs", view.error()->maxAbs()}};
@@ -236,6 +241,8 @@ int scriptApply(const ScriptAction& a, ViewSession& s, DebugView& view, PanelSta
             panel.expand.insert(name.get<std::string>());
     } else if (a.kind == "refine_tile_px")
         s.setRefineTilePx(v.get<int>());
+    else if (a.kind == "reuse_shadow_maps")
+        s.setReuseShadowMaps(v.get<bool>());
     else if (a.kind == "frames")
         return v.get<int>();
     return 1;
@@ -277,6 +284,7 @@ void runView(const ViewArgs& args) {
     if (!args.oit.empty() && !session.selectOit(args.oit)) throw Error(session.lastError());
     if (!args.shadows.empty() && !session.selectShadows(args.shadows))
         throw Error(session.lastError());
+    session.setReuseShadowMaps(args.reuseShadowMaps);
     session.setRefineTilePx(args.refineTilePx >= 0                        ? args.refineTilePx
                             : !scripted && window.info().softwareRenderer ? 128
                                                                           : 0);
@@ -482,6 +490,10 @@ void addViewCommand(CLI::App& app) {
                     "one per UI frame (0 = off; default: 128 on a software renderer, "
                     "interactive only)")
         ->check(CLI::Range(0, 16384));
+    cmd->add_option("--reuse-shadow-maps", args->reuseShadowMaps,
+                    "view.reuse_shadow_maps: keep the shadow maps across frames while nothing they "
+                    "depend on changed (camera moves keep them; techniques whose maps follow the "
+                    "camera, e.g. volume, redraw; default true)");
     cmd->add_option("--frames", args->frames,
                     "Render this many frames without the GUI, then exit (for tests)")
         ->check(CLI::Range(1, 100000));

@@ -271,6 +271,15 @@ void frameSection(ViewSession& s, PanelState& st) {
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("Refine full-size frames in tiles of this many pixels, one tile per UI "
                           "frame, showing the last complete image meanwhile (0 = in one piece)");
+    // view.reuse_shadow_maps: camera moves keep the shadow maps (edits redraw them).
+    bool reuse = s.reusesShadowMaps();
+    if (ImGui::Checkbox("reuse_shadow_maps", &reuse)) s.setReuseShadowMaps(reuse);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Keep the shadow maps across frames while nothing they depend on "
+                          "changed (camera moves keep them; %s)",
+                          r.shadowTechnique().dependsOnCamera()
+                              ? "this technique follows the camera and redraws every frame"
+                              : "this technique's maps do not depend on the camera");
     if (r.refining())
         ImGui::Text("refining: tile %d of %d", r.refinement().done + 1, r.refinement().tiles);
     ImGui::Text("%d x %d, timer: %s", r.width(), r.height(),

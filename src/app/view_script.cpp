@@ -25,7 +25,8 @@ Want wantFor(const std::string& kind) {
         "copy_command", "save_scene", "status"};
     if (strings.count(kind)) return Want::String;
     if (kind == "frames" || kind == "refine_tile_px") return Want::Number;
-    if (kind == "reset_camera" || kind == "reload_shaders") return Want::Bool;
+    if (kind == "reset_camera" || kind == "reload_shaders" || kind == "reuse_shadow_maps")
+        return Want::Bool;
     return Want::Array; // orbit, pan, resize, expand
 }
 
@@ -43,6 +44,7 @@ bool known(const std::string& kind) {
                                               "reload_shaders",
                                               "frames",
                                               "refine_tile_px",
+                                              "reuse_shadow_maps",
                                               "screenshot",
                                               "window_screenshot",
                                               "copy_command",
@@ -78,7 +80,7 @@ std::vector<ScriptAction> loadViewScript(const std::filesystem::path& path) {
             VEIL_CHECK(known(key),
                        "{}: unknown action '{}' (known: set, oit, shadows, camera, reset_camera, "
                        "orbit, pan, view, open, resize, reload_shaders, frames, refine_tile_px, "
-                       "screenshot, "
+                       "reuse_shadow_maps, screenshot, "
                        "window_screenshot, copy_command, save_scene, status, expand)",
                        where, printable(key));
             VEIL_CHECK(act.kind.empty(), "{}: two actions ('{}', '{}') in one object", where,

@@ -166,8 +166,9 @@ void ViewSession::rebuild(const fs::path& path, std::vector<std::string>& overri
     if (cameraName.empty() || std::none_of(next->cameras.begin(), next->cameras.end(),
                                            [&](const auto& c) { return c.name == cameraName; }))
         cameraName = next->camera(next->render.camera).name;
-    auto renderer = std::make_unique<frame::Renderer>(*next, context_,
-                                                      frame::RendererOptions{w, h, cameraName});
+    frame::RendererOptions options{w, h, cameraName};
+    options.reuseShadowMaps = reuseShadowMaps_; // a new renderer draws its maps afresh
+    auto renderer = std::make_unique<frame::Renderer>(*next, context_, options);
     // The debug views offer every frame resource, fog.radiance too: keep the per-pixel fog
     // march that piecewise fog (`reference`) would skip.
     renderer->keepFogRadiance(true);
@@ -259,9 +260,15 @@ bool ViewSession::set(const std::string& keyValue) {
             }
             // Light transmittance volumes depend on the lights and the volume values.
             if (startsWith(key, "lights.") || startsWith(key, "volumes.")) {
-                renderer_->sceneValuesChanged();
+                renderer_->sceneValuesChanged(); // the shadow maps too
                 ++valueChanges_;
             }
+            // The shadow maps depend on the lights, the casters' materials and the media
+            // (fog steps included, for a technique marching them): every live edit but the
+            // purely per-pixel ones (exposure, tone map, background, ambient) redraws them.
+            if (!(key == "render.exposure" || key == "render.tonemap" ||
+                  key == "render.background" || key == "render.ambient"))
+                renderer_->invalidateShadowMaps();
             break;
         }
         case OverrideScope::Oit:
@@ -345,6 +352,11 @@ bool ViewSession::resize(int width, int height) {
     } catch (const Error& e) {
         return record(e.what());
     }
+}
+
+void ViewSession::setReuseShadowMaps(bool on) {
+    reuseShadowMaps_ = on;
+    renderer_->setReuseShadowMaps(on);
 }
 
 bool ViewSession::reloadShaders() {

@@ -84,6 +84,11 @@ public:
     // The refinement's tile size in pixels (0: every frame in one piece, the default); a
     // change renders the frame again.
     void setRefineTilePx(int px);
+    // view.reuse_shadow_maps (on by default): frames keep the shadow technique's maps while
+    // nothing they depend on changed (frame::Renderer::setReuseShadowMaps; every edit that
+    // can alter them redraws them, a camera move does not).
+    void setReuseShadowMaps(bool on);
+    bool reusesShadowMaps() const { return reuseShadowMaps_; }
     int refineTilePx() const { return refineTilePx_; }
     // What the refinements did per UI frame (endUiFrame() closes one): tests check that no UI
     // frame ran the per-pixel passes over more than one tile.
@@ -177,6 +182,7 @@ private:
     std::string lastError_, status_;
     bool frameFailed_ = false;
     int refineTilePx_ = 0;
+    bool reuseShadowMaps_ = true;
     RefineLog refineLog_;
     int uiFrameTiles_ = 0;        // tiles refined since the last endUiFrame()
     int uiFrameLightSlabs_ = 0;   // light transmittance slabs since the last endUiFrame()

@@ -45,7 +45,8 @@ gpu::GpuTimer::Mode timerModeFor(const gpu::ContextInfo& context) {
 
 Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
                    const RendererOptions& options)
-    : scene_(scene), context_(context), timer_(timerModeFor(context)) {
+    : scene_(scene), context_(context), reuseShadowMaps_(options.reuseShadowMaps),
+      timer_(timerModeFor(context)) {
     width_ = options.width > 0 ? options.width : scene.render.width;
     height_ = options.height > 0 ? options.height : scene.render.height;
     VEIL_CHECK(width_ > 0 && height_ > 0 && width_ <= 16384 && height_ <= 16384,
@@ -258,6 +259,7 @@ void Renderer::resize(int width, int height) {
 
 void Renderer::sceneValuesChanged() {
     if (fog_) fog_->invalidateLightVolumes();
+    shadowMapsValid_ = false; // the lights' views and the media of the shadow maps
 }
 
 void Renderer::createTargets() {
@@ -398,13 +400,26 @@ void Renderer::beginFrame() {
             shadows_->prepareReceiver(program, shadowFrame_);
         };
     region_ = glm::ivec4(0, 0, width_, height_);
+    skipShadowPasses_ = reuseShadowMaps_ && shadowMapsValid_ && shadowPassCount_ > 0 &&
+                        !shadows_->dependsOnCamera();
 }
 
 void Renderer::runPasses(std::size_t first, std::size_t end) {
     const std::vector<Pass>& passes = passes_.passes();
+    const bool shadowsHere = first < shadowPassCount_;
+    if (shadowsHere && skipShadowPasses_) {
+        first = shadowPassCount_; // the maps of an earlier frame stand
+        ++shadowMapReuses_;
+    } else if (shadowsHere) {
+        shadowMapsValid_ = false; // until every shadow pass ran (one may throw)
+    }
     for (std::size_t i = first; i < end; ++i) {
         gpu::TimerScope t(timer_, passes[i].name);
         passes[i].execute();
+        if (i + 1 == shadowPassCount_) {
+            shadowMapsValid_ = true;
+            ++shadowMapRenders_;
+        }
     }
 }
 
@@ -420,6 +435,7 @@ void Renderer::buildPasses() {
         }
         shadowResources = shadows_->receiverResources();
     }
+    shadowPassCount_ = passes_.passes().size(); // the first passes of the list
     auto plus = [](std::vector<std::string> a, const std::vector<std::string>& b) {
         a.insert(a.end(), b.begin(), b.end());
         return a;

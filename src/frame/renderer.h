@@ -48,6 +48,11 @@ struct RendererOptions {
     std::string shadows; // empty = the scene's render.shadows
     // As oitProperties, for the shadow technique (null = the scene's when it is the scene's).
     nlohmann::json shadowProperties;
+    // Keep the shadow technique's maps from the last frame while nothing they depend on
+    // changed (Renderer::setReuseShadowMaps). Off for one-shot frames (`veil render`,
+    // veil-bench: every frame draws its maps, so pass times stay honest); the viewer turns it
+    // on (view.reuse_shadow_maps).
+    bool reuseShadowMaps = false;
 };
 
 class Renderer {
@@ -120,6 +125,26 @@ public:
     void invalidateFogLightVolumes() {
         if (fog_) fog_->invalidateLightVolumes();
     }
+    // Shadow map reuse (the viewer, docs/viewer.md "Slow drivers"): with it on and a shadow
+    // technique whose maps do not depend on the camera (shadows::Technique::dependsOnCamera),
+    // a frame skips the shadow passes when the maps of an earlier frame are still valid. They
+    // become invalid on every change that can alter them: a new renderer (scene, shadow
+    // technique or its properties, objects, meshes: the viewer rebuilds the renderer),
+    // sceneValuesChanged() (lights, volume values), invalidateShadowMaps() (materials and any
+    // other in-place edit), reloadShaders(), and turning reuse on. A frame size change keeps
+    // them (the maps have their own size; a camera-dependent technique redraws anyway), and so
+    // does another OIT technique.
+    void setReuseShadowMaps(bool on) {
+        reuseShadowMaps_ = on;
+        shadowMapsValid_ = false;
+    }
+    bool reusesShadowMaps() const { return reuseShadowMaps_; }
+    void invalidateShadowMaps() { shadowMapsValid_ = false; }
+    bool shadowMapsValid() const { return shadowMapsValid_; }
+    // Frames (render(), beginRefinement()) that ran the shadow passes, and that skipped them
+    // keeping the last maps.
+    std::uint64_t shadowMapRenders() const { return shadowMapRenders_; }
+    std::uint64_t shadowMapReuses() const { return shadowMapReuses_; }
     // The screen-space AO pass; null when render.ao.enabled is false.
     const AmbientOcclusion* ambientOcclusion() const { return ao_.get(); }
     const Properties& aoProperties() const { return aoProperties_; }
@@ -134,6 +159,7 @@ public:
     // Recompiles every shader from disk; failing programs keep their previous version (their
     // messages go to `errors` when given).
     int reloadShaders(std::vector<std::string>* errors = nullptr) {
+        shadowMapsValid_ = false; // the shadow passes' programs may have changed
         return programs_.reloadAll(errors);
     }
     // Programs that exist now (tests: a technique switch releases the old technique's).
@@ -198,7 +224,12 @@ private:
     volume::FogTargets fogTargets_;
     PassList passes_;
     std::size_t firstPerPixelPass_ = 0; // fog, transparent, resolve, tonemap from here on
-    glm::ivec4 region_{0};              // the per-pixel passes' pixels, x0 y0 x1 y1
+    std::size_t shadowPassCount_ = 0;   // the shadow technique's passes, first in the list
+    bool reuseShadowMaps_ = false;
+    bool shadowMapsValid_ = false;  // the maps hold what the shadow passes would draw now
+    bool skipShadowPasses_ = false; // this frame's decision (beginFrame())
+    std::uint64_t shadowMapRenders_ = 0, shadowMapReuses_ = 0;
+    glm::ivec4 region_{0}; // the per-pixel passes' pixels, x0 y0 x1 y1
     Refinement refine_;
     gpu::Texture opaqueHdr_{gpu::NoCreate}, refinedHdr_{gpu::NoCreate}, refinedLdr_{gpu::NoCreate};
     gpu::StateTracker state_; // every pass's fixed-function state goes through it

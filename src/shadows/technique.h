@@ -99,6 +99,14 @@ public:
     // must not multiply its own self-shadowing volumes (src/volume) in again. (Global
     // homogeneous fog stays analytic in the marcher.)
     virtual bool attenuatesMedia() const { return false; }
+    // Whether the maps depend on the camera (frame.width/height, cameraViewProjection,
+    // orthographicCamera, the camera block in the technique's passes). A technique that says
+    // false promises that its passes write the same maps for every camera as long as the
+    // lights, the casters (geometry, transforms, materials), the media, its properties and
+    // its shaders are unchanged: the viewer then keeps them across frames
+    // (frame::Renderer::setReuseShadowMaps). True, the conservative default, redraws them
+    // every frame (screen-space techniques such as `volume`).
+    virtual bool dependsOnCamera() const { return true; }
     // The texture behind one of the technique's resources (debug views, dumps), or null.
     virtual const gpu::Texture* resourceTexture(const std::string& name) const {
         (void)name;

@@ -493,4 +493,66 @@ TEST(ViewScriptTest, EachUiFrameRefinesAtMostOneTile) {
     expectNotFlat(d / "orbit.png");
 }
 
+// Shadow map reuse in the session (view.reuse_shadow_maps, on by default; docs/viewer.md
+// "Slow drivers"): camera orbits keep the `moment` maps (the status JSON's shadow_maps counts
+// one drawing), a live material edit and a live light edit each redraw them (the session's
+// invalidation), and the frame after the edits equals `veil render` of the copied command bit
+// for bit (stale maps would differ: the light moved). With --reuse-shadow-maps false every
+// frame draws them.
+TEST(ViewScriptTest, ShadowMapsKeptAcrossOrbitsRedrawnAfterEdits) {
+    const fs::path d = folder("view-script-shadow-reuse");
+    const fs::path scene = writeFile(d / "scene.json", kScene);
+    const auto status = [&](const std::string& name) {
+        return nlohmann::json{{"status", (d / name).string()}};
+    };
+    const nlohmann::json script = {{{"frames", 1}},
+                                   {{"orbit", {0.3, 0.1}}},
+                                   {{"frames", 1}},
+                                   {{"orbit", {0.2, 0.0}}},
+                                   {{"screenshot", (d / "orbit.png").string()}},
+                                   status("orbit.json"),
+                                   {{"set", "materials.glass.base_color=0.3"}},
+                                   {{"frames", 1}},
+                                   status("material.json"),
+                                   {{"set", "lights.0.position=[-1,4,1.5]"}},
+                                   {{"screenshot", (d / "edited.png").string()}},
+                                   status("light.json"),
+                                   {{"copy_command", (d / "command.json").string()},
+                                    {"output", (d / "rendered.png").string()}}};
+    writeFile(d / "script.json", script.dump());
+    CommandResult r = view(scene, d / "script.json");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const nlohmann::json orbit = readJson(d / "orbit.json"),
+                         material = readJson(d / "material.json"),
+                         light = readJson(d / "light.json");
+    EXPECT_TRUE(light["errors"].empty()) << light;
+    EXPECT_EQ(orbit["shadow_maps"]["reuse"], true) << orbit;
+    EXPECT_EQ(orbit["shadow_maps"]["renders"], 1) << "an orbit redrew the maps: " << orbit;
+    EXPECT_GE(orbit["shadow_maps"]["reuses"].get<int>(), 2) << orbit;
+    EXPECT_EQ(material["shadow_maps"]["renders"], 2) << "a material edit kept them: " << material;
+    EXPECT_EQ(light["shadow_maps"]["renders"], 3) << "a light edit kept them: " << light;
+    const std::string line = readJson(d / "command.json")["line"].get<std::string>();
+    ASSERT_EQ(line.rfind("veil render ", 0), 0u) << line;
+    r = runCommand(veilExe() + line.substr(4));
+    ASSERT_EQ(r.exitCode, 0) << line << "\n" << r.output;
+    expectSame(d / "edited.png", d / "rendered.png");
+
+    // Off by the option, and by the script action (view.reuse_shadow_maps both).
+    nlohmann::json actionOff = nlohmann::json::array({{{"reuse_shadow_maps", false}}});
+    for (const auto& a : script)
+        actionOff.push_back(a);
+    writeFile(d / "script-off.json", actionOff.dump());
+    for (const auto& [file, option] :
+         {std::pair<std::string, std::string>{"script.json", "--reuse-shadow-maps false"},
+          {"script-off.json", ""}}) {
+        SCOPED_TRACE(file);
+        r = view(scene, d / file, option);
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+        const nlohmann::json off = readJson(d / "orbit.json");
+        EXPECT_EQ(off["shadow_maps"]["reuse"], false) << off;
+        EXPECT_EQ(off["shadow_maps"]["reuses"], 0) << off;
+        EXPECT_GE(off["shadow_maps"]["renders"].get<int>(), 3) << off;
+    }
+}
+
 } // namespace veil::test

@@ -101,6 +101,9 @@ public:
         if (name == "shadow.moments16" && quantized_) return &moments16_;
         return nullptr;
     }
+    // Depth, moments of the transparent casters and of the media, filtered and quantized,
+    // all from the light views: no camera.
+    bool dependsOnCamera() const override { return false; }
     std::size_t gpuBytes() const override {
         const std::size_t texels = std::size_t(size_) * size_ * layers_;
         return depth_.gpuBytes() + texels * (4 * 16 + (quantized_ ? 3 * 8 : 0));

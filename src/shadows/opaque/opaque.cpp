@@ -27,6 +27,8 @@ public:
     const gpu::Texture* resourceTexture(const std::string& name) const override {
         return name == "shadow.depth" ? &depth_.texture() : nullptr;
     }
+    // The casters' depth from each light view (fitted to the scene bounds): no camera.
+    bool dependsOnCamera() const override { return false; }
     std::size_t gpuBytes() const override { return depth_.gpuBytes(); }
 
 private:

@@ -70,6 +70,9 @@ public:
         if (name == "shadow.lists") return &heads_;
         return nullptr;
     }
+    // The depth map and the per-texel lists of the transparent casters from the light
+    // views: no camera (the media are marched by the receivers).
+    bool dependsOnCamera() const override { return false; }
     std::size_t gpuBytes() const override {
         return depth_.gpuBytes() + std::size_t(size_) * size_ * layers_ * 4 +
                std::size_t(capacity_) * kNodeBytes;

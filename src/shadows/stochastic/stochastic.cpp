@@ -136,6 +136,9 @@ public:
         if (name == "shadow.vsm") return &vsm_;
         return nullptr;
     }
+    // The casters' stochastic samples from the light views with the scene's fixed seed
+    // (render.seed, not a frame counter): no camera.
+    bool dependsOnCamera() const override { return false; }
     std::size_t gpuBytes() const override {
         const std::size_t texels = std::size_t(size_) * size_;
         std::size_t bytes = depth_.gpuBytes() + texels * samples_ * 4 * msLayers_;

@@ -202,6 +202,8 @@ public:
         if (name == "shadow.fog") return &fogTau_;
         return nullptr;
     }
+    // Slices of the casters and of the media along the light views: no camera.
+    bool dependsOnCamera() const override { return false; }
     std::size_t gpuBytes() const override {
         return depth_.gpuBytes() + (words_ ? words_.size() : 0) +
                (fog_ ? std::size_t(fogColumns_) * fogColumns_ * views_ * (slices_ + 1) * 4 : 0) +
