@@ -116,6 +116,11 @@ public:
     virtual bool fogSegments() const { return false; }
     // Composites the accumulation over targets.hdrColor.
     virtual void resolve(const OitFrameTargets& targets) = 0;
+    // How far (pixels) a pixel's result reads the accumulation and the opaque depth around it:
+    // the viewer's tiled refinement (frame::Renderer::refineStep) accumulates a tile and this
+    // margin around it, so that the tile comes out as in the whole frame. 0: the resolve reads
+    // the pixel's own accumulation only.
+    virtual int refineMarginPx() const { return 0; }
     // Bytes of technique-owned storage per pixel (memory reports, benchmarks).
     virtual std::size_t bytesPerPixel() const = 0;
     // The technique's own targets as frame resources (debug views, `veil render --dump`),

@@ -272,6 +272,14 @@ public:
         glBindImageTexture(VEIL_IMG_OUTPUT, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     }
 
+    // The diffusion's taps (up to max_diffusion_pixels), the low-resolution particles'
+    // upsampling (two low-resolution texels) and the refraction's offset (bounded here by 16 px:
+    // larger offsets read accumulation a tile's margin may miss, so a refined frame can differ
+    // there from the frame in one piece).
+    int refineMarginPx() const override {
+        return (params_.diffusion ? params_.maxDiffusionPixels : 0) +
+               (lowRes() ? 2 * params_.particleDownsample : 0) + (params_.refraction ? 16 : 0);
+    }
     std::size_t bytesPerPixel() const override {
         const int s = params_.particleDownsample;
         const std::size_t delta = params_.refraction ? 4 : 0;
