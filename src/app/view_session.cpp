@@ -411,6 +411,14 @@ double passMs(const frame::Renderer& r) {
 }
 } // namespace
 
+bool ViewSession::frameFailed(const Error& e) {
+    frameFailed_ = true;
+    renderer_->cancelRefinement();
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    record(fmt::format("frame failed (the last good frame stays): {}", e.what()));
+    return false;
+}
+
 bool ViewSession::renderFrame(bool refine) {
     if (frameFailed_) return false; // until the next change: the error would only repeat
     try {
@@ -441,11 +449,7 @@ bool ViewSession::renderFrame(bool refine) {
         copyToDisplay();
         return true;
     } catch (const Error& e) {
-        frameFailed_ = true;
-        renderer_->cancelRefinement();
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        record(fmt::format("frame failed (the last good frame stays): {}", e.what()));
-        return false;
+        return frameFailed(e);
     }
 }
 
@@ -481,11 +485,7 @@ bool ViewSession::refineStep() {
         ++refineLog_.completed;
         return true;
     } catch (const Error& e) {
-        frameFailed_ = true;
-        renderer_->cancelRefinement();
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        record(fmt::format("frame failed (the last good frame stays): {}", e.what()));
-        return false;
+        return frameFailed(e);
     }
 }
 

@@ -13,6 +13,7 @@
 // Errors never leave the viewer: they are kept in errors() and the last good frame stays.
 #pragma once
 
+#include "base/error.h"
 #include "frame/renderer.h"
 #include "gpu/context.h"
 #include "gpu/objects.h"
@@ -200,6 +201,9 @@ private:
     double refineMsPerPixel_ = -1.0;
     std::string refineEstimateKey_;
     std::string refineKey() const;
+    // A frame or refinement step threw: recorded, the refinement ended, the last good frame
+    // stays until the next change; returns false.
+    bool frameFailed(const Error& e);
     bool reuseShadowMaps_ = true;
     RefineLog refineLog_;
     int uiFrameTiles_ = 0;        // tiles refined since the last endUiFrame()
