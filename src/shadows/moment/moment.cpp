@@ -171,8 +171,9 @@ private:
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
 
-    // Every layer of the three arrays to zero by compute (shaders/shadows/moment/clear.comp
-    // says why not the framebuffer clear), visible to the blending that follows.
+    // Rows [y0, y1) of every layer of the three arrays to zero by compute
+    // (shaders/shadows/moment/clear.comp says why not the framebuffer clear), visible to the
+    // blending that follows.
     void clearMaps(int y0, int y1) {
         const gpu::Program& program = programs_.get(clear_);
         program.use();
