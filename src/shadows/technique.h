@@ -68,6 +68,24 @@ struct ShadowPass {
     std::vector<std::string> reads;
     std::vector<std::string> writes;
     std::function<void(const ShadowFrame&)> execute;
+    // Optional banded form of `execute`, so that a slow driver need not run an expensive pass
+    // in one piece (the viewer's progressive refinement, docs/viewer.md "Slow drivers").
+    // executeRows(frame, y0, y1) does what execute(frame) does restricted to the texel rows
+    // [y0, y1) of every view's map (all layers); 0 <= y0 < y1 <= frame.mapSize. Running it over
+    // consecutive bands [0, a), [a, b), ..., [z, frame.mapSize) (any heights, increasing, no
+    // band skipped or repeated) leaves every resource of the technique bit for bit as one
+    // execute(frame) does. Rules for the caller:
+    //   - the passes still run in order: the first band of a pass starts after the last band
+    //     of the pass before it (a band may read rows outside [y0, y1) of what earlier passes
+    //     wrote, e.g. a vertical blur), and nothing else runs the technique's passes between
+    //     the bands of one pass;
+    //   - the frame (views, scene, media, seed) is the same for every band of a frame's
+    //     passes; the state tracker's scissor limit (StateTracker::setScissorLimit) is off, as
+    //     for execute (a pass scissors its draws and clears to the band itself);
+    //   - between two bands the pass's resources hold partial work: receivers read them only
+    //     after the last band of the last pass.
+    // Null: the pass only runs whole (call execute).
+    std::function<void(const ShadowFrame&, int y0, int y1)> executeRows = nullptr;
 };
 
 class Technique {

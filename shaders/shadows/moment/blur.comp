@@ -11,11 +11,12 @@ layout(binding = 1, rgba32f) uniform writeonly image2DArray target;
 
 uniform ivec2 direction; // (1, 0) or (0, 1)
 uniform int radius;
+uniform ivec2 rows; // texel rows [rows.x, rows.y) of this dispatch (moment.cpp, banded runs)
 
 void main() {
-    ivec3 c = ivec3(gl_GlobalInvocationID);
+    ivec3 c = ivec3(gl_GlobalInvocationID) + ivec3(0, rows.x, 0);
     ivec3 size = imageSize(target);
-    if (any(greaterThanEqual(c, size))) return;
+    if (c.x >= size.x || c.y >= rows.y || c.z >= size.z) return;
     float sigma = max(0.5 * float(radius), 0.5);
     vec4 sum = vec4(0.0);
     float weights = 0.0;

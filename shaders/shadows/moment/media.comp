@@ -18,12 +18,14 @@ layout(binding = 2, rgba32f) uniform image2DArray mediaMomentImage;
 uniform mat4 clipToWorld[VEIL_MAX_SHADOW_VIEWS]; // inverse view projection per view
 uniform int firstLayer;                          // views [firstLayer, firstLayer + gl_NumWorkGroups.z)
 uniform int steps;
+uniform ivec2 rows; // texel rows [rows.x, rows.y) of this dispatch (moment.cpp, banded runs)
 uniform int skipEmptyLeaves; // media_skip_empty
 
 void main() {
-    ivec3 c = ivec3(gl_GlobalInvocationID.xy, firstLayer + int(gl_GlobalInvocationID.z));
+    ivec3 c = ivec3(gl_GlobalInvocationID.x, rows.x + int(gl_GlobalInvocationID.y),
+                    firstLayer + int(gl_GlobalInvocationID.z));
     ivec2 size = imageSize(absorbanceImage).xy;
-    if (any(greaterThanEqual(c.xy, size))) return;
+    if (c.x >= size.x || c.y >= rows.y) return;
     int v = c.z;
     vec2 ndc = (vec2(c.xy) + 0.5) / vec2(size) * 2.0 - 1.0;
     vec4 a = clipToWorld[v] * vec4(ndc, -1.0, 1.0), b = clipToWorld[v] * vec4(ndc, 1.0, 1.0);

@@ -14,14 +14,15 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 layout(binding = VEIL_TEX_SHADOW1) uniform sampler2DArray absorbance32;
 layout(binding = VEIL_TEX_SHADOW2) uniform sampler2DArray moments32;
 layout(binding = VEIL_TEX_SHADOW3) uniform sampler2DArray mediaMoments32;
+uniform ivec2 rows; // texel rows [rows.x, rows.y) of this dispatch (moment.cpp, banded runs)
 layout(binding = 1, rgba16f) uniform writeonly image2DArray absorbance16;
 layout(binding = 2, rgba16) uniform writeonly image2DArray moments16;
 layout(binding = 3, rgba16) uniform writeonly image2DArray mediaMoments16;
 
 void main() {
-    ivec3 c = ivec3(gl_GlobalInvocationID);
+    ivec3 c = ivec3(gl_GlobalInvocationID) + ivec3(0, rows.x, 0);
     ivec3 size = imageSize(absorbance16);
-    if (any(greaterThanEqual(c, size))) return;
+    if (c.x >= size.x || c.y >= rows.y || c.z >= size.z) return;
     vec4 b0 = texelFetch(absorbance32, c, 0);
     float surfaces = (b0.r + b0.g + b0.b) / 3.0;
     // Empty texels store the quantized normalized moments of a point at z = 0 (any valid

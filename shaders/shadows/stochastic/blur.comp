@@ -10,11 +10,12 @@ layout(binding = VEIL_IMG_OUTPUT, rg32f) uniform writeonly image2DArray target;
 
 uniform int radius;
 uniform ivec2 direction; // (1, 0) or (0, 1)
+uniform ivec2 rows; // texel rows [rows.x, rows.y) of this dispatch (stochastic.cpp, bands)
 
 void main() {
-    ivec3 p = ivec3(gl_GlobalInvocationID);
+    ivec3 p = ivec3(gl_GlobalInvocationID) + ivec3(0, rows.x, 0);
     ivec2 size = imageSize(target).xy;
-    if (p.x >= size.x || p.y >= size.y) return;
+    if (p.x >= size.x || p.y >= rows.y) return;
     vec2 sum = vec2(0.0);
     float weights = 0.0;
     for (int i = -radius; i <= radius; ++i) {

@@ -10,11 +10,12 @@ layout(binding = VEIL_IMG_OUTPUT, rg32f) uniform writeonly image2DArray moments;
 
 uniform int samples;
 uniform int firstLayer; // this view's first layer of the moments array
+uniform ivec2 rows; // texel rows [rows.x, rows.y) of this dispatch (stochastic.cpp, bands)
 
 void main() {
-    ivec3 p = ivec3(gl_GlobalInvocationID);
+    ivec3 p = ivec3(gl_GlobalInvocationID) + ivec3(0, rows.x, 0);
     ivec2 size = imageSize(moments).xy;
-    if (p.x >= size.x || p.y >= size.y) return;
+    if (p.x >= size.x || p.y >= rows.y) return;
     vec2 m = vec2(0.0);
     for (int s = 0; s < samples; ++s) {
         float z = texelFetch(stochasticMap, p, s).r;

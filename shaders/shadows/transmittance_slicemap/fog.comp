@@ -15,6 +15,7 @@ uniform int shadowView;
 uniform int uSlices;
 uniform int uSubsteps;
 uniform int uColumns;
+uniform ivec2 rows; // column rows [rows.x, rows.y) of this dispatch (bands, the .cpp)
 uniform mat4 uClipToWorld; // inverse of the view's viewProjection
 
 float densityAt(vec3 w) {
@@ -33,8 +34,8 @@ vec3 unproject(vec2 ndc, float z) {
 }
 
 void main() {
-    ivec2 c = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(c, ivec2(uColumns)))) return;
+    ivec2 c = ivec2(gl_GlobalInvocationID.xy) + ivec2(0, rows.x);
+    if (c.x >= uColumns || c.y >= rows.y) return;
     vec2 ndc = (vec2(c) + 0.5) / float(uColumns) * 2.0 - 1.0;
     // The column's centre ray between the near and far planes; the normalized linear depth is
     // linear in world position along it (ortho and perspective alike).

@@ -30,13 +30,17 @@ void setCasterView(const gpu::Program& program, const LightView& view) {
         .set("overrideUp", glm::vec3(inv[1]));
 }
 
-void DepthMaps::render(const ShadowFrame& frame) {
+void DepthMaps::renderRows(const ShadowFrame& frame, int y0, int y1) {
     const gpu::Program& program = programs_.get(program_);
     for (const LightView& view : *frame.views) {
         framebuffer_.attachLayer(GL_DEPTH_ATTACHMENT, texture_, view.layer).drawBuffers({GL_NONE});
         framebuffer_.bind();
         gpu::PipelineState s;
         s.view(size_, size_).depth(GL_LESS, true);
+        if (y0 > 0 || y1 < size_) { // a band: the clear and the draws stay in its rows
+            s.scissorTest = true;
+            s.scissor = glm::ivec4(0, y0, size_, y1 - y0);
+        }
         frame.state->apply(s); // before the clear: it obeys the depth mask
         const float one = 1.0f;
         glClearNamedFramebufferfv(framebuffer_.id(), GL_DEPTH, 0, &one);

@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 namespace veil::shadows {
 
 namespace {
@@ -57,27 +59,44 @@ public:
             media16_ = makeArray(GL_RGBA16, size_, layers_);
         }
         framebuffer_ = gpu::Framebuffer();
+        for (gpu::Texture& t : bandTemps_)
+            t = gpu::Texture(gpu::NoCreate);
     }
 
+    // Every pass also runs in bands of texel rows (ShadowPass::executeRows): each texel of
+    // the depth, caster, media and quantize passes depends on its own texel only, so a band
+    // is the whole pass with its clears, draws (scissor) and dispatches restricted to the
+    // rows; the filter's bands are filterRows().
     std::vector<ShadowPass> passes() override {
         std::vector<ShadowPass> p;
-        p.push_back({"", {}, {"shadow.depth"}, [this](const ShadowFrame& f) { depth_.render(f); }});
-        p.push_back({"transparent", {}, {"shadow.moments"}, [this](const ShadowFrame& f) {
-                         renderCasters(f);
-                     }});
-        p.push_back({"media", {"shadow.moments"}, {"shadow.moments"}, [this](const ShadowFrame& f) {
-                         renderMedia(f);
-                     }});
+        p.push_back(
+            {"",
+             {},
+             {"shadow.depth"},
+             [this](const ShadowFrame& f) { depth_.render(f); },
+             [this](const ShadowFrame& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }});
+        p.push_back({"transparent",
+                     {},
+                     {"shadow.moments"},
+                     [this](const ShadowFrame& f) { renderCasters(f, 0, size_); },
+                     [this](const ShadowFrame& f, int y0, int y1) { renderCasters(f, y0, y1); }});
+        p.push_back({"media",
+                     {"shadow.moments"},
+                     {"shadow.moments"},
+                     [this](const ShadowFrame& f) { renderMedia(f, 0, size_); },
+                     [this](const ShadowFrame& f, int y0, int y1) { renderMedia(f, y0, y1); }});
         if (blurRadius_ > 0)
-            p.push_back(
-                {"filter", {"shadow.moments"}, {"shadow.moments"}, [this](const ShadowFrame& f) {
-                     filter(f);
-                 }});
+            p.push_back({"filter",
+                         {"shadow.moments"},
+                         {"shadow.moments"},
+                         [this](const ShadowFrame&) { filter(); },
+                         [this](const ShadowFrame&, int y0, int y1) { filterRows(y0, y1); }});
         if (quantized_)
             p.push_back({"quantize",
                          {"shadow.moments"},
                          {"shadow.moments16"},
-                         [this](const ShadowFrame& f) { quantize(f); }});
+                         [this](const ShadowFrame&) { quantize(0, size_); },
+                         [this](const ShadowFrame&, int y0, int y1) { quantize(y0, y1); }});
         return p;
     }
     std::vector<std::string> receiverResources() const override {
@@ -106,26 +125,37 @@ public:
     bool dependsOnCamera() const override { return false; }
     std::size_t gpuBytes() const override {
         const std::size_t texels = std::size_t(size_) * size_ * layers_;
-        return depth_.gpuBytes() + texels * (4 * 16 + (quantized_ ? 3 * 8 : 0));
+        const int bandTemps = bandTemps_[0] ? 2 : 0; // filterRows() made them
+        return depth_.gpuBytes() + texels * ((4 + bandTemps) * 16 + (quantized_ ? 3 * 8 : 0));
     }
     nlohmann::json stats() const override {
         return {{"bytes_per_texel_read", quantized_ ? 24 : 48}, {"media_marched", mediaMarched_}};
     }
 
 private:
-    static void dispatchLayers(int size, int layers) {
-        glDispatchCompute(static_cast<GLuint>((size + 7) / 8), static_cast<GLuint>((size + 7) / 8),
-                          static_cast<GLuint>(layers));
+    // Texel rows [y0, y1) of every layer, 8 x 8 groups; the program's `rows` uniform says
+    // which (the shaders offset gl_GlobalInvocationID.y by rows.x and stop at rows.y).
+    void dispatchRows(const gpu::Program& program, int y0, int y1) const {
+        program.set("rows", glm::ivec2(y0, y1));
+        glDispatchCompute(static_cast<GLuint>((size_ + 7) / 8),
+                          static_cast<GLuint>((y1 - y0 + 7) / 8), static_cast<GLuint>(layers_));
     }
 
-    void renderCasters(const ShadowFrame& f) {
+    // Rows [y0, y1): the clear and the additive draws (scissor) of those rows. Blending adds
+    // a texel's fragments in primitive order whatever the scissor box, so the bands sum to
+    // the whole pass's values exactly.
+    void renderCasters(const ShadowFrame& f, int y0, int y1) {
         const gpu::Program& program = programs_.get(caster_);
         gpu::PipelineState s;
         s.view(size_, size_);
         s.depthTest = false; // 002 sec. 6: no depth test against the opaque casters
         s.depthWrite = false;
         s.blendAll(gpu::BlendState::func(GL_ONE, GL_ONE));
-        clearMaps();
+        if (y0 > 0 || y1 < size_) {
+            s.scissorTest = true;
+            s.scissor = glm::ivec4(0, y0, size_, y1 - y0);
+        }
+        clearMaps(y0, y1);
         for (const LightView& view : *f.views) {
             framebuffer_.attachLayer(GL_COLOR_ATTACHMENT0, absorbance_, view.layer)
                 .attachLayer(GL_COLOR_ATTACHMENT1, moments_, view.layer)
@@ -141,19 +171,21 @@ private:
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
 
-    // Every layer of the three arrays to zero by compute (shaders/shadows/moment/clear.comp
-    // says why not the framebuffer clear), visible to the blending that follows.
-    void clearMaps() {
-        programs_.get(clear_).use();
+    // Rows [y0, y1) of every layer of the three arrays to zero by compute
+    // (shaders/shadows/moment/clear.comp says why not the framebuffer clear), visible to the
+    // blending that follows.
+    void clearMaps(int y0, int y1) {
+        const gpu::Program& program = programs_.get(clear_);
+        program.use();
         glBindImageTexture(1, absorbance_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         glBindImageTexture(2, moments_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         glBindImageTexture(3, media_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        dispatchLayers(size_, layers_);
+        dispatchRows(program, y0, y1);
         glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                         GL_TEXTURE_FETCH_BARRIER_BIT);
     }
 
-    void renderMedia(const ShadowFrame& f) {
+    void renderMedia(const ShadowFrame& f, int y0, int y1) {
         mediaMarched_ = static_cast<bool>(f.bindMedia);
         if (!f.bindMedia) return;
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
@@ -168,30 +200,56 @@ private:
         program.use();
         glBindImageTexture(1, absorbance_.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32F);
         glBindImageTexture(2, media_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        dispatchLayers(size_, layers_);
+        dispatchRows(program, y0, y1);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
 
-    void filter(const ShadowFrame&) {
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    // One direction of the separable Gaussian (blur.comp) from `source` into rows [y0, y1) of
+    // `target`.
+    void blurRows(const gpu::Texture& source, const gpu::Texture& target, glm::ivec2 direction,
+                  int y0, int y1) const {
         const gpu::Program& program = programs_.get(blur_);
         program.use();
-        program.set("radius", blurRadius_);
+        program.set("radius", blurRadius_).set("direction", direction);
+        source.bind(VEIL_TEX_SHADOW1);
+        glBindImageTexture(1, target.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        dispatchRows(program, y0, y1);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    }
+
+    // 002 sec. 6's Gaussian, separable: each map horizontally into temp_, vertically back.
+    void filter() {
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
         for (gpu::Texture* t : {&absorbance_, &moments_, &media_}) {
-            // Horizontal into temp, vertical back.
-            for (int pass = 0; pass < 2; ++pass) {
-                const gpu::Texture& source = pass == 0 ? *t : temp_;
-                const gpu::Texture& target = pass == 0 ? temp_ : *t;
-                program.set("direction", pass == 0 ? glm::ivec2(1, 0) : glm::ivec2(0, 1));
-                source.bind(VEIL_TEX_SHADOW1);
-                glBindImageTexture(1, target.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-                dispatchLayers(size_, layers_);
-                glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-            }
+            blurRows(*t, temp_, {1, 0}, 0, size_);
+            blurRows(temp_, *t, {0, 1}, 0, size_);
         }
     }
 
-    void quantize(const ShadowFrame&) {
+    // filter() over rows [y0, y1) of each map, the bands in order (ShadowPass::executeRows).
+    // The vertical blur of rows [y0, y1) reads the horizontal result of rows [y0 - r, y1 + r)
+    // and writes the map in place, so each map keeps its own horizontal result across the
+    // bands (bandTemps_, made on first use: two more arrays than filter() needs) and every
+    // band blurs horizontally only the rows no earlier band did, [y0 + r, y1 + r): the map's
+    // rows from y0 + r on are not yet overwritten by the vertical blurs (those wrote rows
+    // < y0). Each texel then sums the same taps in the same order as filter(): bit for bit.
+    void filterRows(int y0, int y1) {
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+        if (!bandTemps_[0]) {
+            bandTemps_[0] = makeArray(GL_RGBA32F, size_, layers_);
+            bandTemps_[1] = makeArray(GL_RGBA32F, size_, layers_);
+        }
+        const gpu::Texture* temps[3] = {&temp_, &bandTemps_[0], &bandTemps_[1]};
+        gpu::Texture* maps[3] = {&absorbance_, &moments_, &media_};
+        const int h0 = y0 == 0 ? 0 : std::min(y0 + blurRadius_, size_);
+        const int h1 = std::min(y1 + blurRadius_, size_);
+        for (int i = 0; i < 3; ++i) {
+            if (h0 < h1) blurRows(*maps[i], *temps[i], {1, 0}, h0, h1);
+            blurRows(*temps[i], *maps[i], {0, 1}, y0, y1);
+        }
+    }
+
+    void quantize(int y0, int y1) {
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
         const gpu::Program& program = programs_.get(quantize_);
         program.use();
@@ -201,7 +259,7 @@ private:
         glBindImageTexture(1, absorbance16_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
         glBindImageTexture(2, moments16_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16);
         glBindImageTexture(3, media16_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16);
-        dispatchLayers(size_, layers_);
+        dispatchRows(program, y0, y1);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     }
 
@@ -220,6 +278,7 @@ private:
     // absorbance moments; media_: the media's moments.
     gpu::Texture absorbance_{gpu::NoCreate}, moments_{gpu::NoCreate}, media_{gpu::NoCreate};
     gpu::Texture temp_{gpu::NoCreate};
+    gpu::Texture bandTemps_[2]{gpu::Texture(gpu::NoCreate), gpu::Texture(gpu::NoCreate)};
     gpu::Texture absorbance16_{gpu::NoCreate}, moments16_{gpu::NoCreate}, media16_{gpu::NoCreate};
     gpu::Framebuffer framebuffer_{gpu::NoCreate};
     bool mediaMarched_ = false;

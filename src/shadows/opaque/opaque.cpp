@@ -17,7 +17,11 @@ public:
     }
     void resize(int mapSize, int viewCount) override { depth_.resize(mapSize, viewCount); }
     std::vector<ShadowPass> passes() override {
-        return {{"", {}, {"shadow.depth"}, [this](const ShadowFrame& f) { depth_.render(f); }}};
+        return {{"",
+                 {},
+                 {"shadow.depth"},
+                 [this](const ShadowFrame& f) { depth_.render(f); },
+                 [this](const ShadowFrame& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }}};
     }
     std::vector<std::string> receiverResources() const override { return {"shadow.depth"}; }
     void bindForReceivers() const override { depth_.bind(); }

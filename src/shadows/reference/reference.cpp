@@ -42,7 +42,13 @@ public:
         framebuffer_ = gpu::Framebuffer();
     }
     std::vector<ShadowPass> passes() override {
-        return {{"", {}, {"shadow.depth"}, [this](const ShadowFrame& f) { depth_.render(f); }},
+        // The depth pass also in bands of texel rows (ShadowPass::executeRows); the lists run
+        // whole (one pool and counter for every texel, regrown and redrawn on overflow).
+        return {{"",
+                 {},
+                 {"shadow.depth"},
+                 [this](const ShadowFrame& f) { depth_.render(f); },
+                 [this](const ShadowFrame& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }},
                 {"transparent", {}, {"shadow.lists"}, [this](const ShadowFrame& f) {
                      renderLists(f);
                  }}};

@@ -96,20 +96,32 @@ public:
         }
     }
 
+    // Every pass also runs in bands of texel rows (ShadowPass::executeRows): a texel's
+    // samples depend on its own fragments only (the masks hash the texel and the depth, not
+    // the viewport), and its moments on its own samples, so those bands are the pass with
+    // its clears and draws scissored and its dispatch restricted to the rows; the blur's
+    // bands are blur().
     std::vector<ShadowPass> passes() override {
         std::vector<ShadowPass> p;
-        p.push_back({"", {}, {"shadow.depth"}, [this](const ShadowFrame& f) { depth_.render(f); }});
+        p.push_back(
+            {"",
+             {},
+             {"shadow.depth"},
+             [this](const ShadowFrame& f) { depth_.render(f); },
+             [this](const ShadowFrame& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }});
+        auto stochastic = [this](const ShadowFrame& f) { renderStochastic(f, 0, size_); };
+        auto stochasticRows = [this](const ShadowFrame& f, int y0, int y1) {
+            renderStochastic(f, y0, y1);
+        };
         if (mode_ == Mode::Stochastic) {
-            p.push_back({"stochastic", {}, {"shadow.stochastic"}, [this](const ShadowFrame& f) {
-                             renderStochastic(f);
-                         }});
+            p.push_back({"stochastic", {}, {"shadow.stochastic"}, stochastic, stochasticRows});
         } else {
-            p.push_back({"stochastic", {}, {"shadow.moments"}, [this](const ShadowFrame& f) {
-                             renderStochastic(f);
-                         }});
-            p.push_back({"vsm", {"shadow.moments"}, {"shadow.vsm"}, [this](const ShadowFrame& f) {
-                             blur(f);
-                         }});
+            p.push_back({"stochastic", {}, {"shadow.moments"}, stochastic, stochasticRows});
+            p.push_back({"vsm",
+                         {"shadow.moments"},
+                         {"shadow.vsm"},
+                         [this](const ShadowFrame& f) { blur(f, 0, size_); },
+                         [this](const ShadowFrame& f, int y0, int y1) { blur(f, y0, y1); }});
         }
         return p;
     }
@@ -156,7 +168,8 @@ private:
     // transparent casters. VSM: the opaque casters first, so that a sample no transparent
     // surface covers holds the depth of what is behind (the receiver's own depth where it is
     // the first opaque surface), which makes Chebyshev's bound exact for one plane.
-    void renderStochastic(const ShadowFrame& frame) {
+    // Rows [y0, y1) of every layer (all of them: 0, size_).
+    void renderStochastic(const ShadowFrame& frame, int y0, int y1) {
         const gpu::Program& caster = programs_.get(casterProgram_);
         for (const LightView& view : *frame.views) {
             for (int c = 0; c < channels_; ++c) {
@@ -166,7 +179,11 @@ private:
                 framebuffer_.bind();
                 gpu::PipelineState s;
                 s.view(size_, size_).depth(GL_LESS, true); // multisample on (default)
-                frame.state->apply(s);                     // before the clear: depth mask
+                if (y0 > 0 || y1 < size_) { // a band: the clear and the draws in its rows
+                    s.scissorTest = true;
+                    s.scissor = glm::ivec4(0, y0, size_, y1 - y0);
+                }
+                frame.state->apply(s); // before the clear: depth mask
                 const float one = 1.0f;
                 glClearNamedFramebufferfv(framebuffer_.id(), GL_DEPTH, 0, &one);
                 if (mode_ == Mode::Vsm) {
@@ -189,14 +206,14 @@ private:
                 frame.drawCasters(caster, CasterSet::Transparent);
             }
             glBindFramebuffer(GL_FRAMEBUFFER, 0);
-            if (mode_ == Mode::Vsm) resolveMoments(frame, view);
+            if (mode_ == Mode::Vsm) resolveMoments(frame, view, y0, y1);
         }
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
 
     // 000 sec. 4.3: "convert the shadow maps to Variance Shadow Maps": per texel the mean of z
     // and z^2 over its S samples (the box filter of the samples, 004 sec. 4.1 operator F).
-    void resolveMoments(const ShadowFrame& frame, const LightView& view) {
+    void resolveMoments(const ShadowFrame& frame, const LightView& view, int y0, int y1) {
         frame.state->apply(gpu::PipelineState{}); // compute only
         const gpu::Program& program = programs_.get(momentsProgram_);
         program.use();
@@ -204,12 +221,16 @@ private:
         msDepth_.bind(VEIL_TEX_SHADOW3);
         glBindImageTexture(VEIL_IMG_OUTPUT, moments_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RG32F);
         glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-        dispatch(channels_);
+        dispatchRows(program, y0, y1, channels_);
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     }
 
-    // 000 sec. 4.3: "filter them with a 15x15 tent kernel (in two 1D passes)".
-    void blur(const ShadowFrame& frame) {
+    // 000 sec. 4.3: "filter them with a 15x15 tent kernel (in two 1D passes)", here for the
+    // rows [y0, y1) of vsm_ (all of them: 0, size_). The vertical pass of those rows reads
+    // the horizontal result (blurTmp_) of rows [y0 - r, y1 + r); bands run in order, so an
+    // earlier band made it up to row y0 + r and this one adds rows [y0 + r, y1 + r) (from
+    // moments_, which this pass does not change): every texel the same sums as in one piece.
+    void blur(const ShadowFrame& frame, int y0, int y1) {
         frame.state->apply(gpu::PipelineState{}); // compute only
         const gpu::Program& program = programs_.get(blurProgram_);
         program.use();
@@ -217,20 +238,25 @@ private:
         const int radius = stochasticVsmBlurTexels(blurRadius_, size_);
         const gpu::Texture* from[2] = {&moments_, &blurTmp_};
         const gpu::Texture* to[2] = {&blurTmp_, &vsm_};
+        const int rows[2][2] = {
+            {y0 == 0 ? 0 : std::min(y0 + radius, size_), std::min(y1 + radius, size_)}, {y0, y1}};
         for (int pass = 0; pass < 2; ++pass) {
+            if (rows[pass][0] >= rows[pass][1]) continue;
             program.set("radius", radius)
                 .set("direction", pass == 0 ? glm::ivec2(1, 0) : glm::ivec2(0, 1));
             from[pass]->bind(VEIL_TEX_SHADOW2);
             glBindImageTexture(VEIL_IMG_OUTPUT, to[pass]->id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
                                GL_RG32F);
-            dispatch(layers);
+            dispatchRows(program, rows[pass][0], rows[pass][1], layers);
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
         }
     }
 
-    void dispatch(int layers) const {
-        const auto groups = static_cast<GLuint>((size_ + 7) / 8);
-        glDispatchCompute(groups, groups, static_cast<GLuint>(layers));
+    // Texel rows [y0, y1) of `layers` layers; the shader's `rows` uniform says which.
+    void dispatchRows(const gpu::Program& program, int y0, int y1, int layers) const {
+        program.set("rows", glm::ivec2(y0, y1));
+        glDispatchCompute(static_cast<GLuint>((size_ + 7) / 8),
+                          static_cast<GLuint>((y1 - y0 + 7) / 8), static_cast<GLuint>(layers));
     }
 
     Mode mode_;

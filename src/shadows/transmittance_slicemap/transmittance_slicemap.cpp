@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace veil::shadows {
 
@@ -164,12 +165,23 @@ public:
             .parameter(GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE)
             .parameter(GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
     }
+    // Bands of texel rows (ShadowPass::executeRows) for the depth and fog passes. The slices
+    // pass runs whole: its words are packed by src/voxelize's pack.comp (whole targets, no
+    // row offset) into one buffer cleared whole, and its class grouping is per pass.
     std::vector<ShadowPass> passes() override {
         std::vector<ShadowPass> p = {
-            {"", {}, {"shadow.depth"}, [this](const ShadowFrame& f) { depth_.render(f); }},
+            {"",
+             {},
+             {"shadow.depth"},
+             [this](const ShadowFrame& f) { depth_.render(f); },
+             [this](const ShadowFrame& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }},
             {"slices", {}, {"shadow.slices"}, [this](const ShadowFrame& f) { render(f); }}};
         if (fog_)
-            p.push_back({"fog", {}, {"shadow.fog"}, [this](const ShadowFrame& f) { fog(f); }});
+            p.push_back({"fog",
+                         {},
+                         {"shadow.fog"},
+                         [this](const ShadowFrame& f) { fog(f, 0, size_); },
+                         [this](const ShadowFrame& f, int y0, int y1) { fog(f, y0, y1); }});
         return p;
     }
     std::vector<std::string> receiverResources() const override {
@@ -222,10 +234,15 @@ public:
 private:
     int classCount() const { return static_cast<int>(classT_.size()); }
 
-    // Optical depth of the grid density volumes per slice along every fog column (fog.comp).
-    void fog(const ShadowFrame& frame) {
+    // Optical depth of the grid density volumes per slice along every fog column (fog.comp),
+    // for the map rows [y0, y1) (all: 0, size_): the column rows [y0 C / size, y1 C / size)
+    // of the C = fog_columns, so consecutive bands of map rows cover the columns once.
+    void fog(const ShadowFrame& frame, int y0, int y1) {
         fogActive_ = static_cast<bool>(frame.bindMedia);
         if (!fogActive_) return;
+        const int c0 = int(std::int64_t(y0) * fogColumns_ / size_);
+        const int c1 = int(std::int64_t(y1) * fogColumns_ / size_);
+        if (c0 >= c1) return;
         const gpu::Program& p = programs_.get(fogProgram_);
         p.use();
         frame.bindMedia(p);
@@ -236,8 +253,9 @@ private:
                 .set("uSlices", slices_)
                 .set("uSubsteps", fogSubsteps_)
                 .set("uColumns", fogColumns_)
-                .set("uClipToWorld", glm::inverse(view.viewProjection));
-            glDispatchCompute((fogColumns_ + 7) / 8, (fogColumns_ + 7) / 8, 1);
+                .set("uClipToWorld", glm::inverse(view.viewProjection))
+                .set("rows", glm::ivec2(c0, c1));
+            glDispatchCompute((fogColumns_ + 7) / 8, (c1 - c0 + 7) / 8, 1);
         }
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
         glUseProgram(0);
