@@ -187,6 +187,8 @@ void scriptOutput(const ScriptAction& a, ViewSession& session, const DebugView& 
                            {"max_tiles_per_ui_frame", log.maxTilesPerUiFrame},
                            {"light_slabs", log.lightSlabs},
                            {"max_light_slabs_per_ui_frame", log.maxLightSlabsPerUiFrame},
+                           {"shadow_steps", log.shadowSteps},
+                           {"max_per_frame_steps_per_ui_frame", log.maxPerFrameStepsPerUiFrame},
                            {"max_pixels_per_ui_frame", log.maxPixelsPerUiFrame},
                            {"margin_px", r.refineMarginPx()},
                            {"first_ui_frame_ms", log.firstUiFrameMs},

@@ -434,6 +434,8 @@ bool ViewSession::renderFrame(bool refine) {
             refineLog_.maxTilesPerUiFrame = 0;
             refineLog_.maxPixelsPerUiFrame = 0;
             refineLog_.lightSlabs = 0;
+            refineLog_.shadowSteps = 0;
+            refineLog_.maxPerFrameStepsPerUiFrame = 0;
             refineLog_.maxLightSlabsPerUiFrame = 0;
             refineLog_.maxUiFrameMs = passMs(*renderer_);
             refineLog_.complete = false;
@@ -460,10 +462,14 @@ bool ViewSession::refineStep() {
         const bool done = renderer_->refineStep(tilePx == refineTilePx_ ? 0 : tilePx);
         const frame::Renderer::Refinement& f = renderer_->refinement();
         const double ms = passMs(*renderer_);
-        if (f.lastStep == frame::Renderer::Refinement::Step::LightSlab) {
+        using Step = frame::Renderer::Refinement::Step;
+        if (f.lastStep == Step::LightSlab) {
             ++uiFrameLightSlabs_;
             ++refineLog_.lightSlabs;
-        } else {
+        } else if (f.lastStep == Step::ShadowBand || f.lastStep == Step::PerFrame) {
+            ++uiFramePerFrameSteps_;
+            refineLog_.shadowSteps += f.lastStep == Step::ShadowBand;
+        } else if (f.lastStep == Step::Tile) {
             const glm::ivec4 r = f.lastRegion, t = f.lastTile;
             const long long pixels = static_cast<long long>(r.z - r.x) * (r.w - r.y);
             ++uiFrameTiles_;
@@ -534,6 +540,8 @@ void ViewSession::endUiFrame() {
         refineLog_.maxPixelsPerUiFrame = std::max(refineLog_.maxPixelsPerUiFrame, uiFramePixels_);
         refineLog_.maxLightSlabsPerUiFrame =
             std::max(refineLog_.maxLightSlabsPerUiFrame, uiFrameLightSlabs_);
+        refineLog_.maxPerFrameStepsPerUiFrame =
+            std::max(refineLog_.maxPerFrameStepsPerUiFrame, uiFramePerFrameSteps_);
         if (uiFrameTiles_ > 0)
             refineLog_.maxTileUiFrameMs = std::max(refineLog_.maxTileUiFrameMs, uiFrameMs_);
         refineLog_.maxUiFrameMs = std::max(refineLog_.maxUiFrameMs, uiFrameMs_);
@@ -542,6 +550,7 @@ void ViewSession::endUiFrame() {
     uiFrameMs_ = 0.0;
     uiFrameTiles_ = 0;
     uiFrameLightSlabs_ = 0;
+    uiFramePerFrameSteps_ = 0;
     uiFramePixels_ = 0;
     uiFrameRefines_ = false;
 }

@@ -112,6 +112,10 @@ public:
         // Light transmittance slabs (frame::Renderer::kRefineLightSlabTexels z slices of one
         // volume) computed by it, and the most in one UI frame.
         int lightSlabs = 0, maxLightSlabsPerUiFrame = 0;
+        // Shadow bands (frame::Renderer::kRefineShadowBandTexels, or an unbanded shadow pass)
+        // run by its steps, and the most per-frame steps (a band, or the AO and opaque passes)
+        // in one UI frame.
+        int shadowSteps = 0, maxPerFrameStepsPerUiFrame = 0;
         // The most pixels the per-pixel passes covered in one UI frame (a tile and its margin).
         long long maxPixelsPerUiFrame = 0;
         // Pass times (reported, never asserted): the first UI frame's (the per-frame passes),
@@ -206,11 +210,12 @@ private:
     bool frameFailed(const Error& e);
     bool reuseShadowMaps_ = true;
     RefineLog refineLog_;
-    int uiFrameTiles_ = 0;        // tiles refined since the last endUiFrame()
-    int uiFrameLightSlabs_ = 0;   // light transmittance slabs since the last endUiFrame()
-    long long uiFramePixels_ = 0; // per-pixel pass pixels since then
-    bool uiFrameRefines_ = false; // a refinement ran (begun or stepped) in this UI frame
-    double uiFrameMs_ = 0.0;      // its pass times
+    int uiFrameTiles_ = 0;         // tiles refined since the last endUiFrame()
+    int uiFrameLightSlabs_ = 0;    // light transmittance slabs since the last endUiFrame()
+    int uiFramePerFrameSteps_ = 0; // shadow bands and per-frame pass steps since then
+    long long uiFramePixels_ = 0;  // per-pixel pass pixels since then
+    bool uiFrameRefines_ = false;  // a refinement ran (begun or stepped) in this UI frame
+    double uiFrameMs_ = 0.0;       // its pass times
     std::uint64_t version_ = 0, rebuilds_ = 0, valueChanges_ = 0;
     nlohmann::json sourceDoc_;
 };

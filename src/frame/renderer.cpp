@@ -428,10 +428,17 @@ void Renderer::buildPasses() {
     // visibility include samples and bind it before they draw.
     std::vector<std::string> shadowResources;
     if (shadowSet_.viewCount > 0) {
+        shadowRows_.clear();
         for (shadows::ShadowPass& p : shadows_->passes()) {
             auto execute = std::move(p.execute);
             passes_.add({p.name.empty() ? "shadow" : "shadow." + p.name, p.reads, p.writes,
                          [this, execute] { execute(shadowFrame_); }});
+            std::function<void(int, int)> rows;
+            if (p.executeRows)
+                rows = [this, bands = std::move(p.executeRows)](int y0, int y1) {
+                    bands(shadowFrame_, y0, y1);
+                };
+            shadowRows_.push_back(std::move(rows));
         }
         shadowResources = shadows_->receiverResources();
     }

@@ -24,6 +24,7 @@
 #include "shadows/technique.h"
 #include "volume/fog_pass.h"
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -85,6 +86,13 @@ public:
     // resolves dispatch over the frame; the accumulation outside the tile is empty there, and
     // only the tile is kept).
     int refineMarginPx() const;
+    // When the shadow maps are to be drawn (not kept by reuse) and the shadow technique has
+    // passes in bands of rows (shadows::ShadowPass::executeRows), the first steps draw them:
+    // beginRefinement() only begins the frame, then each refineStep() runs one band of
+    // about kRefineShadowBandTexels texels per map layer (rows = that / map size) of a banded
+    // pass, or one unbanded pass whole; then one step runs the other per-frame passes (AO,
+    // opaque); then the light slabs and the tiles follow.
+    static constexpr int kRefineShadowBandTexels = 131072; // 64 rows of a 2048^2 map
     static constexpr int kRefineLightSlabTexels = 8;
     void beginRefinement(int tilePx);
     bool refineStep(int maxTilePx = 0);
@@ -97,8 +105,14 @@ public:
         long long pixels = 0, pixelsDone = 0;   // of the frame, and in the tiles done
         glm::ivec4 lastTile{0};                 // pixels kept by the last tile step, x0 y0 x1 y1
         glm::ivec4 lastRegion{0}; // pixels of the last tile's per-pixel passes (tile + margin)
-        enum class Step { None, LightSlab, Tile } lastStep = Step::None; // the last refineStep()
-        int lightSlabs = 0; // light transmittance slabs computed by refineStep()
+        // What the last refineStep() ran.
+        enum class Step { None, ShadowBand, PerFrame, LightSlab, Tile } lastStep = Step::None;
+        int lightSlabs = 0;  // light transmittance slabs computed by refineStep()
+        int shadowSteps = 0; // shadow bands (and unbanded shadow passes) run by refineStep()
+        // The shadow passes in progress: the next pass (-1: none left) and its next row; the
+        // per-frame passes after them still to run.
+        int shadowPass = -1, shadowRow = 0;
+        bool perFramePending = false;
         // The tiles left, the next one last.
         std::vector<glm::ivec4> pending;
     };
@@ -235,12 +249,16 @@ private:
     PassList passes_;
     std::size_t firstPerPixelPass_ = 0; // fog, transparent, resolve, tonemap from here on
     std::size_t shadowPassCount_ = 0;   // the shadow technique's passes, first in the list
+    // Their banded forms (shadows::ShadowPass::executeRows; null: whole only), by pass index.
+    std::vector<std::function<void(int, int)>> shadowRows_;
     bool reuseShadowMaps_ = false;
     bool shadowMapsValid_ = false;  // the maps hold what the shadow passes would draw now
     bool skipShadowPasses_ = false; // this frame's decision (beginFrame())
     std::uint64_t shadowMapRenders_ = 0, shadowMapReuses_ = 0;
     glm::ivec4 region_{0}; // the per-pixel passes' pixels, x0 y0 x1 y1
     Refinement refine_;
+    void runPerFramePasses(std::size_t first); // [first, firstPerPixelPass_), then keep opaque
+    void refineShadowStep();                   // one band or unbanded pass of the shadow maps
     gpu::Texture opaqueHdr_{gpu::NoCreate}, refinedHdr_{gpu::NoCreate}, refinedLdr_{gpu::NoCreate};
     gpu::StateTracker state_; // every pass's fixed-function state goes through it
     gpu::GpuTimer timer_;

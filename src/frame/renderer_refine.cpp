@@ -39,15 +39,56 @@ void Renderer::beginRefinement(int tilePx) {
     // The per-frame passes, once: shadow maps, the AO, the opaque image and depth. The fog's
     // light transmittance volumes (march() step 1) follow in slabs, one per refineStep().
     beginFrame();
-    runPasses(0, firstPerPixelPass_);
+    refine_.active = true;
+    const bool banded = std::any_of(shadowRows_.begin(), shadowRows_.end(),
+                                    [](const auto& f) { return static_cast<bool>(f); });
+    if (shadowPassCount_ > 0 && !skipShadowPasses_ && banded) {
+        // The shadow maps in bands over the next steps (kRefineShadowBandTexels).
+        shadowMapsValid_ = false; // until the last band of the last pass
+        refine_.shadowPass = 0;
+        refine_.perFramePending = true;
+    } else {
+        runPerFramePasses(0);
+    }
+    passTimes_ = timer_.collect();
+}
+
+void Renderer::runPerFramePasses(std::size_t first) {
+    runPasses(first, firstPerPixelPass_);
     if (!opaqueHdr_ || opaqueHdr_.width() != width_ || opaqueHdr_.height() != height_) {
         opaqueHdr_ = likeTexture(hdr_, GL_RGBA16F);
         refinedHdr_ = likeTexture(hdr_, GL_RGBA16F);
         refinedLdr_ = likeTexture(ldr_, GL_RGBA8);
     }
     copyRect(hdr_, opaqueHdr_, glm::ivec4(0, 0, width_, height_));
-    refine_.active = true;
-    passTimes_ = timer_.collect();
+    refine_.perFramePending = false;
+}
+
+void Renderer::refineShadowStep() {
+    const std::vector<Pass>& passes = passes_.passes();
+    const auto i = static_cast<std::size_t>(refine_.shadowPass);
+    const int size = shadowFrame_.mapSize;
+    {
+        gpu::TimerScope timer(timer_, passes[i].name);
+        if (shadowRows_[i]) {
+            // One band of rows (shadows::ShadowPass::executeRows: the bands in order equal the
+            // pass in one piece), about kRefineShadowBandTexels texels per layer.
+            const int rows = std::max(1, kRefineShadowBandTexels / std::max(1, size));
+            const int y0 = refine_.shadowRow, y1 = std::min(size, y0 + rows);
+            shadowRows_[i](y0, y1);
+            refine_.shadowRow = y1;
+        } else {
+            passes[i].execute();
+            refine_.shadowRow = size;
+        }
+    }
+    ++refine_.shadowSteps;
+    if (refine_.shadowRow < size) return;
+    refine_.shadowRow = 0;
+    if (++refine_.shadowPass < static_cast<int>(shadowPassCount_)) return;
+    refine_.shadowPass = -1;
+    shadowMapsValid_ = true;
+    ++shadowMapRenders_;
 }
 
 namespace {
@@ -73,6 +114,18 @@ glm::ivec4 takeTile(std::vector<glm::ivec4>& pending, int maxPx) {
 bool Renderer::refineStep(int maxTilePx) {
     if (!refine_.active) return true;
     bindFrameState();
+    if (refine_.shadowPass >= 0) {
+        refine_.lastStep = Refinement::Step::ShadowBand;
+        refineShadowStep();
+        passTimes_ = timer_.collect();
+        return false;
+    }
+    if (refine_.perFramePending) { // the passes after the shadow maps: AO, opaque
+        refine_.lastStep = Refinement::Step::PerFrame;
+        runPerFramePasses(shadowPassCount_);
+        passTimes_ = timer_.collect();
+        return false;
+    }
     bool slab = false;
     if (fog_) {
         // While the light transmittance volumes are not valid: their next slab, alone.

@@ -95,6 +95,67 @@ TEST_F(RefineTilesTest, SplitTilesCoverTheFrameOnceAndEqualOnePiece) {
     EXPECT_EQ(differ, 0u) << "bytes of the refined frame";
 }
 
+// The shadow maps drawn in bands during a refinement (shadows::ShadowPass::executeRows,
+// frame::Renderer::kRefineShadowBandTexels): fog.json's `moment` shadows with 512^2 maps
+// (rows per band 131072 / 512 = 256: two bands per banded pass). The first call only begins
+// the frame; then each step runs one band (or an unbanded pass), in pass order; then one step
+// the per-frame passes after them (AO, opaque); then the tiles; the frame equals render()'s bit
+// for bit, and the maps count as drawn once.
+TEST_F(RefineTilesTest, ShadowMapsDrawnInBandsOneBandPerStep) {
+    const scene::Scene s =
+        scene::loadScene(sourceDir() / "datasets/scenes/fog.json",
+                         {"render.width=64", "render.height=48", "render.shadows.size=512",
+                          "render.fog_resolution=2", "render.oit={\"type\":\"wboit\"}"});
+    ASSERT_EQ(s.render.shadows, "moment");
+    frame::Renderer whole(s, info());
+    whole.render();
+    const std::vector<std::uint8_t> expected = rgba8(whole.ldrTexture());
+
+    frame::Renderer tiled(s, info());
+    const std::uint64_t renders0 = tiled.shadowMapRenders();
+    tiled.beginRefinement(32);
+    using Step = frame::Renderer::Refinement::Step;
+    std::vector<Step> steps;
+    bool done = false;
+    while (!done && steps.size() < 500) {
+        done = tiled.refineStep();
+        steps.push_back(tiled.refinement().lastStep);
+    }
+    VEIL_EXPECT_NO_GL_ERROR();
+    ASSERT_TRUE(done);
+    const auto count = [&](Step k) { return std::count(steps.begin(), steps.end(), k); };
+    // moment's passes: depth, transparent, media, filter, each banded (quantize only at 16 bits).
+    const int rows = frame::Renderer::kRefineShadowBandTexels / 512;
+    ASSERT_EQ(rows, 256);
+    EXPECT_EQ(count(Step::ShadowBand), 4 * (512 / rows));
+    EXPECT_EQ(tiled.refinement().shadowSteps, 4 * (512 / rows));
+    EXPECT_EQ(count(Step::PerFrame), 1);
+    EXPECT_EQ(count(Step::Tile), 4);
+    // In order: the bands, the per-frame passes, then slabs or tiles.
+    const auto firstOther =
+        std::find_if(steps.begin(), steps.end(), [](Step k) { return k != Step::ShadowBand; });
+    ASSERT_NE(firstOther, steps.end());
+    EXPECT_EQ(*firstOther, Step::PerFrame);
+    EXPECT_EQ(std::count(firstOther, steps.end(), Step::ShadowBand), 0);
+    EXPECT_EQ(tiled.shadowMapRenders(), renders0 + 1);
+    const std::vector<std::uint8_t> ldr = rgba8(tiled.ldrTexture());
+    ASSERT_EQ(ldr.size(), expected.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < ldr.size(); ++i)
+        differ += ldr[i] != expected[i];
+    EXPECT_EQ(differ, 0u) << "bytes of the refined frame";
+    // With reuse on and the maps valid, the next refinement draws no band.
+    tiled.setReuseShadowMaps(true);
+    tiled.render(); // draws (reuse just switched on)
+    tiled.beginRefinement(32);
+    int bands = 0;
+    for (done = false; !done;) {
+        done = tiled.refineStep();
+        bands += tiled.refinement().lastStep == Step::ShadowBand;
+    }
+    EXPECT_EQ(bands, 0);
+}
+
 namespace {
 
 fs::path folder(const std::string& name) {
