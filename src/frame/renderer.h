@@ -76,9 +76,9 @@ public:
     // dispatches) and keeps the tile; it returns true once every tile is done, and the frame
     // targets then hold the frame. Until then hdrTexture()/ldrTexture() hold partial work: show the
     // last complete image. The camera and scene must not change between the calls (begin again
-    // instead: that cancels). The OIT resolve still runs over the whole frame per tile (the
-    // techniques' resolves dispatch over the frame; the accumulation outside the tile is empty
-    // there, and only the tile is kept).
+    // instead: that cancels). The OIT technique's resolve and compute passes run over the
+    // region too (oit::OitFrameTargets::region; hdr outside it keeps earlier tiles' work), and
+    // so does the copy of the opaque image into hdr that each tile starts from.
     static constexpr int kRefineMarginPx = 16;
     static constexpr int kRefineLightSlabTexels = 8;
     void beginRefinement(int tilePx);
@@ -190,6 +190,8 @@ private:
     void beginFrame();
     void bindFrameState();
     void runPasses(std::size_t first, std::size_t end);
+    // targets_.region (and opaqueColor) from region_, before the OIT passes.
+    void setOitRegion();
     enum class Subset { Opaque, Transparent, OpaqueCasters, TransparentCasters };
     void drawObjects(const gpu::Program& program, Subset subset) const;
 
