@@ -56,8 +56,8 @@ std::vector<std::string> techniqueNames() {
 frame::RendererOptions withTechnique(const std::string& name) {
     frame::RendererOptions o;
     o.oit = name;
-    // `reference`: a tile keeps fragments that an overflowing full-frame pool would drop
-    // (docs/viewer.md "Limits"); the default pool grows instead, so both keep all.
+    // `reference`'s default pool grows instead of dropping fragments (docs/viewer.md
+    // "Limits": a dropping pool could keep more in a tile than in the whole frame).
     return o;
 }
 
@@ -160,6 +160,48 @@ TEST_P(RefineOitTest, TileLeavesHdrOutsideItsRegionUntouched) {
     EXPECT_EQ(outsideChanged, 0u) << name << ": pixels outside the tile's region written";
     EXPECT_EQ(insideKept, 0u) << name << ": pixels inside the region kept the sentinel";
 }
+
+class RefinePhenomenologicalLowResTest : public GlTest,
+                                         public ::testing::WithParamInterface<int> {};
+
+// phenomenological's particles at 1/2 and 1/4 resolution (datasets/scenes/oit-smoke-glass.json:
+// particle clouds around a glass ball, at 96 x 64): the low-resolution depth key, the
+// particles' draws and clears and the upsampling keep to the low-resolution texels the
+// region's upsampling reads (the region divided by the factor, rounded outward, plus 2
+// texels), and the refined frame equals the frame in one piece bit for bit.
+TEST_P(RefinePhenomenologicalLowResTest, RefinedFrameEqualsTheFrameInOnePiece) {
+    const int factor = GetParam();
+    const scene::Scene s =
+        scene::loadScene(sourceDir() / "datasets/scenes/oit-smoke-glass.json",
+                         {"render.width=96", "render.height=64", "render.shadows.size=128"});
+    frame::RendererOptions o;
+    o.oit = "phenomenological";
+    o.oitProperties = {{"particle_downsample", factor}};
+    frame::Renderer whole(s, info(), o);
+    whole.render();
+    frame::Renderer tiled(s, info(), o);
+    refineAll(tiled);
+    VEIL_EXPECT_NO_GL_ERROR();
+    const std::vector<std::uint16_t> want = halfTexels(whole.hdrTexture()),
+                                     got = halfTexels(tiled.hdrTexture());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < got.size(); ++i)
+        differ += got[i] != want[i];
+    EXPECT_EQ(differ, 0u) << "hdr channels differ at 1/" << factor;
+    const std::vector<std::uint8_t> ldr = rgba8(tiled.ldrTexture());
+    EXPECT_TRUE(ldr == rgba8(whole.ldrTexture()));
+    io::writeImage(outputDir() / ("refine-phen-lowres-" + std::to_string(factor) + ".png"),
+                   tiled.readLdr());
+    // The low-resolution pass contributed: the frame differs from the one with the particles
+    // at full resolution (so the comparison above covered particle pixels).
+    frame::RendererOptions full = o;
+    full.oitProperties = {{"particle_downsample", 1}};
+    frame::Renderer fullRes(s, info(), full);
+    fullRes.render();
+    EXPECT_FALSE(ldr == rgba8(fullRes.ldrTexture())) << "no particles at 1/" << factor;
+}
+
+INSTANTIATE_TEST_SUITE_P(Factors, RefinePhenomenologicalLowResTest, ::testing::Values(2, 4));
 
 INSTANTIATE_TEST_SUITE_P(Registered, RefineOitTest, ::testing::ValuesIn(techniqueNames()),
                          [](const ::testing::TestParamInfo<std::string>& p) {
