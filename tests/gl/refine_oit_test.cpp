@@ -37,7 +37,7 @@ std::vector<std::uint8_t> rgba8(const gpu::Texture& t) {
 // the margin is for).
 scene::Scene fogScene() {
     return scene::loadScene(sourceDir() / "datasets/scenes/fog.json",
-                            {"render.width=96", "render.height=64", "render.fog_steps=48",
+                            {"render.width=96", "render.height=64", "render.fog_steps=32",
                              "render.fog_resolution=2", "render.shadows.type=opaque",
                              "render.shadows.size=128"});
 }
@@ -82,18 +82,25 @@ class RefineOitTest : public GlTest, public ::testing::WithParamInterface<std::s
 // exactly: each pixel of the tile runs the same shaders on the same values in both (a pixel's
 // result reads its own pixel and, for the fog's upsampling, neighbours within the 16 px
 // margin; phenomenological's gather reads up to max_diffusion_pixels = 16 px away, plus the
-// refraction offset: exact here because fog.json's offsets near the tile edges are small, see
-// docs/viewer.md "Limits"). So any difference is a pass that reads or writes outside its region.
-TEST_P(RefineOitTest, RefinedFrameEqualsTheFrameInOnePiece) {
+// refraction offset: exact here, fog.json's offsets being small, see docs/viewer.md
+// "Limits"). So any difference is a pass that reads or writes outside its region.
+//
+// And a tile away from the frame's origin (tile 4: x 32..63, y 32..63; its region with the
+// margin 16..80 x 16..64), refined after render() has left the whole frame's accumulation in
+// the technique's targets: a sentinel put in hdr before the tile survives outside the
+// region bit for bit (no resolve, compute pass or copy wrote there), and inside the region no
+// pixel keeps it (the tile starts from the opaque image, and the haze is everywhere).
+TEST_P(RefineOitTest, RefinedFrameEqualsTheFrameInOnePieceAndTilesKeepToTheirRegion) {
     const std::string name = GetParam();
     if (!available(name, info())) GTEST_SKIP() << name << " is not available on this context";
     const scene::Scene s = fogScene();
+    const int w = s.render.width, h = s.render.height;
     frame::Renderer whole(s, info(), withTechnique(name));
     whole.render();
     const std::vector<std::uint16_t> wantHdr = halfTexels(whole.hdrTexture());
     const std::vector<std::uint8_t> wantLdr = rgba8(whole.ldrTexture());
 
-    frame::Renderer tiled(s, info(), withTechnique(name));
+    frame::Renderer tiled(s, info(), withTechnique(name)); // fresh targets
     refineAll(tiled);
     EXPECT_EQ(tiled.refinement().tiles, 6);
     VEIL_EXPECT_NO_GL_ERROR();
@@ -106,49 +113,36 @@ TEST_P(RefineOitTest, RefinedFrameEqualsTheFrameInOnePiece) {
         if (differ++ == 0) firstDiffer = i;
     }
     EXPECT_EQ(differ, 0u) << name << ": hdr channels differ of " << hdr.size()
-                          << "; the first at pixel (" << (firstDiffer / 4) % s.render.width << ", "
-                          << (firstDiffer / 4) / s.render.width << ")";
+                          << "; the first at pixel (" << (firstDiffer / 4) % w << ", "
+                          << (firstDiffer / 4) / w << ")";
     EXPECT_TRUE(ldr == wantLdr) << name << ": the ldr frame differs";
     io::writeImage(outputDir() / ("refine-oit-" + name + ".png"), tiled.readLdr());
-    // Not a black or flat frame.
     double sum = 0.0;
     for (std::size_t i = 0; i < ldr.size(); ++i)
         if (i % 4 != 3) sum += ldr[i];
     EXPECT_GT(sum / (double(ldr.size()) * 0.75), 8.0) << name << ": a black frame";
-}
 
-// One tile away from the frame's origin (tile 4: x 32..63, y 32..63; its region with the
-// margin 16..80 x 16..64): after render() has left the whole frame's accumulation in the
-// technique's targets, a sentinel in hdr outside the region survives the tile's passes bit
-// for bit (no resolve or copy wrote there), and inside the region no pixel keeps it (the
-// tile starts from the opaque image, and the haze is everywhere).
-TEST_P(RefineOitTest, TileLeavesHdrOutsideItsRegionUntouched) {
-    const std::string name = GetParam();
-    if (!available(name, info())) GTEST_SKIP() << name << " is not available on this context";
-    const scene::Scene s = fogScene();
-    frame::Renderer r(s, info(), withTechnique(name));
-    r.render(); // the accumulation targets hold the whole frame's
-    r.beginRefinement(kTile);
+    // The sentinel, in `whole` (its targets hold the whole frame's accumulation).
+    whole.beginRefinement(kTile);
     int steps = 0;
-    while (r.refinement().done < 4 && ++steps < 1000)
-        r.refineStep();
-    ASSERT_EQ(r.refinement().done, 4);
+    while (whole.refinement().done < 4 && ++steps < 1000)
+        whole.refineStep();
+    ASSERT_EQ(whole.refinement().done, 4);
     const float sentinel[4] = {0.25f, 0.5f, 3.0f, 0.75f};
-    glClearTexImage(r.hdrTexture().id(), 0, GL_RGBA, GL_FLOAT, sentinel);
-    const std::vector<std::uint16_t> before = halfTexels(r.hdrTexture());
-    ASSERT_FALSE(r.refineStep());
-    ASSERT_EQ(r.refinement().lastStep, frame::Renderer::Refinement::Step::Tile);
-    const glm::ivec4 region = r.refinement().lastRegion;
-    EXPECT_EQ(region, glm::ivec4(16, 16, 80, 64));
+    glClearTexImage(whole.hdrTexture().id(), 0, GL_RGBA, GL_FLOAT, sentinel);
+    const std::vector<std::uint16_t> before = halfTexels(whole.hdrTexture());
+    ASSERT_FALSE(whole.refineStep()); // not the last tile (that copies the frame back)
+    ASSERT_EQ(whole.refinement().lastStep, frame::Renderer::Refinement::Step::Tile);
+    const glm::ivec4 region = whole.refinement().lastRegion;
+    ASSERT_EQ(region, glm::ivec4(16, 16, 80, 64));
     VEIL_EXPECT_NO_GL_ERROR();
-    const std::vector<std::uint16_t> after = halfTexels(r.hdrTexture());
-    const int w = s.render.width, h = s.render.height;
+    const std::vector<std::uint16_t> after = halfTexels(whole.hdrTexture());
     std::size_t outsideChanged = 0, insideKept = 0;
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
             const std::size_t i = (std::size_t(y) * w + x) * 4;
             bool same = true;
-            for (int c = 0; c < 3; ++c) // alpha: some resolves write 1, some keep it
+            for (int c = 0; c < 3; ++c) // not alpha: some resolves write 1, some keep it
                 same = same && after[i + c] == before[i + c];
             const bool inside = x >= region.x && x < region.z && y >= region.y && y < region.w;
             if (inside)
