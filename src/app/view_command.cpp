@@ -45,9 +45,10 @@ struct ViewArgs {
     int width = 0, height = 0;
     int windowWidth = 0, windowHeight = 0; // scripted: the window (default: the frame size)
     int frames = 0;                        // 0 = interactive
-    int refineTilePx = -1;       // view.refine_tile_px; -1 = the default (128 on a software
-                                 // renderer when interactive, else 0 = off)
-    bool reuseShadowMaps = true; // view.reuse_shadow_maps
+    int refineTilePx = -1;        // view.refine_tile_px; -1 = the default (128 on a software
+                                  // renderer when interactive, else 0 = off)
+    double refineBudgetMs = -1.0; // view.refine_budget_ms; -1 = the default (100 interactive)
+    bool reuseShadowMaps = true;  // view.reuse_shadow_maps
     std::vector<std::string> overrides;
 };
 
@@ -179,12 +180,15 @@ void scriptOutput(const ScriptAction& a, ViewSession& session, const DebugView& 
         const ViewSession::RefineLog& log = session.refineLog();
         j["refinement"] = {{"tile_px", session.refineTilePx()},
                            {"tiles", log.tiles},
+                           {"budget_ms", session.refineBudgetMs()},
+                           {"steps", log.steps},
+                           {"min_tile_px", log.minTilePx},
                            {"ui_frames", log.uiFrames},
                            {"max_tiles_per_ui_frame", log.maxTilesPerUiFrame},
                            {"light_slabs", log.lightSlabs},
                            {"max_light_slabs_per_ui_frame", log.maxLightSlabsPerUiFrame},
                            {"max_pixels_per_ui_frame", log.maxPixelsPerUiFrame},
-                           {"margin_px", frame::Renderer::kRefineMarginPx},
+                           {"margin_px", r.refineMarginPx()},
                            {"first_ui_frame_ms", log.firstUiFrameMs},
                            {"max_tile_ui_frame_ms", log.maxTileUiFrameMs},
                            {"max_ui_frame_ms", log.maxUiFrameMs},
@@ -241,6 +245,8 @@ int scriptApply(const ScriptAction& a, ViewSession& s, DebugView& view, PanelSta
             panel.expand.insert(name.get<std::string>());
     } else if (a.kind == "refine_tile_px")
         s.setRefineTilePx(v.get<int>());
+    else if (a.kind == "refine_budget_ms")
+        s.setRefineBudgetMs(v.get<double>());
     else if (a.kind == "reuse_shadow_maps")
         s.setReuseShadowMaps(v.get<bool>());
     else if (a.kind == "frames")
@@ -288,6 +294,9 @@ void runView(const ViewArgs& args) {
     session.setRefineTilePx(args.refineTilePx >= 0                        ? args.refineTilePx
                             : !scripted && window.info().softwareRenderer ? 128
                                                                           : 0);
+    session.setRefineBudgetMs(args.refineBudgetMs >= 0.0 ? args.refineBudgetMs
+                              : scripted                 ? 0.0
+                                                         : 100.0);
 
     std::unique_ptr<ImGuiSession> gui;
     if (args.frames == 0) gui = std::make_unique<ImGuiSession>(window.window(), !scripted);
@@ -490,6 +499,11 @@ void addViewCommand(CLI::App& app) {
                     "one per UI frame (0 = off; default: 128 on a software renderer, "
                     "interactive only)")
         ->check(CLI::Range(0, 16384));
+    cmd->add_option("--refine-budget-ms", args->refineBudgetMs,
+                    "view.refine_budget_ms: halve a refinement step's tile until its estimated "
+                    "pass time is under this many ms (down to 16 px; 0 = whole tiles; default: "
+                    "100 interactive, 0 scripted)")
+        ->check(CLI::Range(0.0, 1e6));
     cmd->add_option("--reuse-shadow-maps", args->reuseShadowMaps,
                     "view.reuse_shadow_maps: keep the shadow maps across frames while nothing they "
                     "depend on changed (camera moves keep them; techniques whose maps follow the "

@@ -271,6 +271,15 @@ void frameSection(ViewSession& s, PanelState& st) {
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("Refine full-size frames in tiles of this many pixels, one tile per UI "
                           "frame, showing the last complete image meanwhile (0 = in one piece)");
+    // view.refine_budget_ms: a step's tile halved until its estimated pass time fits.
+    float budget = static_cast<float>(s.refineBudgetMs());
+    if (ImGui::InputFloat("refine_budget_ms", &budget, 10.0f, 100.0f, "%.0f",
+                          ImGuiInputTextFlags_EnterReturnsTrue))
+        s.setRefineBudgetMs(std::max(0.0f, budget));
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Halve a refinement step's tile (down to %d px) until its estimated "
+                          "pass time is under this many ms (0 = whole tiles)",
+                          ViewSession::kMinRefineTilePx);
     // view.reuse_shadow_maps: camera moves keep the shadow maps (edits redraw them).
     bool reuse = s.reusesShadowMaps();
     if (ImGui::Checkbox("reuse_shadow_maps", &reuse)) s.setReuseShadowMaps(reuse);
@@ -281,7 +290,9 @@ void frameSection(ViewSession& s, PanelState& st) {
                               ? "this technique follows the camera and redraws every frame"
                               : "this technique's maps do not depend on the camera");
     if (r.refining())
-        ImGui::Text("refining: tile %d of %d", r.refinement().done + 1, r.refinement().tiles);
+        ImGui::Text("refining: %.0f%% (%d px tiles)",
+                    100.0 * double(r.refinement().pixelsDone) / double(r.refinement().pixels),
+                    s.nextRefineTilePx());
     ImGui::Text("%d x %d, timer: %s", r.width(), r.height(),
                 r.timerMode() == gpu::GpuTimer::Mode::Query ? "GL_TIME_ELAPSED"
                                                             : "glFinish + CPU clock");

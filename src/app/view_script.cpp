@@ -24,7 +24,8 @@ Want wantFor(const std::string& kind) {
         "view",         "open",       "screenshot", "window_screenshot",
         "copy_command", "save_scene", "status"};
     if (strings.count(kind)) return Want::String;
-    if (kind == "frames" || kind == "refine_tile_px") return Want::Number;
+    if (kind == "frames" || kind == "refine_tile_px" || kind == "refine_budget_ms")
+        return Want::Number;
     if (kind == "reset_camera" || kind == "reload_shaders" || kind == "reuse_shadow_maps")
         return Want::Bool;
     return Want::Array; // orbit, pan, resize, expand
@@ -44,6 +45,7 @@ bool known(const std::string& kind) {
                                               "reload_shaders",
                                               "frames",
                                               "refine_tile_px",
+                                              "refine_budget_ms",
                                               "reuse_shadow_maps",
                                               "screenshot",
                                               "window_screenshot",
@@ -94,19 +96,21 @@ std::vector<ScriptAction> loadViewScript(const std::filesystem::path& path) {
         const bool setList = act.kind == "set" && act.value.is_array() &&
                              std::all_of(act.value.begin(), act.value.end(),
                                          [](const nlohmann::json& x) { return x.is_string(); });
-        // frames: 1..100000; refine_tile_px: 0 (off)..16384.
-        const bool tile = act.kind == "refine_tile_px";
-        const long long lo = tile ? 0 : 1, hi = tile ? 16384 : 100000;
+        // frames: 1..100000; refine_tile_px: 0 (off)..16384; refine_budget_ms: 0 (off)..1e6.
+        const bool tile = act.kind == "refine_tile_px", budget = act.kind == "refine_budget_ms";
+        const long long lo = tile || budget ? 0 : 1, hi = tile ? 16384 : budget ? 1000000 : 100000;
         const bool ok = setList || (want == Want::String && act.value.is_string()) ||
-                        (want == Want::Number && act.value.is_number_integer() &&
-                         act.value.get<long long>() >= lo && act.value.get<long long>() <= hi) ||
+                        (want == Want::Number && (act.value.is_number_integer() || budget) &&
+                         act.value.is_number() && act.value.get<double>() >= double(lo) &&
+                         act.value.get<double>() <= double(hi)) ||
                         (want == Want::Bool && act.value.is_boolean()) ||
                         (want == Want::Array && act.value.is_array());
         VEIL_CHECK(ok, "{}: '{}' expects {}, not {}", where, act.kind,
-                   want == Want::String   ? std::string("a string")
-                   : want == Want::Number ? fmt::format("an integer in {}..{}", lo, hi)
-                   : want == Want::Bool   ? std::string("true or false")
-                                          : std::string("an array"),
+                   want == Want::String ? std::string("a string")
+                   : want == Want::Number
+                       ? fmt::format("{} in {}..{}", budget ? "a number" : "an integer", lo, hi)
+                   : want == Want::Bool ? std::string("true or false")
+                                        : std::string("an array"),
                    scene::describeJson(act.value));
         if (act.kind == "orbit" || act.kind == "pan" || act.kind == "resize") {
             VEIL_CHECK(act.value.size() == 2 && act.value[0].is_number() &&

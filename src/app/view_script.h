@@ -13,6 +13,8 @@
 //   {"refine_tile_px": 64}                   refine frames in 64 px tiles, one per displayed
 //                                            frame (0 = off); the script waits for each
 //                                            refined frame before its next action
+//   {"refine_budget_ms": 100}                halve a step's tile until its estimated pass
+//                                            time fits (0 = whole tiles; scripts default 0)
 //   {"screenshot": "out.png"}                the shown image (frame or debug view) at frame
 //                                            size; .exr: linear HDR (frame) or the raw values
 //                                            of the debug view's resource (its layer)

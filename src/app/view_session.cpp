@@ -411,6 +411,14 @@ double passMs(const frame::Renderer& r) {
 }
 } // namespace
 
+bool ViewSession::frameFailed(const Error& e) {
+    frameFailed_ = true;
+    renderer_->cancelRefinement();
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    record(fmt::format("frame failed (the last good frame stays): {}", e.what()));
+    return false;
+}
+
 bool ViewSession::renderFrame(bool refine) {
     if (frameFailed_) return false; // until the next change: the error would only repeat
     try {
@@ -419,6 +427,9 @@ bool ViewSession::renderFrame(bool refine) {
             renderer_->beginRefinement(t);
             refineLog_.tilePx = t;
             refineLog_.tiles = renderer_->refinement().tiles;
+            refineLog_.steps = 0;
+            refineLog_.minTilePx = 0;
+            if (refineKey() != refineEstimateKey_) refineMsPerPixel_ = -1.0;
             refineLog_.uiFrames = 0;
             refineLog_.maxTilesPerUiFrame = 0;
             refineLog_.maxPixelsPerUiFrame = 0;
@@ -438,28 +449,35 @@ bool ViewSession::renderFrame(bool refine) {
         copyToDisplay();
         return true;
     } catch (const Error& e) {
-        frameFailed_ = true;
-        renderer_->cancelRefinement();
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        record(fmt::format("frame failed (the last good frame stays): {}", e.what()));
-        return false;
+        return frameFailed(e);
     }
 }
 
 bool ViewSession::refineStep() {
     if (!renderer_->refining()) return false;
     try {
-        const bool done = renderer_->refineStep();
+        const int tilePx = nextRefineTilePx();
+        const bool done = renderer_->refineStep(tilePx == refineTilePx_ ? 0 : tilePx);
         const frame::Renderer::Refinement& f = renderer_->refinement();
+        const double ms = passMs(*renderer_);
         if (f.lastStep == frame::Renderer::Refinement::Step::LightSlab) {
             ++uiFrameLightSlabs_;
             ++refineLog_.lightSlabs;
         } else {
-            const glm::ivec4 r = f.lastRegion;
+            const glm::ivec4 r = f.lastRegion, t = f.lastTile;
+            const long long pixels = static_cast<long long>(r.z - r.x) * (r.w - r.y);
             ++uiFrameTiles_;
-            uiFramePixels_ += static_cast<long long>(r.z - r.x) * (r.w - r.y);
+            uiFramePixels_ += pixels;
+            ++refineLog_.steps;
+            const int side = std::max(t.z - t.x, t.w - t.y);
+            refineLog_.minTilePx =
+                refineLog_.minTilePx > 0 ? std::min(refineLog_.minTilePx, side) : side;
+            if (pixels > 0) {
+                refineMsPerPixel_ = ms / static_cast<double>(pixels);
+                refineEstimateKey_ = refineKey();
+            }
         }
-        uiFrameMs_ += passMs(*renderer_);
+        uiFrameMs_ += ms;
         uiFrameRefines_ = true;
         if (!done) return false;
         copyToDisplay();
@@ -467,11 +485,7 @@ bool ViewSession::refineStep() {
         ++refineLog_.completed;
         return true;
     } catch (const Error& e) {
-        frameFailed_ = true;
-        renderer_->cancelRefinement();
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        record(fmt::format("frame failed (the last good frame stays): {}", e.what()));
-        return false;
+        return frameFailed(e);
     }
 }
 
@@ -484,6 +498,33 @@ void ViewSession::setRefineTilePx(int px) {
     refineTilePx_ = px;
     status_ = px > 0 ? fmt::format("refining in {} px tiles", px) : "refinement off";
     ++version_;
+}
+
+void ViewSession::setRefineBudgetMs(double ms) {
+    if (!(ms >= 0.0) || !std::isfinite(ms)) {
+        record(fmt::format("refine budget {} ms is not a finite number >= 0 (0 = off)", ms));
+        return;
+    }
+    refineBudgetMs_ = ms;
+}
+
+std::string ViewSession::refineKey() const {
+    return fmt::format("{}|{}|{}|{}x{}", rebuilds_, renderer_->oitName(),
+                       renderer_->shadowTechnique().name(), width_, height_);
+}
+
+int ViewSession::nextRefineTilePx() const {
+    const int t = refineTilePx_;
+    if (refineBudgetMs_ <= 0.0 || t <= kMinRefineTilePx) return t;
+    if (refineMsPerPixel_ < 0.0 || refineKey() != refineEstimateKey_)
+        return kMinRefineTilePx; // nothing measured for this frame yet: the smallest tile first
+    // The margin around the tile runs the per-pixel passes too (frame::Renderer::refineStep).
+    const int m = renderer_->refineMarginPx();
+    auto cost = [&](int s) { return refineMsPerPixel_ * double(s + 2 * m) * double(s + 2 * m); };
+    int s = t;
+    while (s > kMinRefineTilePx && cost(s) > refineBudgetMs_)
+        s = std::max(kMinRefineTilePx, (s + 1) / 2);
+    return s;
 }
 
 void ViewSession::endUiFrame() {

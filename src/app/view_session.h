@@ -13,6 +13,7 @@
 // Errors never leave the viewer: they are kept in errors() and the last good frame stays.
 #pragma once
 
+#include "base/error.h"
 #include "frame/renderer.h"
 #include "gpu/context.h"
 #include "gpu/objects.h"
@@ -84,6 +85,16 @@ public:
     // The refinement's tile size in pixels (0: every frame in one piece, the default); a
     // change renders the frame again.
     void setRefineTilePx(int px);
+    // view.refine_budget_ms (0: every step takes a whole refineTilePx() tile): the pass time a
+    // refinement's tile step should stay under. Each step's tile is halved (frame::Renderer::
+    // refineStep's maxTilePx) until its estimated pass time fits, down to kMinRefineTilePx:
+    // estimated from the pass time per pixel of the last step (tile and margin) of the same
+    // renderer, technique and frame size; unknown (a new one), the step takes the smallest tile.
+    void setRefineBudgetMs(double ms);
+    double refineBudgetMs() const { return refineBudgetMs_; }
+    static constexpr int kMinRefineTilePx = 16;
+    // The tile size the next step would take (refineTilePx() when the budget is off).
+    int nextRefineTilePx() const;
     // view.reuse_shadow_maps (on by default): frames keep the shadow technique's maps while
     // nothing they depend on changed (frame::Renderer::setReuseShadowMaps; every edit that
     // can alter them redraws them, a camera move does not).
@@ -93,7 +104,9 @@ public:
     // What the refinements did per UI frame (endUiFrame() closes one): tests check that no UI
     // frame ran the per-pixel passes over more than one tile.
     struct RefineLog {
-        int tilePx = 0, tiles = 0; // of the last refinement begun
+        int tilePx = 0, tiles = 0; // of the last refinement begun (its grid)
+        int steps = 0;             // its tile steps so far (a tile split by the budget: its parts)
+        int minTilePx = 0;         // the smallest tile side a step took (the budget's halving)
         int uiFrames = 0;          // UI frames it has spanned so far (its begin included)
         int maxTilesPerUiFrame = 0;
         // Light transmittance slabs (frame::Renderer::kRefineLightSlabTexels z slices of one
@@ -182,6 +195,15 @@ private:
     std::string lastError_, status_;
     bool frameFailed_ = false;
     int refineTilePx_ = 0;
+    double refineBudgetMs_ = 0.0;
+    // The refinement's estimate (refineBudgetMs()): pass ms per pixel of the last tile step, and
+    // what it holds for (renderer, techniques, frame size); < 0 = none.
+    double refineMsPerPixel_ = -1.0;
+    std::string refineEstimateKey_;
+    std::string refineKey() const;
+    // A frame or refinement step threw: recorded, the refinement ended, the last good frame
+    // stays until the next change; returns false.
+    bool frameFailed(const Error& e);
     bool reuseShadowMaps_ = true;
     RefineLog refineLog_;
     int uiFrameTiles_ = 0;        // tiles refined since the last endUiFrame()

@@ -71,26 +71,36 @@ public:
     // per-frame passes (shadow maps, AO, opaque) once; while the fog's light transmittance
     // volumes are not valid each refineStep() computes kRefineLightSlabTexels z slices of one
     // of them (FogPass::updateLightVolumesSlab); then each refineStep() runs the per-pixel passes
-    // (fog march, transparent, resolve, tonemap) for the next tilePx x tilePx screen tile plus
-    // kRefineMarginPx around it (scissor box of the state tracker, region of the compute
-    // dispatches) and keeps the tile; it returns true once every tile is done, and the frame
-    // targets then hold the frame. Until then hdrTexture()/ldrTexture() hold partial work: show the
-    // last complete image. The camera and scene must not change between the calls (begin again
-    // instead: that cancels). The OIT technique's resolve and compute passes run over the
-    // region too (oit::OitFrameTargets::region; hdr outside it keeps earlier tiles' work), and
-    // so does the copy of the opaque image into hdr that each tile starts from.
-    static constexpr int kRefineMarginPx = 16;
+    // (fog march, transparent, resolve, tonemap) for the next screen tile plus refineMarginPx()
+    // around it (the OIT technique's: what its resolve reads around a pixel; scissor box of the
+    // state tracker, region of the compute dispatches; the fog marches the texels its
+    // upsampling reads) and keeps the tile; it returns true once every tile is done, and the
+    // frame targets then hold the frame. The tiles: the frame's tilePx x tilePx grid in rows
+    // from the top left; a step given maxTilePx > 0 first halves the next tile (in each side
+    // over maxTilePx, quadrants in the same order) until it fits, so the caller can shrink the
+    // work of a step when a step took too long (the viewer's time budget, app/view_session.h).
+    // Until then hdrTexture()/ldrTexture() hold partial work: show the last complete image.
+    // The camera and scene must not change between the calls (begin again instead: that
+    // cancels). The OIT technique's resolve and compute passes run over the region too
+    // (oit::OitFrameTargets::region; hdr outside it keeps earlier tiles' work), and so does
+    // the copy of the opaque image into hdr that each tile starts from.
+    int refineMarginPx() const;
     static constexpr int kRefineLightSlabTexels = 8;
     void beginRefinement(int tilePx);
-    bool refineStep();
+    bool refineStep(int maxTilePx = 0);
     void cancelRefinement() { refine_.active = false; }
     bool refining() const { return refine_.active; }
     struct Refinement {
         bool active = false;
-        int tilePx = 0, columns = 0, tiles = 0, done = 0;
-        glm::ivec4 lastRegion{0}; // pixels of the last tile's per-pixel passes, x0 y0 x1 y1
+        int tilePx = 0, columns = 0, tiles = 0; // the grid: tiles = columns x rows
+        int done = 0;                           // tile steps run (a split tile counts its parts)
+        long long pixels = 0, pixelsDone = 0;   // of the frame, and in the tiles done
+        glm::ivec4 lastTile{0};                 // pixels kept by the last tile step, x0 y0 x1 y1
+        glm::ivec4 lastRegion{0}; // pixels of the last tile's per-pixel passes (tile + margin)
         enum class Step { None, LightSlab, Tile } lastStep = Step::None; // the last refineStep()
         int lightSlabs = 0; // light transmittance slabs computed by refineStep()
+        // The tiles left, the next one last.
+        std::vector<glm::ivec4> pending;
     };
     const Refinement& refinement() const { return refine_; }
     // Times of the passes of the last render().

@@ -20,12 +20,22 @@ gpu::Texture likeTexture(const gpu::Texture& t, GLenum format) {
 }
 } // namespace
 
+int Renderer::refineMarginPx() const { return oit_->refineMarginPx(); }
+
 void Renderer::beginRefinement(int tilePx) {
     VEIL_CHECK(tilePx > 0, "refinement tile size {} is not positive", tilePx);
     refine_ = {};
     refine_.tilePx = tilePx;
     refine_.columns = (width_ + tilePx - 1) / tilePx;
-    refine_.tiles = refine_.columns * ((height_ + tilePx - 1) / tilePx);
+    const int rows = (height_ + tilePx - 1) / tilePx;
+    refine_.tiles = refine_.columns * rows;
+    refine_.pixels = static_cast<long long>(width_) * height_;
+    refine_.pending.reserve(static_cast<std::size_t>(refine_.tiles) + 8);
+    for (int i = refine_.tiles - 1; i >= 0; --i) { // the first tile last: next
+        const int x0 = (i % refine_.columns) * tilePx, y0 = (i / refine_.columns) * tilePx;
+        refine_.pending.emplace_back(x0, y0, std::min(width_, x0 + tilePx),
+                                     std::min(height_, y0 + tilePx));
+    }
     // The per-frame passes, once: shadow maps, the AO, the opaque image and depth. The fog's
     // light transmittance volumes (march() step 1) follow in slabs, one per refineStep().
     beginFrame();
@@ -40,7 +50,27 @@ void Renderer::beginRefinement(int tilePx) {
     passTimes_ = timer_.collect();
 }
 
-bool Renderer::refineStep() {
+namespace {
+// Halves `t` in each side over maxPx until it fits; the parts not taken go onto `pending` so
+// that they come next, in rows from the top left.
+glm::ivec4 takeTile(std::vector<glm::ivec4>& pending, int maxPx) {
+    glm::ivec4 t = pending.back();
+    pending.pop_back();
+    while (maxPx > 0 && (t.z - t.x > maxPx || t.w - t.y > maxPx)) {
+        const int w = t.z - t.x, h = t.w - t.y;
+        const int xm = w > maxPx ? t.x + (w + 1) / 2 : t.z;
+        const int ym = h > maxPx ? t.y + (h + 1) / 2 : t.w;
+        // Quadrants (or halves) pushed last first: top-left, top-right, bottom-left, bottom-right.
+        if (ym < t.w && xm < t.z) pending.emplace_back(xm, ym, t.z, t.w);
+        if (ym < t.w) pending.emplace_back(t.x, ym, xm, t.w);
+        if (xm < t.z) pending.emplace_back(xm, t.y, t.z, ym);
+        t = glm::ivec4(t.x, t.y, xm, ym);
+    }
+    return t;
+}
+} // namespace
+
+bool Renderer::refineStep(int maxTilePx) {
     if (!refine_.active) return true;
     bindFrameState();
     bool slab = false;
@@ -57,16 +87,13 @@ bool Renderer::refineStep() {
         return false;
     }
     refine_.lastStep = Refinement::Step::Tile;
-    const int t = refine_.tilePx;
-    const int index = refine_.done;
-    const int x0 = (index % refine_.columns) * t, y0 = (index / refine_.columns) * t;
-    const glm::ivec4 tile(x0, y0, std::min(width_, x0 + t), std::min(height_, y0 + t));
-    // The per-pixel passes over the tile and a margin (kRefineMarginPx): a pixel's result in
-    // them depends on its own pixel and neighbours within the margin only (the fog's
-    // bilateral upsampling), so the tile comes out as in the whole frame.
-    const glm::ivec4 r(std::max(0, tile.x - kRefineMarginPx), std::max(0, tile.y - kRefineMarginPx),
-                       std::min(width_, tile.z + kRefineMarginPx),
-                       std::min(height_, tile.w + kRefineMarginPx));
+    const glm::ivec4 tile = takeTile(refine_.pending, maxTilePx);
+    // The per-pixel passes over the tile and the OIT technique's margin (refineMarginPx(): what
+    // its resolve reads around a pixel), so the tile comes out as in the whole frame. The fog
+    // marches the texels its upsampling reads for these pixels (FogPass::march).
+    const int m = refineMarginPx();
+    const glm::ivec4 r(std::max(0, tile.x - m), std::max(0, tile.y - m),
+                       std::min(width_, tile.z + m), std::min(height_, tile.w + m));
     // The resolve composites over the whole hdr target (the techniques' resolves are compute
     // over the frame): it starts from the opaque image every tile.
     copyRect(opaqueHdr_, hdr_, r);
@@ -80,10 +107,12 @@ bool Renderer::refineStep() {
     fogTargets_.region = glm::ivec4(0);
     copyRect(hdr_, refinedHdr_, tile);
     copyRect(ldr_, refinedLdr_, tile);
+    refine_.lastTile = tile;
     refine_.lastRegion = r;
     ++refine_.done;
+    refine_.pixelsDone += static_cast<long long>(tile.z - tile.x) * (tile.w - tile.y);
     passTimes_ = timer_.collect();
-    if (refine_.done < refine_.tiles) return false;
+    if (!refine_.pending.empty()) return false;
     // Complete: the frame targets hold the frame, as after render().
     copyRect(refinedHdr_, hdr_, glm::ivec4(0, 0, width_, height_));
     copyRect(refinedLdr_, ldr_, glm::ivec4(0, 0, width_, height_));

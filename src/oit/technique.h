@@ -44,13 +44,13 @@ struct OitFrameTargets {
     const gpu::Texture* ambientOcclusion = nullptr;
     // The pixels the frame's per-pixel passes cover, x0 y0 x1 y1 (x1, y1 exclusive): the
     // viewer's tiled refinement sets one tile and its margin (frame/renderer.h,
-    // beginRefinement; Renderer::kRefineMarginPx), else the frame sets the whole frame. Zero
+    // beginRefinement; Renderer::refineMarginPx()), else the frame sets the whole frame. Zero
     // or empty means the whole frame (frameRegion()). Every compute pass of a technique (its
     // resolve and any pass feeding it) dispatches over the region only, the region's origin
     // an offset uniform in the shader (shaders/common/region.glsl), and leaves hdrColor
     // outside it untouched. The accumulation targets outside it hold whatever they held (the
     // draws and clears are scissored to it): a technique whose result at a pixel reads
-    // accumulation or hdrColor at other pixels says how far (phenomenological: its gather).
+    // accumulation or hdrColor at other pixels says how far (Technique::refineMarginPx()).
     glm::ivec4 region{0};
     // During a refinement, the opaque image of the whole frame (hdrColor holds it inside the
     // region only: outside, earlier tiles' composites); null otherwise, when hdrColor holds
@@ -158,6 +158,11 @@ public:
     virtual bool fogSegments() const { return false; }
     // Composites the accumulation over targets.hdrColor.
     virtual void resolve(const OitFrameTargets& targets) = 0;
+    // How far (pixels) a pixel's result reads the accumulation and the opaque depth around it:
+    // the viewer's tiled refinement (frame::Renderer::refineStep) accumulates a tile and this
+    // margin around it, so that the tile comes out as in the whole frame. 0: the resolve reads
+    // the pixel's own accumulation only.
+    virtual int refineMarginPx() const { return 0; }
     // Bytes of technique-owned storage per pixel (memory reports, benchmarks).
     virtual std::size_t bytesPerPixel() const = 0;
     // The technique's own targets as frame resources (debug views, `veil render --dump`),

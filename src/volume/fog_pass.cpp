@@ -133,12 +133,18 @@ void FogPass::march(const FogTargets& targets) {
     ++perPixelMarches_;
     const gpu::Program& mp = programs_.get(marchProgram_);
     setMarchUniforms(mp, targets);
-    // The region in fog texels: every texel whose block meets the pixel region.
+    // The region in fog texels: those the upsampling of the region's pixels reads
+    // (fog_contribution.glsl: the 4 texels around (p + 0.5) / divisor - 0.5, so for pixels
+    // [x0, x1) texels floor(x0 / divisor) - 1 to ceil(x1 / divisor), clamped; each texel is
+    // marched on its own, so a region's texels equal the whole march's).
     glm::ivec4 r(0, 0, width_, height_);
-    if (targets.region.z > 0)
-        r = glm::ivec4(targets.region.x / divisor_, targets.region.y / divisor_,
-                       std::min(width_, (targets.region.z + divisor_ - 1) / divisor_),
-                       std::min(height_, (targets.region.w + divisor_ - 1) / divisor_));
+    if (targets.region.z > 0) {
+        const int grow = divisor_ > 1 ? 1 : 0;
+        r = glm::ivec4(std::max(0, targets.region.x / divisor_ - grow),
+                       std::max(0, targets.region.y / divisor_ - grow),
+                       std::min(width_, (targets.region.z + divisor_ - 1) / divisor_ + grow),
+                       std::min(height_, (targets.region.w + divisor_ - 1) / divisor_ + grow));
+    }
     mp.set("resolutionDivisor", divisor_).set("marchRegion", r);
     mp.use();
     glBindImageTexture(VEIL_IMG_FOG_RADIANCE, radiance_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,

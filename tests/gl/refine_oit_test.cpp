@@ -10,6 +10,7 @@
 #include "scene/scene.h"
 #include "support/test_support.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -80,15 +81,16 @@ class RefineOitTest : public GlTest, public ::testing::WithParamInterface<std::s
 
 // Refined in 6 tiles, the hdr frame (RGBA16F bits) and the ldr frame equal render()'s
 // exactly: each pixel of the tile runs the same shaders on the same values in both (a pixel's
-// result reads its own pixel and, for the fog's upsampling, neighbours within the 16 px
-// margin; phenomenological's gather reads up to max_diffusion_pixels = 16 px away, plus the
-// refraction offset: exact here, fog.json's offsets being small, see docs/viewer.md
-// "Limits"). So any difference is a pass that reads or writes outside its region.
+// result reads its own pixel and, for the fog's upsampling, the fog texels the march covers
+// for the tile; phenomenological's gather reads up to its refineMarginPx() away, exact for
+// refraction offsets up to 16 px, see docs/viewer.md "Slow drivers"). So any difference is a pass
+// that reads or writes outside its region.
 //
-// And a tile away from the frame's origin (tile 4: x 32..63, y 32..63; its region with the
-// margin 16..80 x 16..64), refined after render() has left the whole frame's accumulation in
-// the technique's targets: a sentinel put in hdr before the tile survives outside the
-// region bit for bit (no resolve, compute pass or copy wrote there), and inside the region no
+// And a tile away from the frame's origin (tile 4: x 32..63, y 32..63; its region that and
+// the technique's margin, Renderer::refineMarginPx()), refined after render() has left the whole
+// frame's accumulation in the technique's targets: a sentinel put in hdr before the tile survives
+// outside the region bit for bit (no resolve, compute pass or copy wrote there; phenomenological's
+// 32 px margin makes the region the whole frame: nothing outside), and inside the region no
 // pixel keeps it (the tile starts from the opaque image, and the haze is everywhere).
 TEST_P(RefineOitTest, RefinedFrameEqualsTheFrameInOnePieceAndTilesKeepToTheirRegion) {
     const std::string name = GetParam();
@@ -134,7 +136,9 @@ TEST_P(RefineOitTest, RefinedFrameEqualsTheFrameInOnePieceAndTilesKeepToTheirReg
     ASSERT_FALSE(whole.refineStep()); // not the last tile (that copies the frame back)
     ASSERT_EQ(whole.refinement().lastStep, frame::Renderer::Refinement::Step::Tile);
     const glm::ivec4 region = whole.refinement().lastRegion;
-    ASSERT_EQ(region, glm::ivec4(16, 16, 80, 64));
+    const int m = whole.refineMarginPx();
+    ASSERT_EQ(region, glm::ivec4(std::max(32 - m, 0), std::max(32 - m, 0), std::min(64 + m, w),
+                                 std::min(64 + m, h)));
     VEIL_EXPECT_NO_GL_ERROR();
     const std::vector<std::uint16_t> after = halfTexels(whole.hdrTexture());
     std::size_t outsideChanged = 0, insideKept = 0;

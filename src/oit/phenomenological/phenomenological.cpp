@@ -266,11 +266,9 @@ public:
 
     // The result at a pixel reads A and beta_d at that pixel, and with diffusion the
     // background and the diffusion radius D of the taps within min(D, max_diffusion_pixels) of
-    // the pixel moved by its refraction offset (000 section 5): within the region's margin
-    // only for offsets of at most margin - max_diffusion_pixels (the refinement's margin,
-    // 16 px, covers the default max_diffusion_pixels 16 without refraction; a refraction
-    // offset reaches beyond it). The background is the opaque image everywhere
-    // (targets.opaqueColor); the accumulation outside the region is an earlier tile's.
+    // the pixel moved by its refraction offset (000 section 5): within refineMarginPx() for
+    // offsets up to 16 px; a larger offset reads another tile's accumulation. The background
+    // is the opaque image everywhere (targets.opaqueColor during a refinement).
     void resolve(const OitFrameTargets& targets) override {
         if (lowRes()) upsample(targets);
         // The gather reads neighbours of the background while the result is written: read a
@@ -303,6 +301,14 @@ public:
         glBindImageTexture(VEIL_IMG_OUTPUT, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     }
 
+    // The diffusion's taps (up to max_diffusion_pixels), the low-resolution particles'
+    // upsampling (two low-resolution texels) and the refraction's offset (bounded here by 16 px:
+    // larger offsets read accumulation a tile's margin may miss, so a refined frame can differ
+    // there from the frame in one piece).
+    int refineMarginPx() const override {
+        return (params_.diffusion ? params_.maxDiffusionPixels : 0) +
+               (lowRes() ? 2 * params_.particleDownsample : 0) + (params_.refraction ? 16 : 0);
+    }
     std::size_t bytesPerPixel() const override {
         const int s = params_.particleDownsample;
         const std::size_t delta = params_.refraction ? 4 : 0;
