@@ -404,6 +404,13 @@ void Renderer::beginFrame() {
                         !shadows_->dependsOnCamera();
 }
 
+void Renderer::setOitRegion() {
+    targets_.region = region_;
+    // Part of the frame (a refinement tile): hdr holds the opaque image inside region_ only.
+    const bool part = region_ != glm::ivec4(0, 0, width_, height_);
+    targets_.opaqueColor = part ? &opaqueHdr_ : nullptr;
+}
+
 void Renderer::runPasses(std::size_t first, std::size_t end) {
     const std::vector<Pass>& passes = passes_.passes();
     const bool shadowsHere = first < shadowPassCount_;
@@ -517,6 +524,7 @@ void Renderer::buildPasses() {
         plus({"oit.accumulation"}, oit_->accumulationResources());
     passes_.add({"transparent", transparentReads, accumulation, [this, bindShadows] {
                      bindShadows();
+                     setOitRegion();
                      for (int pass = 0; pass < oit_->geometryPasses(); ++pass) {
                          const gpu::Program& program = programs_.get(transparentPrograms_[pass]);
                          program.set("useOverride", 0);
@@ -557,8 +565,11 @@ void Renderer::buildPasses() {
                      }
                  }});
 
-    passes_.add({"resolve", plus(accumulation, {"hdr"}), plus({"hdr"}, oit_->resolveResources()),
-                 [this] { oit_->resolve(targets_); }});
+    passes_.add(
+        {"resolve", plus(accumulation, {"hdr"}), plus({"hdr"}, oit_->resolveResources()), [this] {
+             setOitRegion();
+             oit_->resolve(targets_);
+         }});
 
     passes_.add({"tonemap", {"hdr"}, {"ldr"}, [this] {
                      const gpu::Program& program = programs_.get(tonemapProgram_);

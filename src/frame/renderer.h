@@ -82,9 +82,9 @@ public:
     // work of a step when a step took too long (the viewer's time budget, app/view_session.h).
     // Until then hdrTexture()/ldrTexture() hold partial work: show the last complete image.
     // The camera and scene must not change between the calls (begin again instead: that
-    // cancels). The OIT resolve still runs over the whole frame per tile (the techniques'
-    // resolves dispatch over the frame; the accumulation outside the tile is empty there, and
-    // only the tile is kept).
+    // cancels). The OIT technique's resolve and compute passes run over the region too
+    // (oit::OitFrameTargets::region; hdr outside it keeps earlier tiles' work), and so does
+    // the copy of the opaque image into hdr that each tile starts from.
     int refineMarginPx() const;
     // When the shadow maps are to be drawn (not kept by reuse) and the shadow technique has
     // passes in bands of rows (shadows::ShadowPass::executeRows), the first steps draw them:
@@ -214,6 +214,8 @@ private:
     void beginFrame();
     void bindFrameState();
     void runPasses(std::size_t first, std::size_t end);
+    // targets_.region (and opaqueColor) from region_, before the OIT passes.
+    void setOitRegion();
     enum class Subset { Opaque, Transparent, OpaqueCasters, TransparentCasters };
     void drawObjects(const gpu::Program& program, Subset subset) const;
 

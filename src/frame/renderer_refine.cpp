@@ -149,7 +149,7 @@ bool Renderer::refineStep(int maxTilePx) {
                        std::min(width_, tile.z + m), std::min(height_, tile.w + m));
     // The resolve composites over the whole hdr target (the techniques' resolves are compute
     // over the frame): it starts from the opaque image every tile.
-    copyRect(opaqueHdr_, hdr_, glm::ivec4(0, 0, width_, height_));
+    copyRect(opaqueHdr_, hdr_, r);
     region_ = r;
     fogTargets_.region = r;
     state_.setScissorLimit(glm::ivec4(r.x, r.y, r.z - r.x, r.w - r.y));

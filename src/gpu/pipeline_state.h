@@ -97,6 +97,7 @@ public:
         limit_ = box;
         current_.reset();
     }
+    const std::optional<glm::ivec4>& scissorLimit() const { return limit_; }
     // GL calls the last apply() made (tests: a repeated apply makes none).
     int lastCallCount() const { return calls_; }
     // Reads the fixed-function state of the current context back from GL (tests, debugging).

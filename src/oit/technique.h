@@ -16,6 +16,7 @@
 #include "gpu/pipeline_state.h"
 #include "gpu/shader.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -41,7 +42,48 @@ struct OitFrameTargets {
     // The frame's ambient visibility (R16F, one value per pixel, src/frame/ambient_occlusion.h)
     // when render.ao is on, else null: techniques that infer AO at partial coverage read it.
     const gpu::Texture* ambientOcclusion = nullptr;
+    // The pixels the frame's per-pixel passes cover, x0 y0 x1 y1 (x1, y1 exclusive): the
+    // viewer's tiled refinement sets one tile and its margin (frame/renderer.h,
+    // beginRefinement; Renderer::refineMarginPx()), else the frame sets the whole frame. Zero
+    // or empty means the whole frame (frameRegion()). Every compute pass of a technique (its
+    // resolve and any pass feeding it) dispatches over the region only, the region's origin
+    // an offset uniform in the shader (shaders/common/region.glsl), and leaves hdrColor
+    // outside it untouched. The accumulation targets outside it hold whatever they held (the
+    // draws and clears are scissored to it): a technique whose result at a pixel reads
+    // accumulation or hdrColor at other pixels says how far (Technique::refineMarginPx()).
+    glm::ivec4 region{0};
+    // During a refinement, the opaque image of the whole frame (hdrColor holds it inside the
+    // region only: outside, earlier tiles' composites); null otherwise, when hdrColor holds
+    // it everywhere before the resolve. For techniques that read the background at other
+    // pixels than their own (phenomenological's refraction and diffusion).
+    const gpu::Texture* opaqueColor = nullptr;
 };
+
+// targets.region clamped to the frame, the whole frame when it is empty.
+inline glm::ivec4 frameRegion(const OitFrameTargets& targets) {
+    const glm::ivec4 r = targets.region;
+    const glm::ivec4 c(std::max(r.x, 0), std::max(r.y, 0), std::min(r.z, targets.width),
+                       std::min(r.w, targets.height));
+    if (c.z <= c.x || c.w <= c.y) return {0, 0, targets.width, targets.height};
+    return c;
+}
+
+// The texels of a grid `scale` times coarser than the frame (texel q covers pixels
+// q * scale .. q * scale + scale - 1) that cover region `r`, grown by `pad` texels on each side
+// and clamped to the coarse grid of `size` texels.
+inline glm::ivec4 coarseRegion(glm::ivec4 r, int scale, int pad, glm::ivec2 size) {
+    return {std::max(r.x / scale - pad, 0), std::max(r.y / scale - pad, 0),
+            std::min((r.z + scale - 1) / scale + pad, size.x),
+            std::min((r.w + scale - 1) / scale + pad, size.y)};
+}
+
+// Dispatches `program` (8 x 8 invocations per group, current) over region `r` (x0 y0 x1 y1),
+// setting its `region` uniform (shaders/common/region.glsl).
+inline void dispatchRegion(const gpu::Program& program, glm::ivec4 r) {
+    program.set("region", r);
+    glDispatchCompute(static_cast<GLuint>((r.z - r.x + 7) / 8),
+                      static_cast<GLuint>((r.w - r.y + 7) / 8), 1);
+}
 
 // What every accumulation pass starts from: the full viewport, depth tested against the
 // opaque depth and not written, no culling, no blending.

@@ -5,6 +5,7 @@
 // vanish (no absorbing surface: purely emissive or fully transmitting ones) the sum is added
 // unnormalized, as then T = 1 exactly.
 #include "../../common/bindings.h"
+#include "../../common/region.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = VEIL_TEX_OIT0 + 0) uniform sampler2D momentTex0;
@@ -12,9 +13,9 @@ layout(binding = VEIL_TEX_OIT0 + 3) uniform sampler2D accumTex;
 layout(binding = VEIL_IMG_OUTPUT, rgba16f) uniform image2D hdrImage;
 
 void main() {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = imageSize(hdrImage);
-    if (p.x >= size.x || p.y >= size.y) return;
+    ivec2 p;
+    if (!regionPixel(size, p)) return;
     vec4 t0 = texelFetch(momentTex0, p, 0);
     vec4 acc = texelFetch(accumTex, p, 0);
     if (t0.x <= 0.0 && all(equal(t0.yzw, vec3(0.0))) && all(equal(acc, vec4(0.0)))) return;

@@ -4,6 +4,7 @@
 // part of the block are accumulated; the joint-bilateral upsample (upsample.comp) keeps them
 // off the nearer opaque pixels of the block.
 #include "../../common/bindings.h"
+#include "../../common/region.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -13,8 +14,8 @@ layout(binding = VEIL_IMG_OUTPUT, r32f) uniform writeonly image2D lowDepth;
 uniform int phenScale; // 2 or 4
 
 void main() {
-    ivec2 q = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(q, imageSize(lowDepth)))) return;
+    ivec2 q;
+    if (!regionPixel(imageSize(lowDepth), q)) return;
     ivec2 size = textureSize(phenFullDepth, 0);
     float d = 0.0;
     for (int y = 0; y < phenScale; ++y)

@@ -6,6 +6,7 @@
 //   combine  U' with self-modulation (000 Eq. 13 / 001 Eq. 14), then 000 Eq. 3.
 #include "../../common/bindings.h"
 #include "../../common/math.glsl"
+#include "../../common/region.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -24,8 +25,8 @@ float minComponent(vec3 v) { return min(v.x, min(v.y, v.z)); }
 
 void main() {
     ivec2 size = textureSize(phenBD, 0);
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (p.x >= size.x || p.y >= size.y) return;
+    ivec2 p;
+    if (!regionPixel(size, p)) return;
     vec4 BD = texelFetch(phenBD, p, 0);
     vec3 B = BD.rgb;
     if (minComponent(B) >= 1.0) return; // no transparency: the opaque image stays

@@ -17,6 +17,7 @@
 // The thickness is exact to within one slice length for closed meshes whose faces fall in
 // distinct slices.
 #include "../../common/camera.glsl"
+#include "../../common/region.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -34,8 +35,8 @@ const int OUTSIDE = 0, INSIDE = 1, UNKNOWN = 2;
 
 void main() {
     ivec2 size = textureSize(phenFront0, 0);
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (p.x >= size.x || p.y >= size.y) return;
+    ivec2 p;
+    if (!regionPixel(size, p)) return;
     uvec4 front[4] = uvec4[4](texelFetch(phenFront0, p, 0), texelFetch(phenFront1, p, 0),
                               texelFetch(phenFront2, p, 0), texelFetch(phenFront3, p, 0));
     uvec4 back[4] = uvec4[4](texelFetch(phenBack0, p, 0), texelFetch(phenBack1, p, 0),

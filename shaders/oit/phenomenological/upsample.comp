@@ -11,6 +11,7 @@
 // of the keys (a near opaque edge amid far blocks) receives nothing instead of a leak, while a
 // pixel with any matching neighbour takes its value from the matching ones.
 #include "../../common/camera.glsl"
+#include "../../common/region.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -34,9 +35,9 @@ float viewDepthOf(float d) {
 }
 
 void main() {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = imageSize(fullA);
-    if (p.x >= size.x || p.y >= size.y) return;
+    ivec2 p;
+    if (!regionPixel(size, p)) return;
     ivec2 lowSize = textureSize(lowA, 0);
     float z = viewDepthOf(texelFetch(phenFullDepth, p, 0).r);
     vec2 u = (vec2(p) + 0.5) / float(phenScale) - 0.5; // position in low-res texel centers

@@ -8,6 +8,7 @@
 // Every pixel's list length (its nodes: surface fragments and, with fog, one per fog
 // segment) goes to oitRefCount, the frame resource oit.reference.fragments_per_pixel.
 #include "../../common/bindings.h"
+#include "../../common/region.glsl"
 
 #ifndef OIT_REF_MAX_FRAGMENTS
 #error "OIT_REF_MAX_FRAGMENTS must be defined (size of the per-pixel sort array)"
@@ -37,9 +38,9 @@ uniform uint oitRefCapacity;
 const uint kEnd = 0xFFFFFFFFu;
 
 void main() {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = imageSize(hdrImage);
-    if (p.x >= size.x || p.y >= size.y) return;
+    ivec2 p;
+    if (!regionPixel(size, p)) return;
     uint index = imageLoad(oitRefHeads, p).r;
     if (index == kEnd) {
         imageStore(oitRefCount, p, vec4(0.0));

@@ -4,6 +4,7 @@
 // to a single-sample RGBA32F sum over the repeated passes (004 section 5: "average together
 // multiple passes with different random seeds"; footnote 4: average B and B1 separately).
 #include "../../common/bindings.h"
+#include "../../common/region.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = VEIL_TEX_OIT0 + 1) uniform sampler2DMS stochColor;
@@ -12,9 +13,9 @@ layout(binding = VEIL_IMG_OUTPUT, rgba32f) uniform image2D passSum;
 uniform int samples;
 
 void main() {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = imageSize(passSum);
-    if (p.x >= size.x || p.y >= size.y) return;
+    ivec2 p;
+    if (!regionPixel(size, p)) return;
     vec4 sum = vec4(0.0);
     for (int s = 0; s < samples; ++s) sum += texelFetch(stochColor, p, s);
     imageStore(passSum, p, imageLoad(passSum, p) + sum / float(samples));

@@ -8,6 +8,7 @@
 // background is dimmed per sample and then filtered (004 3.5), which for a single-sample
 // opaque image is the filtered product.
 #include "../../common/bindings.h"
+#include "../../common/region.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = VEIL_TEX_OIT0 + 0) uniform sampler2DMS totalAlpha;
@@ -20,9 +21,9 @@ uniform int samples;
 uniform int passes;
 
 void main() {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = imageSize(hdrImage);
-    if (p.x >= size.x || p.y >= size.y) return;
+    ivec2 p;
+    if (!regionPixel(size, p)) return;
     vec4 bg = imageLoad(hdrImage, p);
     vec3 result;
     if (variant == 0) {

@@ -4,6 +4,7 @@
 // with the under-/overflow guards of 000 Listing 2 on the RGBA16F accumulation.
 #include "../../common/bindings.h"
 #include "../../common/math.glsl"
+#include "../../common/region.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = VEIL_TEX_OIT0) uniform sampler2D accumTex;
@@ -11,9 +12,9 @@ layout(binding = VEIL_TEX_OIT0 + 1) uniform sampler2D revealageTex;
 layout(binding = VEIL_IMG_OIT_WBOIT_TARGET, rgba16f) uniform restrict image2D hdrImage;
 
 void main() {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = imageSize(hdrImage);
-    if (p.x >= size.x || p.y >= size.y) return;
+    ivec2 p;
+    if (!regionPixel(size, p)) return;
     float r = texelFetch(revealageTex, p, 0).r;
     if (r >= 1.0) return; // no transparency (000 Listing 2)
     vec4 A = texelFetch(accumTex, p, 0);

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cmath>
+#include <optional>
 
 namespace veil::oit {
 
@@ -196,11 +197,21 @@ public:
             depthCopy_.bind(VEIL_PHEN_TEX_DEPTH);
             glBindImageTexture(VEIL_IMG_OUTPUT, lowDepth_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
                                GL_R32F);
-            glDispatchCompute((lowWidth_ + 7) / 8, (lowHeight_ + 7) / 8, 1);
+            const glm::ivec4 low = lowRegion(targets);
+            dispatchRegion(down, low);
             glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
             program.use();
             fbo = &lowFramebuffer_;
             state.view(lowWidth_, lowHeight_);
+            // A frame's scissor limit (a refinement tile) is in full-resolution pixels: the
+            // particles' draws and clears keep to the low-resolution texels the upsampling
+            // of the region reads instead (endAccumulate() puts the limit back).
+            if (targets.state->scissorLimit()) {
+                limitTracker_ = targets.state;
+                savedLimit_ = targets.state->scissorLimit();
+                targets.state->setScissorLimit(
+                    glm::ivec4(low.x, low.y, low.z - low.x, low.w - low.y));
+            }
             state.depthTest = false; // emit.glsl tests against the low-resolution depth key
             lowDepth_.bind(VEIL_PHEN_TEX_DEPTH);
         }
@@ -247,13 +258,31 @@ public:
                                GL_RG16F);
     }
 
-    void endAccumulate(int) override { glBindFramebuffer(GL_FRAMEBUFFER, 0); }
+    void endAccumulate(int) override {
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        if (limitTracker_) limitTracker_->setScissorLimit(savedLimit_);
+        limitTracker_ = nullptr;
+    }
 
+    // The result at a pixel reads A and beta_d at that pixel, and with diffusion the
+    // background and the diffusion radius D of the taps within min(D, max_diffusion_pixels) of
+    // the pixel moved by its refraction offset (000 section 5): within refineMarginPx() for
+    // offsets up to 16 px; a larger offset reads another tile's accumulation. The background
+    // is the opaque image everywhere (targets.opaqueColor during a refinement).
     void resolve(const OitFrameTargets& targets) override {
         if (lowRes()) upsample(targets);
-        // The gather reads neighbours of the background while the result is written: read a copy.
-        glCopyImageSubData(targets.hdrColor->id(), GL_TEXTURE_2D, 0, 0, 0, 0, background_.id(),
-                           GL_TEXTURE_2D, 0, 0, 0, 0, targets.width, targets.height, 1);
+        // The gather reads neighbours of the background while the result is written: read a
+        // copy. During a refinement hdrColor holds the opaque image inside the region only:
+        // then the copy is of targets.opaqueColor's whole frame (a copy, no shader work).
+        const glm::ivec4 r = frameRegion(targets);
+        if (targets.opaqueColor)
+            glCopyImageSubData(targets.opaqueColor->id(), GL_TEXTURE_2D, 0, 0, 0, 0,
+                               background_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, targets.width,
+                               targets.height, 1);
+        else
+            glCopyImageSubData(targets.hdrColor->id(), GL_TEXTURE_2D, 0, r.x, r.y, 0,
+                               background_.id(), GL_TEXTURE_2D, 0, r.x, r.y, 0, r.z - r.x,
+                               r.w - r.y, 1);
         const gpu::Program& program = programs_.get(resolveProgram_);
         program.use();
         program.set("phenMaxDiffusionPixels", static_cast<float>(params_.maxDiffusionPixels))
@@ -266,7 +295,7 @@ public:
         background_.bind(VEIL_PHEN_TEX_BKG);
         glBindImageTexture(VEIL_IMG_OUTPUT, targets.hdrColor->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
                            GL_RGBA16F);
-        glDispatchCompute((targets.width + 7) / 8, (targets.height + 7) / 8, 1);
+        dispatchRegion(program, r);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                         GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
         glBindImageTexture(VEIL_IMG_OUTPUT, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
@@ -306,6 +335,14 @@ public:
 
 private:
     bool lowRes() const { return params_.particleDownsample > 1; }
+    // The low-resolution texels the upsampling of the region reads: pixel p's 4 x 4 taps
+    // start at floor((p + 0.5) / s - 0.5) - 1 >= floor(p / s) - 2 and end before
+    // ceil((p + 1) / s) + 2 (upsample.comp), so the region divided by s, rounded outward and
+    // grown by 2 texels.
+    glm::ivec4 lowRegion(const OitFrameTargets& targets) const {
+        return coarseRegion(frameRegion(targets), params_.particleDownsample, 2,
+                            glm::ivec2(lowWidth_, lowHeight_));
+    }
     bool volume() const { return params_.volumeRefraction; }
     // RT0 A, RT1 (beta, D^2) and, with refraction, RT2 delta (none without it).
     void attachAccumulation(gpu::Framebuffer& fbo, const gpu::Texture& a, const gpu::Texture& bd,
@@ -345,7 +382,7 @@ private:
             slices_[k].bind(VEIL_PHEN_TEX_SLICES + k);
         glBindImageTexture(VEIL_IMG_OUTPUT, thickness_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
                            GL_RG32F);
-        glDispatchCompute((targets.width + 7) / 8, (targets.height + 7) / 8, 1);
+        dispatchRegion(program, frameRegion(targets)); // per pixel: no neighbourhood
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
         glBindImageTexture(VEIL_IMG_OUTPUT, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
         // The slice textures sat on the units of the accumulation's inputs: unbind them.
@@ -367,7 +404,7 @@ private:
         glBindImageTexture(1, betaD_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA16);
         if (params_.refraction)
             glBindImageTexture(2, delta_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG16F);
-        glDispatchCompute((targets.width + 7) / 8, (targets.height + 7) / 8, 1);
+        dispatchRegion(program, frameRegion(targets));
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         for (GLuint unit = 0; unit < 3; ++unit)
             glBindImageTexture(unit, 0, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA16F);
@@ -376,6 +413,9 @@ private:
     gpu::ProgramManager& programs_;
     PhenomenologicalParams params_;
     gpu::ProgramHandle resolveProgram_, downsampleProgram_, upsampleProgram_, thicknessProgram_;
+    // The frame's scissor limit while the particle pass replaces it (beginAccumulate()).
+    gpu::StateTracker* limitTracker_ = nullptr;
+    std::optional<glm::ivec4> savedLimit_;
     std::array<gpu::Texture, 8> slices_{gpu::Texture(gpu::NoCreate), gpu::Texture(gpu::NoCreate),
                                         gpu::Texture(gpu::NoCreate), gpu::Texture(gpu::NoCreate),
                                         gpu::Texture(gpu::NoCreate), gpu::Texture(gpu::NoCreate),

@@ -133,7 +133,7 @@ void ReferenceTechnique::resolve(const OitFrameTargets& targets) {
                        GL_R32F);
     nodes_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_OIT_REF_NODES);
     counters_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_OIT_REF_COUNTERS);
-    glDispatchCompute((targets.width + 7) / 8, (targets.height + 7) / 8, 1);
+    dispatchRegion(program, frameRegion(targets));
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                     GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
                     GL_BUFFER_UPDATE_BARRIER_BIT);

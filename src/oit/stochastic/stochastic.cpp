@@ -159,6 +159,7 @@ public:
     void beginAccumulate(int pass, const OitFrameTargets& targets,
                          const gpu::Program& program) override {
         const PassInfo info = passInfo(pass);
+        region_ = frameRegion(targets);
         gpu::PipelineState state = accumulationState(targets); // multisampling on (default)
         targets.state->apply(state); // clears obey the colour masks: state first
         if (pass == 0) clearAccumulation();
@@ -219,7 +220,7 @@ public:
             msColor_.bind(VEIL_TEX_OIT0 + 1);
             glBindImageTexture(VEIL_IMG_OUTPUT, passSum_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
                                GL_RGBA32F);
-            dispatch(passSum_.width(), passSum_.height());
+            dispatchRegion(fold, region_); // the region of beginAccumulate()
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
         }
     }
@@ -235,7 +236,7 @@ public:
         (mode_ != StochasticMode::DepthBased ? passSum_ : dummy2d_).bind(VEIL_TEX_OIT0 + 2);
         glBindImageTexture(VEIL_IMG_OUTPUT, targets.hdrColor->id(), 0, GL_FALSE, 0, GL_READ_WRITE,
                            GL_RGBA16F);
-        dispatch(targets.width, targets.height);
+        dispatchRegion(program, frameRegion(targets));
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                         GL_FRAMEBUFFER_BARRIER_BIT);
     }
@@ -297,8 +298,9 @@ private:
             glClearNamedFramebufferfv(totalFbo_.id(), GL_COLOR, 0, one);
         if (mode_ == StochasticMode::DepthBased)
             glClearNamedFramebufferfv(colorFbo_.id(), GL_COLOR, 0, zero);
-        else
-            glClearTexImage(passSum_.id(), 0, GL_RGBA, GL_FLOAT, zero);
+        else // not a framebuffer clear: kept to the region by hand
+            glClearTexSubImage(passSum_.id(), 0, region_.x, region_.y, 0, region_.z - region_.x,
+                               region_.w - region_.y, 1, GL_RGBA, GL_FLOAT, zero);
     }
 
     void copyOpaqueDepth(const OitFrameTargets& targets) {
@@ -315,10 +317,6 @@ private:
         glBindVertexArray(0);
     }
 
-    static void dispatch(int w, int h) {
-        glDispatchCompute(static_cast<GLuint>((w + 7) / 8), static_cast<GLuint>((h + 7) / 8), 1);
-    }
-
     StochasticMode mode_;
     gpu::ProgramManager* programs_;
     int samples_ = 4, passes_ = 1, maskBits_ = 4;
@@ -326,6 +324,7 @@ private:
     bool msDepthHoldsOpaque_ = false; // msDepth_ = the opaque depth (no pass wrote it since)
     int depthCopies_ = 0;             // full-screen MSAA depth copies of the last frame (stats())
     std::uint32_t seed_ = 1;          // OitFrameTargets::seed of the current frame
+    glm::ivec4 region_{0};            // frameRegion() of the current geometry pass
     gpu::ProgramHandle copyProgram_, foldProgram_, resolveProgram_;
     gpu::Buffer masks_{gpu::NoCreate};
     gpu::VertexArray vao_{gpu::NoCreate};

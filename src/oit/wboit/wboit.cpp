@@ -56,7 +56,7 @@ public:
         revealage_.bind(VEIL_TEX_OIT0 + 1);
         glBindImageTexture(VEIL_IMG_OIT_WBOIT_TARGET, targets.hdrColor->id(), 0, GL_FALSE, 0,
                            GL_READ_WRITE, GL_RGBA16F);
-        glDispatchCompute((targets.width + 7) / 8, (targets.height + 7) / 8, 1);
+        dispatchRegion(program, frameRegion(targets));
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                         GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
     }
