@@ -4,6 +4,7 @@
 #include "base/log.h"
 #include "shaders/common/bindings.h"
 #include "volume/density_grid.h"
+#include "volume/gpu_volume.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 

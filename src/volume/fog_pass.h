@@ -13,10 +13,14 @@
 // (Henyey-Greenstein), emission. "homogeneous" volumes add global fog of constant density.
 #pragma once
 
+#include "gpu/objects.h"
 #include "gpu/shader.h"
 #include "scene/scene.h"
-#include "volume/gpu_volume.h"
+#include "volume/gpu_volume_stats.h"
 
+#include <glm/glm.hpp>
+
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -24,6 +28,8 @@
 #include <vector>
 
 namespace veil::volume {
+
+class GpuVolume;
 
 struct FogTargets {
     int width = 0, height = 0;           // full resolution

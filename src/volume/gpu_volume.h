@@ -10,6 +10,7 @@
 
 #include "gpu/objects.h"
 #include "scene/scene.h"
+#include "volume/gpu_volume_stats.h"
 
 #include <openvdb/openvdb.h>
 
@@ -17,23 +18,11 @@
 
 #include <set>
 #include <string>
+#include <type_traits>
 
 namespace veil::volume {
 
-struct GpuVolumeOptions {
-    std::size_t budgetBytes = std::size_t(1024) << 20;
-    bool refuseOverBudget = false; // false: coarsen (voxel size x2 until it fits) with a warning
-    std::size_t denseVoxelLimit = std::size_t(96) * 96 * 96; // bounding boxes up to this: dense
-};
-
-struct GpuVolumeStats {
-    std::size_t gpuBytes = 0;  // textures of this volume (atlas or dense, indirection)
-    std::size_t gridBytes = 0; // openvdb's own memory for the grid
-    std::size_t bricks = 0;    // 0 for the dense path
-    bool dense = false;
-    int coarsened = 0; // times the voxel size was doubled to fit the budget
-    openvdb::Index64 activeVoxels = 0;
-};
+static_assert(std::is_same_v<openvdb::Index64, std::uint64_t>);
 
 // Bytes the GPU representation of `grid` would take (without building it; a lower bound for
 // grids far over the budget, whose tiles are not enumerated).
