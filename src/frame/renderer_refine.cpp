@@ -147,8 +147,8 @@ bool Renderer::refineStep(int maxTilePx) {
     const int m = refineMarginPx();
     const glm::ivec4 r(std::max(0, tile.x - m), std::max(0, tile.y - m),
                        std::min(width_, tile.z + m), std::min(height_, tile.w + m));
-    // The resolve composites over the whole hdr target (the techniques' resolves are compute
-    // over the frame): it starts from the opaque image every tile.
+    // The resolve composites over hdr in the region (oit::OitFrameTargets::region): it starts
+    // from the opaque image there every tile.
     copyRect(opaqueHdr_, hdr_, r);
     region_ = r;
     fogTargets_.region = r;
