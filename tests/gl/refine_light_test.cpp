@@ -7,6 +7,7 @@
 #include "frame/renderer.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
+#include "texel_bits.h"
 #include "volume/fog_pass.h"
 
 #include <cstdint>
@@ -18,15 +19,7 @@ namespace {
 
 // The R16F texels as stored (bits, not values: the comparison is exact).
 std::vector<std::uint16_t> halfTexels(const gpu::Texture& t) {
-    std::vector<std::uint16_t> v(std::size_t(t.width()) * t.height() * t.depth());
-    glGetTextureImage(t.id(), 0, GL_RED, GL_HALF_FLOAT, GLsizei(v.size() * 2), v.data());
-    return v;
-}
-
-std::vector<std::uint8_t> rgba8(const gpu::Texture& t) {
-    std::vector<std::uint8_t> v(std::size_t(t.width()) * t.height() * 4);
-    glGetTextureImage(t.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(v.size()), v.data());
-    return v;
+    return texelBits<std::uint16_t>(t, GL_RED, GL_HALF_FLOAT, 1);
 }
 
 } // namespace

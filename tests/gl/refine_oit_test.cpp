@@ -9,6 +9,7 @@
 #include "oit/technique.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
+#include "texel_bits.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -21,15 +22,7 @@ namespace {
 
 // The RGBA16F texels as stored (bits, not values: the comparisons are exact).
 std::vector<std::uint16_t> halfTexels(const gpu::Texture& t) {
-    std::vector<std::uint16_t> v(std::size_t(t.width()) * t.height() * 4);
-    glGetTextureImage(t.id(), 0, GL_RGBA, GL_HALF_FLOAT, GLsizei(v.size() * 2), v.data());
-    return v;
-}
-
-std::vector<std::uint8_t> rgba8(const gpu::Texture& t) {
-    std::vector<std::uint8_t> v(std::size_t(t.width()) * t.height() * 4);
-    glGetTextureImage(t.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(v.size()), v.data());
-    return v;
+    return texelBits<std::uint16_t>(t, GL_RGBA, GL_HALF_FLOAT, 4);
 }
 
 // datasets/scenes/fog.json (glass, a smoke volume and haze everywhere, so that every pixel

@@ -10,6 +10,7 @@
 #include "io/image_io.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
+#include "texel_bits.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -22,16 +23,6 @@
 namespace veil::test {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-std::vector<std::uint8_t> rgba8(const gpu::Texture& t) {
-    std::vector<std::uint8_t> v(std::size_t(t.width()) * t.height() * 4);
-    glGetTextureImage(t.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(v.size()), v.data());
-    return v;
-}
-
-} // namespace
 
 class RefineTilesTest : public GlTest {};
 
@@ -87,12 +78,7 @@ TEST_F(RefineTilesTest, SplitTilesCoverTheFrameOnceAndEqualOnePiece) {
     EXPECT_EQ(tiled.refinement().pixelsDone, tiled.refinement().pixels);
     EXPECT_EQ(std::count(covered.begin(), covered.end(), 1), 100 * 70)
         << "every pixel in exactly one tile";
-    const std::vector<std::uint8_t> ldr = rgba8(tiled.ldrTexture());
-    ASSERT_EQ(ldr.size(), expected.size());
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < ldr.size(); ++i)
-        differ += ldr[i] != expected[i];
-    EXPECT_EQ(differ, 0u) << "bytes of the refined frame";
+    EXPECT_EQ(differing(rgba8(tiled.ldrTexture()), expected), 0u) << "bytes of the refined frame";
 }
 
 // The shadow maps drawn in bands during a refinement (shadows::ShadowPass::executeRows,
@@ -138,12 +124,7 @@ TEST_F(RefineTilesTest, ShadowMapsDrawnInBandsOneBandPerStep) {
     EXPECT_EQ(*firstOther, Step::PerFrame);
     EXPECT_EQ(std::count(firstOther, steps.end(), Step::ShadowBand), 0);
     EXPECT_EQ(tiled.shadowMapRenders(), renders0 + 1);
-    const std::vector<std::uint8_t> ldr = rgba8(tiled.ldrTexture());
-    ASSERT_EQ(ldr.size(), expected.size());
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < ldr.size(); ++i)
-        differ += ldr[i] != expected[i];
-    EXPECT_EQ(differ, 0u) << "bytes of the refined frame";
+    EXPECT_EQ(differing(rgba8(tiled.ldrTexture()), expected), 0u) << "bytes of the refined frame";
     // With reuse on and the maps valid, the next refinement draws no band.
     tiled.setReuseShadowMaps(true);
     tiled.render(); // draws (reuse just switched on)
