@@ -17,6 +17,7 @@
 #include "io/image_io.h"
 #include "oit/technique.h"
 #include "scene/scene.h"
+#include "scene/scene_values.h"
 #include "shadows/technique.h"
 
 #include <nlohmann/json.hpp>
@@ -298,6 +299,10 @@ void runRender(const RenderArgs& args) {
     report["gl_version"] = context.info().version;
     report["vendor"] = context.info().vendor;
     report["metadata"] = metadataJson(metadata);
+    // Every declared scene value as rendered (scene/scene_values.h), --width/--height included.
+    report["scene_values"] = scene::sceneValues(scene);
+    report["scene_values"]["render"]["width"] = main.width;
+    report["scene_values"]["render"]["height"] = main.height;
     report["timer"] = main.timer == gpu::GpuTimer::Mode::Query
                           ? "GL_TIME_ELAPSED"
                           : "glFinish + CPU clock (driver timer unusable)";
