@@ -60,10 +60,9 @@ void readValues(const Obj& o, const std::vector<ValueDecl<S>>& decls, S& s, int 
 // The keys a document of type `typeIndex` accepts: `before`, the declared values with `extra`
 // after the value `after` (the order of the "unknown key (known: ...)" message).
 template <class S>
-std::vector<std::string> keysOf(const std::vector<ValueDecl<S>>& decls, int typeIndex,
-                                std::vector<std::string> before,
-                                const std::vector<std::pair<std::string, std::vector<std::string>>>&
-                                    extra = {}) {
+std::vector<std::string>
+keysOf(const std::vector<ValueDecl<S>>& decls, int typeIndex, std::vector<std::string> before,
+       const std::vector<std::pair<std::string, std::vector<std::string>>>& extra = {}) {
     std::vector<std::string> keys = std::move(before);
     for (const ValueDecl<S>& d : decls) {
         if (!(d.acceptedBy & typeBit(typeIndex))) continue;
@@ -433,10 +432,10 @@ void parseObject(const Context& ctx, const json& j, const std::string& ptr, std:
 }
 
 VolumeRef parseVolume(const Context& ctx, const json& j, const std::string& ptr, std::size_t i) {
-    Obj o(ctx, j, ptr,
-          keysOf(volumeValueDecls(), 0,
-                 {"name", "path", "procedural", "size", "voxel_size", "seed", "grid",
-                  "transform"}));
+    Obj o(
+        ctx, j, ptr,
+        keysOf(volumeValueDecls(), 0,
+               {"name", "path", "procedural", "size", "voxel_size", "seed", "grid", "transform"}));
     VolumeRef v;
     v.name = o.str("name", fmt::format("volume{}", i));
     if (o.get("path") && o.get("procedural"))

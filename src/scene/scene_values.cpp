@@ -21,8 +21,8 @@ public:
     template <class F>
     Decls& integer(std::string key, F S::*field, long long lo, long long hi, std::string doc,
                    std::string citation = {}) {
-        ValueDecl<S>& d = add(PropertyType::Int, std::move(key), field, std::move(doc),
-                              std::move(citation));
+        ValueDecl<S>& d =
+            add(PropertyType::Int, std::move(key), field, std::move(doc), std::move(citation));
         d.accepted = {double(lo), double(hi)};
         d.widgetMin = double(lo);
         d.widgetMax = double(hi);
@@ -30,8 +30,8 @@ public:
     }
     Decls& real(std::string key, float S::*field, AcceptedRange accepted, double widgetMin,
                 double widgetMax, std::string doc, std::string citation = {}) {
-        ValueDecl<S>& d = add(PropertyType::Float, std::move(key), field, std::move(doc),
-                              std::move(citation));
+        ValueDecl<S>& d =
+            add(PropertyType::Float, std::move(key), field, std::move(doc), std::move(citation));
         d.accepted = accepted;
         d.widgetMin = widgetMin;
         d.widgetMax = widgetMax;

@@ -20,7 +20,9 @@ const PropertySchema& volumeProperties() {
 }
 
 const PropertySchema& lightProperties(LightType type) {
-    auto make = [](LightType t) { return groupSchema(lightValueDecls(), ValueGroup::Light, int(t)); };
+    auto make = [](LightType t) {
+        return groupSchema(lightValueDecls(), ValueGroup::Light, int(t));
+    };
     static const PropertySchema directional = make(LightType::Directional),
                                 spot = make(LightType::Spot), point = make(LightType::Point);
     return type == LightType::Directional ? directional : type == LightType::Spot ? spot : point;
