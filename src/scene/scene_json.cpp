@@ -229,24 +229,10 @@ Light parseLight(const Context& ctx, const json& j, const std::string& ptr, std:
 
 Material parseMaterial(const Context& ctx, const json& j, const std::string& ptr,
                        const std::string& name) {
-    Obj o(ctx, j, ptr,
-          {"base_color", "roughness", "metalness", "emission", "alpha", "transmission",
-           "collimation", "ior", "attenuation_color", "attenuation_distance", "thickness",
-           "coverage_edge"});
+    Obj o(ctx, j, ptr, keysOf(materialValueDecls(), 0, {}));
     Material m;
     m.name = name;
-    m.baseColor = o.color("base_color", m.baseColor);
-    m.roughness = o.num("roughness", m.roughness, kUnit);
-    m.metalness = o.num("metalness", m.metalness, kUnit);
-    m.emission = o.color("emission", m.emission);
-    m.alpha = o.num("alpha", m.alpha, kUnit);
-    m.transmission = o.color("transmission", m.transmission, kUnit);
-    m.collimation = o.num("collimation", m.collimation, kUnit);
-    m.ior = o.num("ior", m.ior, Range{1.0, kInf});
-    m.attenuationColor = o.color("attenuation_color", m.attenuationColor);
-    m.attenuationDistance = o.num("attenuation_distance", m.attenuationDistance, kNonNegative);
-    m.thickness = o.num("thickness", m.thickness, kNonNegative);
-    m.coverageEdge = o.num("coverage_edge", m.coverageEdge, Range{0.0, 0.5});
+    readValues(o, materialValueDecls(), m);
     return m;
 }
 

@@ -218,6 +218,34 @@ const std::vector<ValueDecl<Camera>>& cameraValueDecls() {
     return decls;
 }
 
+const std::vector<ValueDecl<Material>>& materialValueDecls() {
+    using M = Material;
+    static const std::vector<ValueDecl<M>> decls =
+        Decls<M>()
+            .color("base_color", &M::baseColor, "diffuse albedo (metals: specular colour)")
+            .real("roughness", &M::roughness, kUnit, 0.0, 1.0, "perceptual GGX roughness")
+            .real("metalness", &M::metalness, kUnit, 0.0, 1.0, "0 dielectric, 1 metal")
+            .color("emission", &M::emission, "emitted radiance")
+            .real("alpha", &M::alpha, kUnit, 0.0, 1.0, "coverage alpha", "[McGuire16 Eq. 2]")
+            .color("transmission", &M::transmission,
+                   "transmission T at normal incidence: lets 1 - alpha + alpha T through", kUnit)
+            .real("collimation", &M::collimation, kUnit, 0.0, 1.0,
+                  "how much transmitted light keeps its direction (0: fully diffused)",
+                  "[McGuire16 sec. 3]")
+            .real("ior", &M::ior, {1.0, kInf}, 1.0, 3.0, "index of refraction")
+            .color("attenuation_color", &M::attenuationColor,
+                   "glTF KHR_materials_volume attenuation colour")
+            .real("attenuation_distance", &M::attenuationDistance, kNonNegative, 0.0, 1e4,
+                  "distance at which attenuation_color is reached (0: infinite)")
+            .real("thickness", &M::thickness, kNonNegative, 0.0, 1e4,
+                  "glTF KHR_materials_volume thickness")
+            .real("coverage_edge", &M::coverageEdge, {0.0, 0.5}, 0.0, 0.5,
+                  "width in UV units of a binary coverage mask's filtered edge (0: none)",
+                  "[McGuire17 sec. 6]")
+            .done();
+    return decls;
+}
+
 namespace {
 
 template <class S>
@@ -234,11 +262,14 @@ nlohmann::json sceneValues(const Scene& scene) {
     nlohmann::json out = {{"render", allValues(renderValueDecls(), scene.render, 0)},
                           {"cameras", nlohmann::json::array()},
                           {"lights", nlohmann::json::array()},
+                          {"materials", nlohmann::json::object()},
                           {"volumes", nlohmann::json::array()}};
     for (const Camera& c : scene.cameras)
         out["cameras"].push_back(allValues(cameraValueDecls(), c, int(c.type)));
     for (const Light& l : scene.lights)
         out["lights"].push_back(allValues(lightValueDecls(), l, int(l.type)));
+    for (const Material& m : scene.materials)
+        out["materials"][m.name] = allValues(materialValueDecls(), m, 0);
     for (const VolumeRef& v : scene.volumes)
         out["volumes"].push_back(allValues(volumeValueDecls(), v, 0));
     return out;

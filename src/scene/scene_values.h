@@ -1,7 +1,7 @@
-// The scene's plain values (render settings, a light's, a camera's, a grid volume's optics),
-// each declared once (src/scene/scene_values.cpp): key, the field it fills, the range the
-// parser accepts, the slider range and doc line the viewer shows, and whether the viewer edits
-// it live. The declaration drives
+// The scene's plain values (render settings, a light's, a camera's, a material's, a grid
+// volume's optics), each declared once (src/scene/scene_values.cpp): key, the field it fills,
+// the range the parser accepts, the slider range and doc line the viewer shows, and whether
+// the viewer edits it live. The declaration drives
 //   - parsing (scene_json.cpp reads every declared key of an object with the range, and the
 //     messages, of scene/json_reader.h; the object's accepted keys come from it too),
 //   - `--set` (an override is applied to the document, then parsed as above),
@@ -39,7 +39,8 @@ struct AcceptedRange {
     bool loOpen = false, hiOpen = false;
 };
 
-// One declared value of an object of type S (RenderSettings, VolumeRef, Light, Camera).
+// One declared value of an object of type S (RenderSettings, VolumeRef, Light, Camera,
+// Material).
 template <class S>
 struct ValueDecl {
     using Field = std::variant<int S::*, std::uint32_t S::*, long long S::*, float S::*, bool S::*,
@@ -67,6 +68,7 @@ const std::vector<ValueDecl<RenderSettings>>& renderValueDecls();
 const std::vector<ValueDecl<VolumeRef>>& volumeValueDecls();
 const std::vector<ValueDecl<Light>>& lightValueDecls();
 const std::vector<ValueDecl<Camera>>& cameraValueDecls();
+const std::vector<ValueDecl<Material>>& materialValueDecls();
 
 inline unsigned typeBit(int typeIndex) { return 1u << unsigned(typeIndex); }
 
@@ -144,7 +146,8 @@ nlohmann::json groupValues(const std::vector<ValueDecl<S>>& decls, ValueGroup gr
 }
 
 // Every declared value of the scene as {render: {...}, cameras: [...], lights: [...],
-// volumes: [...]} (the keys each object's document accepts), for the report.
+// materials: {name: {...}}, volumes: [...]} (the keys each object's document accepts), for
+// the report.
 nlohmann::json sceneValues(const Scene& scene);
 
 } // namespace veil::scene

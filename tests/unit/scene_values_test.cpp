@@ -21,7 +21,8 @@ json document() {
     return json::parse(R"({
       "cameras": [{"name": "p"}, {"name": "o", "type": "orthographic"}],
       "lights": [{"type": "spot"}, {"type": "point"}, {"type": "directional"}],
-      "volumes": [{"procedural": "sphere", "size": 1, "voxel_size": 0.25}]
+      "volumes": [{"procedural": "sphere", "size": 1, "voxel_size": 0.25}],
+      "materials": {"glass": {}}
     })");
 }
 
@@ -108,7 +109,7 @@ TEST(SceneValuesTest, SetReachesTheReportedValues) {
     json doc = document();
     applyOverrides(doc, {"render.fog_steps=7", "render.tonemap=clamp", "lights.0.inner_cone=5",
                          "cameras.1.ortho_height=3", "volumes.0.albedo=0.5",
-                         "render.fog_sample_limit=0"});
+                         "render.fog_sample_limit=0", "materials.glass.alpha=0.25"});
     const json v = sceneValues(parseScene(doc, "."));
     EXPECT_EQ(v["render"]["fog_steps"], 7);
     EXPECT_EQ(v["render"]["tonemap"], "clamp");
@@ -119,6 +120,8 @@ TEST(SceneValuesTest, SetReachesTheReportedValues) {
     EXPECT_EQ(v["cameras"][1]["ortho_height"], 3.0);
     EXPECT_FALSE(v["cameras"][1].contains("fov_y"));
     EXPECT_EQ(v["volumes"][0]["albedo"], json::array({0.5, 0.5, 0.5}));
+    EXPECT_EQ(v["materials"]["glass"]["alpha"], 0.25);
+    EXPECT_EQ(v["materials"]["glass"]["ior"], 1.5);
 }
 
 TEST(SceneValuesTest, ViewerRangesLieInsideTheAcceptedRanges) {
@@ -126,4 +129,5 @@ TEST(SceneValuesTest, ViewerRangesLieInsideTheAcceptedRanges) {
     expectWidgetRangesAccepted(volumeValueDecls());
     expectWidgetRangesAccepted(lightValueDecls());
     expectWidgetRangesAccepted(cameraValueDecls());
+    expectWidgetRangesAccepted(materialValueDecls());
 }
