@@ -1,8 +1,8 @@
-// The viewer's generated property widgets (src/app/property_widgets.h), driven headless
+// The viewer's generated property widgets (src/ui/property_widgets.h), driven headless
 // through Dear ImGui without a backend: every declared property of every technique gets a
 // widget, nothing changes without input, and a click on a checkbox flips its value.
-#include "app/property_widgets.h"
 #include "oit/technique.h"
+#include "ui/property_widgets.h"
 
 #include <gtest/gtest.h>
 #include <imgui.h>
