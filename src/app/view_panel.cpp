@@ -358,13 +358,8 @@ void writeShownImage(const session::ViewSession& session, const viewer::DebugVie
     }
     io::ExrImage img;
     if (view.active()) {
-        const capture::ResourceImage& raw = view.raw();
-        img.width = raw.width;
-        img.height = raw.height;
-        img.channels = raw.channels;
-        img.pixels = raw.pixels;
-        img.strings = {{"veil:resource", view.resource()},
-                       {"veil:layer", std::to_string(view.layer())}};
+        img = capture::resourceExr(view.raw(), {{"veil:resource", view.resource()},
+                                                {"veil:layer", std::to_string(view.layer())}});
     } else {
         // What `veil render -o out.exr` writes for this frame: RGB, A, Z and the metadata.
         const frame::Renderer& r = session.renderer();

@@ -77,6 +77,17 @@ void checkDumpDirectory(const fs::path& dir) {
                "--dump '{}': its parent folder does not exist", dir.string());
 }
 
+io::ExrImage resourceExr(const ResourceImage& image,
+                         std::vector<std::pair<std::string, std::string>> strings) {
+    io::ExrImage exr;
+    exr.width = image.width;
+    exr.height = image.height;
+    exr.channels = image.channels;
+    exr.pixels = image.pixels;
+    exr.strings = std::move(strings);
+    return exr;
+}
+
 nlohmann::json dumpFrame(const frame::Renderer& renderer, const fs::path& dir) {
     std::error_code ec;
     fs::create_directories(dir, ec);
@@ -113,15 +124,10 @@ nlohmann::json dumpFrame(const frame::Renderer& renderer, const fs::path& dir) {
             e["type"] = "float32 VTK ImageData (vtkXMLImageDataWriter), one scalar per texel";
             e["dumpable"] = true;
         } else if (t->target() == GL_TEXTURE_2D) {
-            const ResourceImage img = readResourceImage(*t);
-            io::ExrImage exr;
-            exr.width = img.width;
-            exr.height = img.height;
-            exr.channels = img.channels;
-            exr.pixels = img.pixels;
-            exr.strings = {{"veil:resource", name},
-                           {"veil:format", formatName(f)},
-                           {"veil:units", unitsOf(name)}};
+            const io::ExrImage exr =
+                resourceExr(readResourceImage(*t), {{"veil:resource", name},
+                                                    {"veil:format", formatName(f)},
+                                                    {"veil:units", unitsOf(name)}});
             const std::string file = fileStem(name) + ".exr";
             io::writeExr(dir / file, exr);
             e["file"] = file;
@@ -133,18 +139,12 @@ nlohmann::json dumpFrame(const frame::Renderer& renderer, const fs::path& dir) {
             const int layers = resourceLayers(*t);
             nlohmann::json files = nlohmann::json::array();
             for (int k = 0; k < layers; ++k) {
-                const ResourceImage img = readResourceImage(*t, k);
-                io::ExrImage exr;
-                exr.width = img.width;
-                exr.height = img.height;
-                exr.channels = img.channels;
-                exr.pixels = img.pixels;
-                exr.strings = {{"veil:resource", name},
-                               {"veil:layer", std::to_string(k)},
-                               {"veil:format", formatName(f)},
-                               {"veil:units", unitsOf(name)}};
                 const std::string file = fmt::format("{}.layer{}.exr", fileStem(name), k);
-                io::writeExr(dir / file, exr);
+                io::writeExr(dir / file, resourceExr(readResourceImage(*t, k),
+                                                     {{"veil:resource", name},
+                                                      {"veil:layer", std::to_string(k)},
+                                                      {"veil:format", formatName(f)},
+                                                      {"veil:units", unitsOf(name)}}));
                 files.push_back(file);
             }
             e["layers"] = layers;

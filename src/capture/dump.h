@@ -5,7 +5,9 @@
 // with "dumpable": false and the reason.
 #pragma once
 
+#include "capture/resource_image.h"
 #include "frame/renderer.h"
+#include "io/exr_writer.h"
 
 #include <nlohmann/json.hpp>
 
@@ -15,6 +17,11 @@ namespace veil::capture {
 
 // What a resource's values mean (manifest "units", the viewer's debug view).
 std::string resourceUnits(const std::string& resource);
+
+// A resource image as a float32 EXR with `strings` as header attributes (the files of
+// dumpFrame, the viewer's EXR screenshot of a debug view).
+io::ExrImage resourceExr(const ResourceImage& image,
+                         std::vector<std::pair<std::string, std::string>> strings);
 
 // Refuses a DIR that exists and is not a folder, before any rendering.
 void checkDumpDirectory(const std::filesystem::path& dir);

@@ -94,7 +94,9 @@ TEST_F(RegressRunnerTest, CaseThatCannotRenderIsAResultNotAnException) {
     std::ofstream(d / "suite.json") << R"({"cases": [{"name": "a", "scene": "scene.json",
         "technique": "blend", "reference": "ref.exr", "metrics": {"rmse": 1}}]})";
     const regress::Suite suite = regress::loadSuite(d / "suite.json", true); // ref.exr missing
-    const regress::CaseResult r = regress::runCase(suite.cases[0], info(), {d / "report"});
+    regress::RunOptions options;
+    options.output = d / "report";
+    const regress::CaseResult r = regress::runCase(suite.cases[0], info(), options);
     EXPECT_FALSE(r.passed);
     EXPECT_NE(r.error.find("ref.exr"), std::string::npos) << r.error;
 }

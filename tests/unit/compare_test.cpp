@@ -2,6 +2,7 @@
 // (io/metrics.h), the error image is |a - b| x scale sRGB-encoded, the contact sheet lays
 // tiles side by side, compare targets are told apart, and the CPU fog reference is composited
 // over the background.
+#include "base/error.h"
 #include "compare/compare.h"
 #include "compare/target.h"
 #include "io/metrics.h"

@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 #include <imgui.h>
 
-namespace veil::app {
+namespace veil::ui {
 namespace {
 
 struct HeadlessImGui {
@@ -68,4 +68,4 @@ TEST(PropertyWidgetsTest, ClickingACheckboxFlipsIt) {
 }
 
 } // namespace
-} // namespace veil::app
+} // namespace veil::ui

@@ -1,6 +1,7 @@
 // The regression library (src/regress) called directly, without GL: suites are parsed and
 // checked as a whole, shards split the cases, reports survive a write and a read, and merging
 // shard folders finds missing, doubled and foreign cases.
+#include "base/error.h"
 #include "regress/report.h"
 #include "regress/runner.h"
 #include "regress/suite.h"
