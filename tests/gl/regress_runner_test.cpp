@@ -73,6 +73,7 @@ TEST_F(RegressRunnerTest, RunsCasesAndWritesReferencesAndImages) {
 
     // A whole shard in a context of its own: the callback sees every case in order.
     const regress::Report report = regress::runSuite(suite, options, {1, 2});
+    context_->makeCurrent(); // runSuite's context was current until it ended
     ASSERT_EQ(report.cases.size(), 1u);
     EXPECT_EQ(report.cases[0].name, "stored");
     EXPECT_EQ(report.shard, "1/2");
