@@ -49,7 +49,15 @@ def passes_text(case, metric):
         import fnmatch
         passes = [p for p in passes if any(fnmatch.fnmatchcase(p["name"], m) for m in metric)]
     shown = [p for p in passes if p.get("median_ms", 0) >= 0.005]
-    return ", ".join(f"{p['name']} {p['median_ms']:.3f}" for p in shown)
+    parts = [", ".join(f"{p['name']} {p['median_ms']:.3f}" for p in shown)]
+    detail = case.get("detail", {})
+    if detail.get("runs_ms"):
+        parts.append(", ".join(f"{k} {v:.3f}" for k, v in detail["runs_ms"].items()))
+    if detail.get("error_vs"):
+        e = detail["error_vs"]
+        parts.append(f"HDR rgb error vs {e.get('technique')}: rmse {e.get('rmse', 0):.6f}, "
+                     f"max {e.get('max', 0):.4f}")
+    return "; ".join(p for p in parts if p)
 
 
 def set_section(run, heading="##", source=None):
@@ -60,9 +68,13 @@ def set_section(run, heading="##", source=None):
     commit = run.get("commit", "unknown")[:10] + (" (with local changes)" if run.get("commit_dirty") else "")
     lines.append(f"- Machine: {m.get('gpu', '?')}, driver {m.get('driver', '?')}, renderer "
                  f"\"{m.get('renderer', '?')}\", timer {m.get('timer', '?')}.")
+    warm = run.get("settings", {}).get("clock_warmup_s")
     lines.append(f"- Run: {run.get('started', '?')}, commit {commit}, clock warm-up "
-                 f"{run.get('settings', {}).get('clock_warmup_s', '?')} s"
+                 + ("not recorded" if warm is None else f"{warm} s")
                  + (f", file `{source}`." if source else "."))
+    conv = run.get("converted_from")
+    if conv:
+        lines.append(f"- Converted from {', '.join(conv.get('files', []))}: {conv.get('note', '')}.")
     lines.append(f"- Reproduce: `python3 bench/run.py {run['set']}` (bench/README.md).")
     for g in run.get("groups", []):
         decl = group_decl(run, g["name"])
@@ -87,9 +99,11 @@ def set_section(run, heading="##", source=None):
                              f"{d.get('voxels', '')} | {check} |")
             continue
         size = f"{decl.get('width', 1920)}x{decl.get('height', 1080)}"
+        frames = f"{decl.get('warmup', '?')} warm-up + {decl.get('frames', '?')} timed frames"
+        if run.get("settings", {}).get("quick"):
+            size, frames = "64x36", "no warm-up + 1 frame (--quick: a smoke test, not a measurement)"
         desc = g.get("description") or f"`{decl.get('scene', '?')}`"
-        lines.append(f"{desc}; {size}, {decl.get('warmup', '?')} warm-up + "
-                     f"{decl.get('frames', '?')} timed frames; ms = {metric_label(g['metric'])}"
+        lines.append(f"{desc}; {size}, {frames}; ms = {metric_label(g['metric'])}"
                      + (f"; ratio to `{g['baseline']}`." if g.get("baseline") else "."))
         lines += ["", "| case | ms | ratio | frame ms (min / max) | passes (median ms) |",
                   "|---|---:|---:|---|---|"]
@@ -141,7 +155,7 @@ def check_run(run):
                 continue
             if not isinstance(c.get("metric_ms"), (int, float)):
                 problems.append(f"{where}: no metric_ms")
-            if g.get("tool", "veil-bench") == "veil-bench":
+            if g.get("tool", "veil-bench") == "veil-bench" and "converted_from" not in run:
                 if not c.get("passes"):
                     problems.append(f"{where}: no passes")
                 for p in c.get("passes", []):

@@ -156,16 +156,21 @@ def bench_case(tool, case, metric, tmp):
         return record, None
     with open(out) as f:
         raw = json.load(f)
-    passes = raw.pop("passes", [])
-    record["passes"] = passes
-    raw["passes"] = passes
-    record["metric_ms"] = metric_of(raw, metric)
+    record.update(case_record(raw, metric))
+    return record, raw
+
+
+def case_record(raw, metric):
+    """A case's entry from veil-bench's JSON: passes (median, min, max), the frame totals,
+    the group's metric, and the rest of what veil-bench wrote as `detail`."""
+    raw = dict(raw)
+    record = {"passes": raw.get("passes", []), "metric_ms": metric_of(raw, metric)}
+    raw.pop("passes", None)
     for key in ("total_median_ms", "total_min_ms", "total_max_ms", "gpu_total_median_ms"):
         if key in raw:
             record[key] = raw.pop(key)
-    raw.pop("passes")
     record["detail"] = raw  # scene, oit, shadows, stats, renderer, ... as veil-bench wrote them
-    return record, raw
+    return record
 
 
 def voxbench_group(tool, group, tmp):
@@ -216,7 +221,7 @@ def run_set(path, s, tools, args):
     clock_warmup(tools["veil-bench"], warm)
     result = {"schema": SCHEMA, "set": s["name"], "description": s.get("description", ""),
               "set_file": os.path.relpath(path, ROOT), "started": started.isoformat(timespec="seconds"),
-              "settings": {"clock_warmup_s": warm, "set": s}, "machine": {}, "groups": []}
+              "settings": {"clock_warmup_s": warm, "set": s, "quick": QUICK}, "machine": {}, "groups": []}
     machine = {"host_cpu": platform.processor() or platform.machine(),
                "cpu_count": os.cpu_count()}
     smi = nvidia_smi()
