@@ -53,6 +53,12 @@ def passes_text(case, metric):
     detail = case.get("detail", {})
     if detail.get("runs_ms"):
         parts.append(", ".join(f"{k} {v:.3f}" for k, v in detail["runs_ms"].items()))
+    if detail.get("viewer_over_renderer"):
+        parts.append(f"viewer frame wall {detail.get('viewer_frame_wall_median_ms', 0):.3f} ms = "
+                     f"{detail['viewer_over_renderer']:.3f}x the renderer's own")
+        edits = {k: v for k, v in detail.get("edits", {}).items() if isinstance(v, (int, float))}
+        if edits:
+            parts.append("edits (ms): " + ", ".join(f"{k} {v:.2f}" for k, v in edits.items()))
     if detail.get("error_vs"):
         e = detail["error_vs"]
         parts.append(f"HDR rgb error vs {e.get('technique')}: rmse {e.get('rmse', 0):.6f}, "
@@ -83,19 +89,21 @@ def set_section(run, heading="##", source=None):
             lines.append(f"veil-voxbench on `{decl.get('scene', '?')}`; ms = median of the runs "
                          "(GPU timer; OpenVDB: CPU wall clock)"
                          + (f"; ratio to `{g['baseline']}`." if g.get("baseline") else "."))
-            lines += ["", "| case | ms | min / max | ratio | voxels | check |",
-                      "|---|---:|---|---:|---:|---|"]
+            lines += ["", "| case | ms | min / max | ratio | baseline / ms | voxels | check |",
+                      "|---|---:|---|---:|---:|---:|---|"]
             for c in g["cases"]:
                 d = c.get("detail", {})
                 if "error" in c:
-                    lines.append(f"| {c['name']} | failed | | | | {c['error'][:80]} |")
+                    lines.append(f"| {c['name']} | failed | | | | | {c['error'][:80]} |")
                     continue
                 check = d.get("check")
-                check = "" if not check else ", ".join(f"{k} {v}" for k, v in check.items()
-                                                       if not isinstance(v, (dict, list)))
+                check = "" if not check else ", ".join(
+                    f"{k} {v:.4f}" if isinstance(v, float) else f"{k} {v}"
+                    for k, v in check.items() if not isinstance(v, (dict, list)))
                 mm = "" if c.get("min_ms") is None else f"{fmt_ms(c['min_ms'])} / {fmt_ms(c['max_ms'])}"
                 ratio = "" if c.get("ratio") is None else f"{c['ratio']:.4g}"
-                lines.append(f"| {c['name']} | {fmt_ms(c['metric_ms'])} | {mm} | {ratio} | "
+                speed = "" if not c.get("ratio") else f"{1 / c['ratio']:.1f}"
+                lines.append(f"| {c['name']} | {fmt_ms(c['metric_ms'])} | {mm} | {ratio} | {speed} | "
                              f"{d.get('voxels', '')} | {check} |")
             continue
         size = f"{decl.get('width', 1920)}x{decl.get('height', 1080)}"
@@ -105,6 +113,8 @@ def set_section(run, heading="##", source=None):
         desc = g.get("description") or f"`{decl.get('scene', '?')}`"
         lines.append(f"{desc}; {size}, {frames}; ms = {metric_label(g['metric'])}"
                      + (f"; ratio to `{g['baseline']}`." if g.get("baseline") else "."))
+        if g.get("note"):
+            lines += ["", f"Note: {g['note']}"]
         lines += ["", "| case | ms | ratio | frame ms (min / max) | passes (median ms) |",
                   "|---|---:|---:|---|---|"]
         for c in g["cases"]:

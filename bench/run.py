@@ -62,8 +62,15 @@ def load_set(arg):
 
 
 def git_commit():
-    """HEAD of this checkout (and whether the tree differs from it); without git (the GPU
-    machine gets a copy of the tree), the commit bench/gpu-bundle.sh recorded in .gpu/."""
+    """The commit the measured programs were built from: with the bundle's programs (.gpu/env.sh
+    sourced), the commit bench/gpu-bundle.sh recorded in .gpu/commit.json; else HEAD of this
+    checkout (and whether the tree differs from it)."""
+    recorded = os.path.join(ROOT, ".gpu", "commit.json")
+    if os.environ.get("GPU_FILES") and os.path.exists(recorded):
+        with open(recorded) as f:
+            c = json.load(f)
+        c["source"] = "bundle"
+        return c
     try:
         head = subprocess.run(["git", "-C", ROOT, "rev-parse", "HEAD"], capture_output=True,
                               text=True, check=True).stdout.strip()
@@ -72,12 +79,6 @@ def git_commit():
         return {"commit": head, "dirty": dirty, "source": "git"}
     except (OSError, subprocess.CalledProcessError):
         pass
-    recorded = os.path.join(ROOT, ".gpu", "commit.json")
-    if os.path.exists(recorded):
-        with open(recorded) as f:
-            c = json.load(f)
-        c["source"] = "bundle"
-        return c
     return {"commit": "unknown", "dirty": None, "source": "none"}
 
 
@@ -237,6 +238,7 @@ def run_set(path, s, tools, args):
                 records, info = voxbench_group(tools[tool_name], group, tmp)
                 if info and "renderer" in info:
                     machine.setdefault("renderer", info["renderer"])
+                    machine.setdefault("timer", "GL_TIME_ELAPSED")
             else:
                 records = []
                 for case in expand_cases(group):
