@@ -81,6 +81,8 @@ def set_section(run, heading="##", source=None):
     conv = run.get("converted_from")
     if conv:
         lines.append(f"- Converted from {', '.join(conv.get('files', []))}: {conv.get('note', '')}.")
+    if run.get("note"):
+        lines.append(f"- Note: {run['note']}")
     lines.append(f"- Reproduce: `python3 bench/run.py {run['set']}` (bench/README.md).")
     for g in run.get("groups", []):
         decl = group_decl(run, g["name"])
