@@ -20,9 +20,9 @@ files in bench/results/ (one per set and run, written by `bench/run.py`; bench/R
 how to run a set on the GPU machine). Every time is a GL_TIME_ELAPSED timer query per pass,
 median over the timed frames after the case's warm-up frames, in a process started after the
 run's clock warm-up; ratios compare a case with its group's baseline measured in the same run.
-Each set's table below is its newest run; older runs are in the history at the end, and the
-figures of earlier work (the dated notes this file held before the suite) are in the git
-history of this file.
+Each set's table below is its newest run; older runs are in the history at the end. The
+dated notes this file held before the suite (before / after comparisons, analyses of what
+bounds each pass) are in git: `git show a55fd47:bench/RESULTS.md`.
 """
 
 
