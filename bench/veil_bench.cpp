@@ -1,6 +1,7 @@
 // veil-bench: renders a scene N frames after warm-up and writes per-pass median/min/max GPU
 // times as JSON. Links the core only (no OpenImageIO, no VTK) so it travels to the GPU
-// machine (GPU-DEVICE.md). Times are GL_TIME_ELAPSED queries where the driver has them.
+// machine (bench/README.md: bench/gpu-bundle.sh). Times are GL_TIME_ELAPSED queries where the
+// driver has them. bench/run.py runs it over the benchmark sets of bench/sets/.
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "frame/renderer.h"
@@ -249,6 +250,8 @@ int main(int argc, char** argv) try {
     }
     out["passes"] = passes;
     out["total_median_ms"] = median(totals);
+    out["total_min_ms"] = *std::min_element(totals.begin(), totals.end());
+    out["total_max_ms"] = *std::max_element(totals.begin(), totals.end());
     out["oit_stats"] = renderer.technique().stats();
     if (cpuFogW > 0 && cpuFogH > 0) {
         // The CPU reference of the fog on the same camera (src/volume/cpu_reference.h).
