@@ -1,4 +1,4 @@
-// Image metrics for `veil compare` and `veil regress` (issue 12): error measures on linear
+// Image metrics for `veil compare` and `veil regress`: error measures on linear
 // HDR RGB(A) float images, SSIM on display-encoded images, and a per-pixel statistical test
 // of a stochastic estimator against a reference (the approach of Mitsuba 3's
 // src/render/tests/test_renders.py: test the estimator, do not threshold one noisy image).
