@@ -4,6 +4,10 @@
 # $VEIL_COMPILE_TIME_LOG (default /tmp/veil-compile-time.log). CPU seconds stay meaningful on
 # a loaded machine where wall times do not (docs/ci.md).
 log=${VEIL_COMPILE_TIME_LOG:-/tmp/veil-compile-time.log}
+if [[ ! -x /usr/bin/time ]]; then
+  echo "compile-time.sh: needs /usr/bin/time (Debian package 'time')" >&2
+  exit 2
+fi
 out=?
 args=("$@")
 for ((i = 0; i < ${#args[@]}; i++)); do
