@@ -38,11 +38,14 @@ export LSAN_OPTIONS="suppressions=$PWD/tests/fuzz/lsan_suppressions.txt${LSAN_OP
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 
 mkdir -p "$artifacts"
+for t in $targets; do
+  exe=$build/tests/fuzz/veil_fuzz_$t
+  test -x "$exe" || { echo "fuzz: no target '$t' ($exe)" >&2; exit 2; }
+done
 # Start each target (in the background with FUZZ_PARALLEL=1), then check each one's result.
 declare -A pid rcs
 for t in $targets; do
   exe=$build/tests/fuzz/veil_fuzz_$t
-  test -x "$exe" || { echo "fuzz: no target '$t' ($exe)" >&2; exit 2; }
   # The run's corpus: the seeds and every saved finding (so a fixed crash stays fixed), in a
   # folder of the build where libFuzzer may add what it finds.
   rm -rf "${runs:?}/$t"
