@@ -173,7 +173,7 @@ TEST_F(FogVolumeTest, HugeTileGridIsCoarsenedQuickly) {
     volume::GpuVolume v(g, glm::mat4(1.0f), options);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    EXPECT_LT(seconds, 5.0);
+    EXPECT_LT(seconds, 5.0 * test::kSlowBuildFactor);
     EXPECT_GE(v.stats().coarsened, 3);
     EXPECT_LE(v.stats().gpuBytes, options.budgetBytes);
     EXPECT_EQ(v.stats().activeVoxels, 127u * 127u * 127u);

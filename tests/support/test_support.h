@@ -39,4 +39,15 @@ CommandResult runCommand(const std::string& commandLine);
 // Path of the built veil executable.
 std::string veilExe();
 
+// Wall-clock bounds of the "done quickly" guards (an algorithm that once took minutes) are set
+// for an optimized build; the sanitizer build (ASan at -O1) runs the same library code about
+// three times slower, so a guard multiplies its bound by this (1 otherwise). The old slow
+// paths are slower by the same factor there, so a guard still tells them apart.
+constexpr double kSlowBuildFactor =
+#if defined(__SANITIZE_ADDRESS__)
+    3.0;
+#else
+    1.0;
+#endif
+
 } // namespace veil::test
