@@ -43,7 +43,7 @@ void drawObjects(const scene::Scene& scene, const std::vector<GpuMesh>& meshes,
     for (const auto& object : scene.objects) {
         const scene::Material& m = scene.materials.at(object.material);
         const bool transparent = m.isTransparent();
-        // A binary-coverage material's alpha = 1 interior is opaque (001 section 6).
+        // A binary-coverage material's alpha = 1 interior is opaque [McGuire17 sec. 6].
         const bool binary = m.baseCoverageIsBinary();
         if (set == ObjectSet::Opaque && transparent && !binary) continue;
         if (set == ObjectSet::Transparent && !transparent) continue;

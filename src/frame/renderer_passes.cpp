@@ -43,7 +43,7 @@ void Renderer::buildPasses() {
     opaquePass.receivesShadows = true;
     addPass(std::move(opaquePass));
 
-    std::vector<std::string> transparentReads = aoReads; // inferred AO (001 Listing 2)
+    std::vector<std::string> transparentReads = aoReads; // inferred AO [McGuire17 Listing 2]
     if (fog_) {
         for (pass::Pass& p : fog_->passes(kRefineLightSlabTexels))
             addPass(std::move(p));
