@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # vdb_render (libopenvdb-tools) against Veil's fog pass on the same lit view of the same
-# volume (issue 14 item 4): smoke.vdb, orthographic, 256x256, one directional light, both
+# volume: smoke.vdb, orthographic, 256x256, one directional light, both
 # shadowing every sample (vdb_render: shadow ray per sample, 3-voxel steps; Veil: light
 # transmittance volume recomputed every frame, --relight). Prints a table and the ratio
 # veil fog pass / vdb_render ray-tracing time.
 #
 #   here (llvmpipe):  bash bench/vdb_compare.sh [CPUS]           (default: nproc)
 #   GPU machine:      bash bench/vdb_compare.sh 16   (with .gpu/env.sh sourced: veil-bench
-#                     and vdb_render bundled by gpu-bundle; see bench/run_gpu_vdb.sh)
+#                     and vdb_render bundled by `bench/gpu-bundle.sh build/release
+#                     $(command -v vdb_render)`, bench/README.md)
 # Environment: VEIL_BENCH (default build/release/bench/veil-bench), VDB_RENDER (default
 # vdb_render on PATH), REPS (vdb_render runs, median; default 3), FRAMES (veil timed frames,
 # default 3), OUTDIR (JSON and images; default a temp dir).

@@ -1,12 +1,13 @@
 // veil-bench: renders a scene N frames after warm-up and writes per-pass median/min/max GPU
 // times as JSON. Links the core only (no OpenImageIO, no VTK) so it travels to the GPU
-// machine (GPU-DEVICE.md). Times are GL_TIME_ELAPSED queries where the driver has them.
-#include "app/view_session.h"
+// machine (bench/README.md: bench/gpu-bundle.sh). Times are GL_TIME_ELAPSED queries where the
+// driver has them. bench/run.py runs it over the benchmark sets of bench/sets/.
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "frame/renderer.h"
 #include "gpu/context.h"
 #include "scene/scene.h"
+#include "session/view_session.h"
 #include "volume/cpu_reference.h"
 #include "volume/density_grid.h"
 
@@ -61,7 +62,7 @@ double wallMs(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// --viewer: the frames of `veil view` without its window (app/view_session.h): each frame is
+// --viewer: the frames of `veil view` without its window (session/view_session.h): each frame is
 // ViewSession::renderFrame() (the renderer's passes and the copy into the shown image),
 // timed by GL timer queries per pass and by the CPU clock around the frame with glFinish;
 // the same CPU clock around Renderer::render() alone in the same run gives the viewer's
@@ -70,7 +71,7 @@ double wallMs(std::chrono::steady_clock::time_point t0) {
 int viewerBench(const std::string& scenePath, const std::vector<std::string>& overrides, int width,
                 int height, int frames, int warmup, const std::string& jsonPath) {
     veil::gpu::HeadlessContext context;
-    veil::app::ViewSession session(context.info(), scenePath, overrides, "", width, height);
+    veil::session::ViewSession session(context.info(), scenePath, overrides, "", width, height);
     for (int i = 0; i < warmup; ++i) {
         session.renderFrame();
         glFinish();
@@ -249,6 +250,8 @@ int main(int argc, char** argv) try {
     }
     out["passes"] = passes;
     out["total_median_ms"] = median(totals);
+    out["total_min_ms"] = *std::min_element(totals.begin(), totals.end());
+    out["total_max_ms"] = *std::max_element(totals.begin(), totals.end());
     out["oit_stats"] = renderer.technique().stats();
     if (cpuFogW > 0 && cpuFogH > 0) {
         // The CPU reference of the fog on the same camera (src/volume/cpu_reference.h).

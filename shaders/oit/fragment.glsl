@@ -29,7 +29,7 @@ struct OitFragment {
     bool binaryCoverage;
 };
 
-// Targets and writes of an emit include, one source for two callers (issue 14):
+// Targets and writes of an emit include, one source for two callers:
 //   fragments (transparent.frag, fog_emit.frag): OIT_TARGET declares a fragment output, and
 //     OIT_WRITE assigns it; the technique's fixed-function blend state (its C++ side) does
 //     the blending;

@@ -1,5 +1,5 @@
 #version 450 core
-// Hands the marched fog to the active OIT technique from compute (issue 14), one invocation
+// Hands the marched fog to the active OIT technique from compute, one invocation
 // per pixel: the technique's own oitEmit() (its emit file included with OIT_COMPUTE defined,
 // writing its targets as images through OIT_WRITE, shaders/oit/fragment.glsl). The depth test
 // of the accumulation passes (GL_LESS against the opaque depth) is done here, at the fog's

@@ -4,7 +4,7 @@
 // stored, the fog between consecutive surfaces (eye -> first surface -> ... -> opaque) is
 // integrated piecewise and handed to oitEmit() as one contribution per non-empty segment,
 // at a depth inside its segment, so the technique's sort interleaves fog and surfaces
-// exactly (issue 14, item 5) instead of placing all the fog at one representative depth.
+// exactly instead of placing all the fog at one representative depth.
 // The quadrature is fog_march.comp's (constant coefficients over a step, closed-form
 // integral), with a step that straddles a surface split at the surface.
 #define OIT_FOG_SEGMENTS

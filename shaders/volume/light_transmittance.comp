@@ -32,7 +32,7 @@ void main() {
     // Midpoint rule with `steps` samples over [0, distance]. Samples outside every volume's box
     // and in empty leaves are zero, so only the steps inside the union of the boxes are taken
     // and empty leaves are jumped over: the same sum as visiting every step, at a fraction of
-    // the cost (issue 14 item 4: this pass was most of the lit fog's time on llvmpipe).
+    // the cost (this pass was most of the lit fog's time on llvmpipe).
     float tIn = 1e30, tOut = -1e30;
     for (int i = 0; i < VEIL_VOLUME_SLOTS; ++i)
         if (i < volumeCount) {

@@ -21,8 +21,7 @@ uniform int volumeCount;
 // Sampler slots per array. The fog's programs define it to the scene's number of grid volumes
 // (src/volume/fog_pass.cpp) and loop `for (i < VEIL_VOLUME_SLOTS) if (i < volumeCount)`, so
 // the loops unroll and every texture is indexed by a constant: on llvmpipe a sampler array
-// indexed by a non-constant runs the whole texture fetch once per SIMD lane (issue 14 item
-// 4), and fewer declared samplers keep the program under its per-stage sampler limits.
+// indexed by a non-constant runs the whole texture fetch once per SIMD lane, and fewer declared samplers keep the program under its per-stage sampler limits.
 #ifndef VEIL_VOLUME_SLOTS
 #define VEIL_VOLUME_SLOTS VEIL_MAX_VOLUMES
 #endif

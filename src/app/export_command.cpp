@@ -12,7 +12,7 @@
 #include "app/commands.h"
 
 #include "app/cli_checks.h"
-#include "app/grid_select.h"
+#include "vdb/grid_select.h"
 
 #include "base/atomic_file.h"
 #include "base/error.h"
@@ -79,8 +79,8 @@ void runExport(const ExportArgs& args) {
     VEIL_CHECK(lowerExtension(args.output) == ".vti", "output '{}' must end in .vti", args.output);
     checkOutputPath(args.output, "output", {args.input});
     const openvdb::GridPtrVecPtr grids = volume::readVdbFile(args.input);
-    const SelectedGrid sel =
-        selectGrid(*grids, args.input, args.grid, exportable, "a float or vec3 grid");
+    const vdb::SelectedGrid sel =
+        vdb::selectGrid(*grids, args.input, args.grid, exportable, "a float or vec3 grid");
     const openvdb::GridBase& grid = *sel.grid;
     const std::string what =
         fmt::format("'{}': grid {} '{}'", args.input, sel.index, grid.getName());
@@ -144,7 +144,7 @@ void runExport(const ExportArgs& args) {
     std::cout << fmt::format(
         "wrote {}: grid {} '{}' ({}) of {}, {}x{}x{} points over index box [{} {} {}]..[{} {} "
         "{}], spacing ({:.6g} {:.6g} {:.6g}), origin ({:.6g} {:.6g} {:.6g})\n",
-        args.output, sel.index, grid.getName(), gridTypeName(grid), args.input, dense.dims[0],
+        args.output, sel.index, grid.getName(), vdb::gridTypeName(grid), args.input, dense.dims[0],
         dense.dims[1], dense.dims[2], box.min().x(), box.min().y(), box.min().z(), box.max().x(),
         box.max().y(), box.max().z(), dense.spacing[0], dense.spacing[1], dense.spacing[2],
         dense.origin[0], dense.origin[1], dense.origin[2]);

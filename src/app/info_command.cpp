@@ -1,7 +1,7 @@
 // `veil info <file>`: what a scene (.json) or OpenVDB (.vdb) file holds.
 #include "app/commands.h"
 
-#include "app/grid_select.h"
+#include "vdb/grid_select.h"
 
 #include "base/error.h"
 #include "base/text.h"
@@ -100,7 +100,7 @@ std::string valueRangeOf(const openvdb::GridBase& g) {
 
 // Like `vdb_print -l`: per grid its index and name, type and class, active voxels, value
 // range, bounds, voxel size, memory, and every metadata entry. `selector` (a name or an
-// index, app/grid_select.h) prints one grid only.
+// index, vdb/grid_select.h) prints one grid only.
 void printVdb(const fs::path& path, const std::string& selector) {
     const openvdb::GridPtrVecPtr grids = volume::readVdbFile(path);
     std::vector<std::size_t> which;
@@ -109,7 +109,7 @@ void printVdb(const fs::path& path, const std::string& selector) {
             which.push_back(i);
     } else {
         which.push_back(
-            selectGrid(
+            vdb::selectGrid(
                 *grids, path, selector, [](const openvdb::GridBase&) { return true; }, "a grid")
                 .index);
     }

@@ -1,4 +1,4 @@
-// A progress line on stderr for long work (issue 12): nothing for work that ends within the
+// A progress line on stderr for long work: nothing for work that ends within the
 // delay (2 s), then "veil: <label> 3.5 s" redrawn in place every half second on a terminal, or
 // one line per second when stderr is not a terminal but --progress asked for it; a last
 // "<label> done in 7.1 s" line when anything was shown. stdout is never touched.

@@ -1,12 +1,12 @@
 // `veil render <scene.json> -o out.{png,exr}`: one frame headless, plus a JSON report.
 #include "app/commands.h"
 
-#include "app/compare.h"
-#include "app/compare_target.h"
-#include "app/dump.h"
-#include "app/exr_output.h"
 #include "app/progress.h"
-#include "app/vdb_scene.h"
+#include "capture/dump.h"
+#include "capture/exr_output.h"
+#include "compare/compare.h"
+#include "compare/target.h"
+#include "vdb/vdb_scene.h"
 
 #include "base/atomic_file.h"
 #include "base/error.h"
@@ -17,6 +17,7 @@
 #include "io/image_io.h"
 #include "oit/technique.h"
 #include "scene/scene.h"
+#include "scene/scene_values.h"
 #include "shadows/technique.h"
 
 #include <nlohmann/json.hpp>
@@ -51,7 +52,7 @@ struct RenderArgs {
     std::string compareTo;
     bool half = false;             // EXR: half instead of float32 channels
     std::vector<std::string> aovs; // EXR: extra channels ("fog")
-    std::string dump;              // folder for every frame resource (app/dump.h)
+    std::string dump;              // folder for every frame resource (capture/dump.h)
     std::string grid;              // file.vdb: the density grid (name or index)
     bool progress = false;         // progress on stderr even when it is not a terminal
 };
@@ -73,7 +74,7 @@ struct Rendered {
     nlohmann::json shadowLights = nlohmann::json::array(); // scene light indices with maps
     nlohmann::json framePasses = nlohmann::json::array();  // the frame's passes and resources
     nlohmann::json volumes = nlohmann::json::array();
-    FrameExtras extras;          // Z, AOVs and camera matrices (app/exr_output.h)
+    capture::FrameExtras extras; // Z, AOVs and camera matrices (capture/exr_output.h)
     nlohmann::json dumpManifest; // --dump
 };
 
@@ -131,8 +132,8 @@ Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, con
     r.shadowLights = renderer.shadowLights().lights;
     for (const frame::Pass& p : renderer.passes().passes())
         r.framePasses.push_back({{"name", p.name}, {"reads", p.reads}, {"writes", p.writes}});
-    r.extras = captureExtras(renderer, fogAov);
-    if (dump) r.dumpManifest = dumpFrame(renderer, args.dump);
+    r.extras = capture::captureExtras(renderer, fogAov);
+    if (dump) r.dumpManifest = capture::dumpFrame(renderer, args.dump);
     return r;
 }
 
@@ -143,7 +144,7 @@ void checkKnown(const std::string& name, const std::string& where) {
                fmt::join(registry.names(), ", "), where == "--oit" ? ", or all" : "");
 }
 
-nlohmann::json errorJson(const std::string& against, const ImageError& e) {
+nlohmann::json errorJson(const std::string& against, const compare::ImageError& e) {
     // JSON has no infinity: an identical image has "psnr_db": "inf".
     nlohmann::json j = {{"against", against}, {"rmse", e.rmse}, {"peak", e.peak}};
     if (std::isfinite(e.psnr))
@@ -159,7 +160,7 @@ fs::path errorImagePath(const fs::path& output) {
     return output.parent_path() / (output.stem().string() + "-error.png");
 }
 
-std::string formatError(const ImageError& e) {
+std::string formatError(const compare::ImageError& e) {
     return fmt::format("RMSE {:.6g}, PSNR {} (peak {:.4g})", e.rmse,
                        std::isfinite(e.psnr) ? fmt::format("{:.2f} dB", e.psnr)
                                              : std::string(std::isinf(e.psnr) ? "inf" : "n/a"),
@@ -169,7 +170,7 @@ std::string formatError(const ImageError& e) {
 // Every file the command will write, checked before the scene is loaded or rendered.
 void checkOutputPaths(const RenderArgs& args) {
     std::vector<fs::path> inputs{args.scene};
-    if (parseCompareTarget(args.compareTo).kind == CompareTarget::Kind::File)
+    if (compare::parseCompareTarget(args.compareTo).kind == compare::CompareTarget::Kind::File)
         inputs.push_back(args.compareTo); // -o ref.exr --compare-to ref.exr
 
     checkOutputPath(args.output, "output", inputs);
@@ -190,14 +191,14 @@ void runRender(const RenderArgs& args) {
     checkOutputPaths(args);
     if (!args.dump.empty()) {
         VEIL_CHECK(args.oit != "all", "--dump needs one technique, not --oit all");
-        checkDumpDirectory(args.dump);
+        capture::checkDumpDirectory(args.dump);
     }
     const bool bareVdb = lowerExtension(args.scene) == ".vdb";
     VEIL_CHECK(bareVdb || args.grid.empty(), "--grid is for a .vdb input, not '{}'", args.scene);
     std::string vdbNote;
     scene::Scene scene;
     if (bareVdb) {
-        VdbScene v = sceneForVdb(args.scene, args.grid, args.overrides);
+        vdb::VdbScene v = vdb::sceneForVdb(args.scene, args.grid, args.overrides);
         scene = std::move(v.scene);
         vdbNote = std::move(v.description);
     } else {
@@ -212,22 +213,22 @@ void runRender(const RenderArgs& args) {
             oit::Registry::instance().resolve(oitName, scene.render.oitProperties,
                                               scene.render.oitWhere);
     }
-    const CompareTarget compareTarget = parseCompareTarget(args.compareTo);
+    const compare::CompareTarget compareTarget = compare::parseCompareTarget(args.compareTo);
     if (!args.compareTo.empty()) {
         VEIL_CHECK(!all, "--compare-to cannot be combined with --oit all (which compares "
                          "every technique with reference)");
-        if (compareTarget.kind == CompareTarget::Kind::Technique)
+        if (compareTarget.kind == compare::CompareTarget::Kind::Technique)
             checkKnown(args.compareTo, "--compare-to");
-        if (compareTarget.kind == CompareTarget::Kind::Shadows)
+        if (compareTarget.kind == compare::CompareTarget::Kind::Shadows)
             shadows::Registry::instance().get(compareTarget.shadows, "--compare-to");
-        checkCompareTarget(compareTarget, scene);
+        compare::checkCompareTarget(compareTarget, scene);
     }
     gpu::HeadlessContext context({args.device, args.glDebug});
     const bool png = ext == ".png";
 
     // Render everything first, write afterwards: a failing technique leaves no output.
     std::vector<Rendered> frames;
-    std::vector<std::pair<std::string, ImageError>> errors;
+    std::vector<std::pair<std::string, compare::ImageError>> errors;
     ImageF referenceHdr; // what --compare-to compares with
     std::string compareNote;
     if (all) {
@@ -242,32 +243,33 @@ void runRender(const RenderArgs& args) {
             frames.push_back(renderWith(scene, context.info(), args, t.name));
         }
         for (const Rendered& f : frames)
-            errors.emplace_back(f.oit, compareLinear(f.hdr, frames.front().hdr));
+            errors.emplace_back(f.oit, compare::compareLinear(f.hdr, frames.front().hdr));
     } else {
         frames.push_back(renderWith(scene, context.info(), args, oitName, !args.dump.empty()));
         const Rendered& f = frames.front();
-        if (compareTarget.kind == CompareTarget::Kind::Technique)
+        if (compareTarget.kind == compare::CompareTarget::Kind::Technique)
             referenceHdr = renderWith(scene, context.info(), args, args.compareTo).hdr;
-        else if (compareTarget.kind == CompareTarget::Kind::Shadows)
+        else if (compareTarget.kind == compare::CompareTarget::Kind::Shadows)
             // The same frame and OIT technique with the other shadow technique at the same
             // map size (its other properties at their defaults).
             referenceHdr =
                 renderWith(scene, context.info(), args, oitName, false, compareTarget.shadows,
                            {{"size", f.shadowProperties.at("size")}})
                     .hdr;
-        else if (compareTarget.kind == CompareTarget::Kind::File)
-            referenceHdr = loadReferenceImage(compareTarget, f.width, f.height);
-        else if (compareTarget.kind == CompareTarget::Kind::Cpu) {
+        else if (compareTarget.kind == compare::CompareTarget::Kind::File)
+            referenceHdr = compare::loadReferenceImage(compareTarget, f.width, f.height);
+        else if (compareTarget.kind == compare::CompareTarget::Kind::Cpu) {
             ProgressTicker ticker("CPU fog reference", progressWanted(args.progress));
-            referenceHdr = cpuFogReference(scene, args.camera, f.width, f.height, compareNote);
+            referenceHdr =
+                compare::cpuFogReference(scene, args.camera, f.width, f.height, compareNote);
         }
-        if (compareTarget.kind != CompareTarget::Kind::None)
-            errors.emplace_back(f.oit, compareLinear(f.hdr, referenceHdr));
+        if (compareTarget.kind != compare::CompareTarget::Kind::None)
+            errors.emplace_back(f.oit, compare::compareLinear(f.hdr, referenceHdr));
     }
     const Rendered& main = frames.front();
-    const RenderMetadata metadata =
-        describeRender(args.scene, all ? std::string("all") : main.oit, main.oitProperties,
-                       main.camera, main.extras, main.width, main.height, context.info().renderer);
+    const capture::RenderMetadata metadata = capture::describeRender(
+        args.scene, all ? std::string("all") : main.oit, main.oitProperties, main.camera,
+        main.extras, main.width, main.height, context.info().renderer);
 
     // PNG gets the tone-mapped sRGB image, EXR the linear HDR radiance.
     fs::path errorPath;
@@ -275,15 +277,15 @@ void runRender(const RenderArgs& args) {
         std::vector<ImageF> tiles;
         for (const Rendered& f : frames)
             tiles.push_back(png ? f.ldr : f.hdr);
-        io::writeImage(output, contactSheet(tiles));
+        io::writeImage(output, compare::contactSheet(tiles));
     } else {
         if (png)
             io::writeImage(output, main.ldr);
         else
-            io::writeExr(output, makeExr(main.hdr, main.extras, metadata, args.half));
+            io::writeExr(output, capture::makeExr(main.hdr, main.extras, metadata, args.half));
         if (!args.compareTo.empty()) {
             errorPath = errorImagePath(output);
-            io::writeImage(errorPath, errorImage(main.hdr, referenceHdr));
+            io::writeImage(errorPath, compare::errorImage(main.hdr, referenceHdr));
         }
     }
 
@@ -297,7 +299,11 @@ void runRender(const RenderArgs& args) {
     report["renderer"] = context.info().renderer;
     report["gl_version"] = context.info().version;
     report["vendor"] = context.info().vendor;
-    report["metadata"] = metadataJson(metadata);
+    report["metadata"] = capture::metadataJson(metadata);
+    // Every declared scene value as rendered (scene/scene_values.h), --width/--height included.
+    report["scene_values"] = scene::sceneValues(scene);
+    report["scene_values"]["render"]["width"] = main.width;
+    report["scene_values"]["render"]["height"] = main.height;
     report["timer"] = main.timer == gpu::GpuTimer::Mode::Query
                           ? "GL_TIME_ELAPSED"
                           : "glFinish + CPU clock (driver timer unusable)";
@@ -330,7 +336,7 @@ void runRender(const RenderArgs& args) {
         if (!args.compareTo.empty()) {
             report["compare"] = errorJson(args.compareTo, errors.front().second);
             report["compare"]["error_image"] = fs::absolute(errorPath).string();
-            report["compare"]["error_image_scale"] = kErrorImageScale;
+            report["compare"]["error_image_scale"] = compare::kErrorImageScale;
         }
     }
     const fs::path reportPath = args.report;
@@ -352,7 +358,7 @@ void runRender(const RenderArgs& args) {
             std::cout << fmt::format("{} vs {}: {} (linear HDR)\nwrote {} (|error| x {} in "
                                      "linear, sRGB-encoded)\n",
                                      main.oit, args.compareTo, formatError(errors.front().second),
-                                     errorPath.string(), kErrorImageScale);
+                                     errorPath.string(), compare::kErrorImageScale);
     }
     if (!args.report.empty())
         std::cout << "wrote " << reportPath.string() << " (per-pass GPU times)\n";

@@ -1,12 +1,12 @@
 // `veil view <scene.json|file.vdb>`: explore a scene in a window (GLFW + Dear ImGui). The
-// state is a ViewSession (app/view_session.h), the panel app/view_panel.h, debug views
-// app/debug_view.h. `--script actions.json` drives the same window from a list of actions
-// (app/view_script.h); `--frames N --screenshot out.png` renders N frames without the panel.
+// state is a session::ViewSession (session/view_session.h), the panel app/view_panel.h, debug views
+// viewer/debug_view.h. `--script actions.json` drives the same window from a list of actions
+// (viewer/view_script.h); `--frames N --screenshot out.png` renders N frames without the panel.
 #include "app/commands.h"
-#include "app/debug_view.h"
 #include "app/view_panel.h"
-#include "app/view_script.h"
-#include "app/view_session.h"
+#include "session/view_session.h"
+#include "viewer/debug_view.h"
+#include "viewer/view_script.h"
 
 #include "base/atomic_file.h"
 #include "base/error.h"
@@ -131,8 +131,8 @@ void sceneSize(const ViewArgs& args, int& w, int& h) {
 }
 
 // Writes what an output action asks for, after the frame of its iteration.
-void scriptOutput(const ScriptAction& a, ViewSession& session, const DebugView& view,
-                  const std::string& scriptPath) {
+void scriptOutput(const viewer::ScriptAction& a, session::ViewSession& session,
+                  const viewer::DebugView& view, const std::string& scriptPath) {
     const std::string path = a.value.get<std::string>();
     const std::string what = fmt::format("{}: action {} ({})", scriptPath, a.index, a.kind);
     checkOutputPath(path, what.c_str(), {scriptPath, session.scenePath()});
@@ -177,7 +177,7 @@ void scriptOutput(const ScriptAction& a, ViewSession& session, const DebugView& 
                             {"height", r.height()},
                             {"overrides", session.overrides()},
                             {"renderer", session.context().renderer}};
-        const ViewSession::RefineLog& log = session.refineLog();
+        const session::ViewSession::RefineLog& log = session.refineLog();
         j["refinement"] = {{"tile_px", session.refineTilePx()},
                            {"tiles", log.tiles},
                            {"budget_ms", session.refineBudgetMs()},
@@ -211,7 +211,8 @@ void scriptOutput(const ScriptAction& a, ViewSession& session, const DebugView& 
 }
 
 // Applies a state-changing action; returns the frames it asks to wait (frames action).
-int scriptApply(const ScriptAction& a, ViewSession& s, DebugView& view, PanelState& panel) {
+int scriptApply(const viewer::ScriptAction& a, session::ViewSession& s, viewer::DebugView& view,
+                PanelState& panel) {
     const nlohmann::json& v = a.value;
     if (a.kind == "set" && v.is_array())
         for (const auto& kv : v)
@@ -270,8 +271,8 @@ void runView(const ViewArgs& args) {
         checkOutputPath(args.screenshot, "--screenshot", {args.scene});
     }
     VEIL_CHECK(args.script.empty() || args.frames == 0, "--script and --frames exclude each other");
-    std::vector<ScriptAction> script;
-    if (!args.script.empty()) script = loadViewScript(args.script);
+    std::vector<viewer::ScriptAction> script;
+    if (!args.script.empty()) script = viewer::loadViewScript(args.script);
     const bool scripted = args.frames > 0 || !args.script.empty();
 
     int width = 0, height = 0;
@@ -286,8 +287,8 @@ void runView(const ViewArgs& args) {
     gpu::WindowContext window(ww, wh, "veil view: " + args.scene);
     int fw = 0, fh = 0;
     window.framebufferSize(fw, fh);
-    ViewSession session(window.info(), args.scene, args.overrides, args.camera,
-                        scripted ? width : fw, scripted ? height : fh);
+    session::ViewSession session(window.info(), args.scene, args.overrides, args.camera,
+                                 scripted ? width : fw, scripted ? height : fh);
     // Command-line choices are part of the start: a bad one is the command's error.
     if (!args.oit.empty() && !session.selectOit(args.oit)) throw Error(session.lastError());
     if (!args.shadows.empty() && !session.selectShadows(args.shadows))
@@ -304,7 +305,7 @@ void runView(const ViewArgs& args) {
     if (args.frames == 0) gui = std::make_unique<ImGuiSession>(window.window(), !scripted);
     glfwSetDropCallback(window.window(), onDrop);
 
-    DebugView view;
+    viewer::DebugView view;
     PanelState panel;
     std::uint64_t renderedVersion = ~std::uint64_t(0);
     std::string renderedView = "\x01";
@@ -322,7 +323,7 @@ void runView(const ViewArgs& args) {
     while (!window.shouldClose()) {
         window.pollEvents();
         window.framebufferSize(fw, fh);
-        const ScriptAction* action = nullptr;
+        const viewer::ScriptAction* action = nullptr;
         bool force = false;
         if (session.refining()) {
             // The script waits for the refined frame (its next action sees the whole frame).

@@ -1,8 +1,8 @@
 #include "app/view_panel.h"
 
-#include "app/dump.h"
-#include "app/exr_output.h"
-#include "app/property_widgets.h"
+#include "capture/dump.h"
+#include "capture/exr_output.h"
+#include "ui/property_widgets.h"
 
 #include "base/error.h"
 #include "gpu/readback.h"
@@ -44,18 +44,18 @@ std::string jsonVec(const glm::vec3& v) {
 }
 
 // The generated widgets of a schema over `values`; each changed key is set as prefix.KEY.
-void schemaWidgets(ViewSession& s, const PropertySchema& schema, nlohmann::json values,
+void schemaWidgets(session::ViewSession& s, const PropertySchema& schema, nlohmann::json values,
                    const std::string& prefix) {
     if (schema.empty()) return;
     const nlohmann::json before = values;
-    if (propertyWidgets(schema, values))
+    if (ui::propertyWidgets(schema, values))
         for (const auto& [key, v] : values.items())
             if (!before.contains(key) || before[key] != v)
                 s.set(prefix + "." + key + "=" + v.dump());
 }
 
 template <class Registry>
-void techniqueCombo(ViewSession& s, const char* label, const Registry& registry,
+void techniqueCombo(session::ViewSession& s, const char* label, const Registry& registry,
                     const std::string& rendering, bool isOit) {
     if (!ImGui::BeginCombo(label, rendering.c_str())) return;
     for (const auto& t : registry.all()) {
@@ -72,7 +72,8 @@ void techniqueCombo(ViewSession& s, const char* label, const Registry& registry,
     ImGui::EndCombo();
 }
 
-void fileSection(GLFWwindow* window, ViewSession& s, const DebugView& view, PanelState& st) {
+void fileSection(GLFWwindow* window, session::ViewSession& s, const viewer::DebugView& view,
+                 PanelState& st) {
     if (!section("File", st, true)) return;
     ImGui::TextWrapped("%s", s.scenePath().string().c_str());
     if (ImGui::Button("Open...")) st.openDialog.open(fs::absolute(s.scenePath()).parent_path());
@@ -102,7 +103,7 @@ void fileSection(GLFWwindow* window, ViewSession& s, const DebugView& view, Pane
     tip("PNG of the shown image and EXR beside it (linear HDR, or a debug view's raw values)");
 }
 
-void cameraSection(ViewSession& s, const PanelState& st) {
+void cameraSection(session::ViewSession& s, const PanelState& st) {
     if (!section("Camera", st)) return;
     const scene::Scene& sc = s.scene();
     if (ImGui::BeginCombo("camera", s.cameraName().c_str())) {
@@ -121,13 +122,13 @@ void cameraSection(ViewSession& s, const PanelState& st) {
     ImGui::TextDisabled("left drag: orbit, right/middle drag: pan, wheel: zoom");
 }
 
-void renderSection(ViewSession& s, const PanelState& st) {
+void renderSection(session::ViewSession& s, const PanelState& st) {
     if (!section("Render", st)) return;
     schemaWidgets(s, scene::renderOutputProperties(), scene::renderOutputValues(s.scene().render),
                   "render");
 }
 
-void techniqueSections(ViewSession& s, const PanelState& st) {
+void techniqueSections(session::ViewSession& s, const PanelState& st) {
     const frame::Renderer& r = s.renderer();
     if (section("Transparency (OIT)", st, true)) {
         techniqueCombo(s, "OIT", oit::Registry::instance(), r.oitName(), true);
@@ -147,7 +148,7 @@ void techniqueSections(ViewSession& s, const PanelState& st) {
     }
 }
 
-void fogSections(ViewSession& s, const PanelState& st) {
+void fogSections(session::ViewSession& s, const PanelState& st) {
     const scene::Scene& sc = s.scene();
     if (sc.volumes.empty()) return;
     if (section("Fog marcher", st)) {
@@ -168,7 +169,7 @@ void fogSections(ViewSession& s, const PanelState& st) {
     }
 }
 
-void lightSection(ViewSession& s, const PanelState& st) {
+void lightSection(session::ViewSession& s, const PanelState& st) {
     const scene::Scene& sc = s.scene();
     if (sc.lights.empty() || !section("Lights", st)) return;
     const nlohmann::json& doc = s.sourceDocument();
@@ -208,7 +209,8 @@ void heatLegend(float max) {
     ImDrawList* draw = ImGui::GetWindowDrawList();
     constexpr int kSteps = 20;
     for (int i = 0; i < kSteps; ++i) {
-        const glm::vec3 a = heatRamp(float(i) / kSteps), b = heatRamp(float(i + 1) / kSteps);
+        const glm::vec3 a = viewer::heatRamp(float(i) / kSteps),
+                        b = viewer::heatRamp(float(i + 1) / kSteps);
         const ImU32 ca = ImGui::GetColorU32(ImVec4(a.r, a.g, a.b, 1.0f)),
                     cb = ImGui::GetColorU32(ImVec4(b.r, b.g, b.b, 1.0f));
         draw->AddRectFilledMultiColor(ImVec2(p.x + width * i / kSteps, p.y),
@@ -222,10 +224,10 @@ void heatLegend(float max) {
     ImGui::TextUnformatted(label.c_str());
 }
 
-void debugSection(ViewSession& s, DebugView& view, const PanelState& st) {
+void debugSection(session::ViewSession& s, viewer::DebugView& view, const PanelState& st) {
     if (!section("Debug view", st, true)) return;
     if (ImGui::RadioButton("frame", !view.active())) view.select("");
-    for (const DebugViewEntry& e : debugViewEntries(s.renderer())) {
+    for (const viewer::DebugViewEntry& e : viewer::debugViewEntries(s.renderer())) {
         ImGui::BeginDisabled(!e.reason.empty());
         if (ImGui::RadioButton(e.resource.c_str(), view.resource() == e.resource))
             view.select(e.resource, 0);
@@ -235,7 +237,7 @@ void debugSection(ViewSession& s, DebugView& view, const PanelState& st) {
                 ? fmt::format("{} x{} layer(s), {}\n{}", e.format, e.layers,
                               e.bytes >= 1 << 20 ? fmt::format("{:.1f} MiB", e.bytes / 1048576.0)
                                                  : fmt::format("{:.1f} KiB", e.bytes / 1024.0),
-                              resourceUnits(e.resource))
+                              capture::resourceUnits(e.resource))
                 : e.reason;
         tip(info.c_str());
         if (view.resource() == e.resource && e.layers > 1) {
@@ -247,7 +249,8 @@ void debugSection(ViewSession& s, DebugView& view, const PanelState& st) {
         }
     }
     // The viewer's own view: the frame against `reference`, rendered only while shown.
-    if (ImGui::RadioButton(kReferenceErrorView, view.errorView())) view.select(kReferenceErrorView);
+    if (ImGui::RadioButton(viewer::kReferenceErrorView, view.errorView()))
+        view.select(viewer::kReferenceErrorView);
     tip("|frame - reference| of the linear HDR radiance per RGB channel: the same frame "
         "rendered by a second renderer with the exact sorted composite (only while shown)");
     if (view.errorView() && view.error())
@@ -260,7 +263,7 @@ void debugSection(ViewSession& s, DebugView& view, const PanelState& st) {
     }
 }
 
-void frameSection(ViewSession& s, PanelState& st) {
+void frameSection(session::ViewSession& s, PanelState& st) {
     if (!section("Frame", st, true)) return;
     const frame::Renderer& r = s.renderer();
     ImGui::TextWrapped("%s", s.context().renderer.c_str());
@@ -279,7 +282,7 @@ void frameSection(ViewSession& s, PanelState& st) {
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("Halve a refinement step's tile (down to %d px) until its estimated "
                           "pass time is under this many ms (0 = whole tiles)",
-                          ViewSession::kMinRefineTilePx);
+                          session::ViewSession::kMinRefineTilePx);
     // view.reuse_shadow_maps: camera moves keep the shadow maps (edits redraw them).
     bool reuse = s.reusesShadowMaps();
     if (ImGui::Checkbox("reuse_shadow_maps", &reuse)) s.setReuseShadowMaps(reuse);
@@ -317,7 +320,7 @@ void frameSection(ViewSession& s, PanelState& st) {
     if (ImGui::TreeNode("gpu memory", "GPU memory %.1f MiB", r.gpuBytes() / 1048576.0)) {
         // oit.accumulation is the technique's whole storage; its declared targets
         // (oit.<technique>.*) are listed too, indented, and are not added to the total again.
-        for (const DebugViewEntry& e : debugViewEntries(r)) {
+        for (const viewer::DebugViewEntry& e : viewer::debugViewEntries(r)) {
             if (e.bytes == 0) continue;
             const bool target =
                 e.resource.rfind("oit.", 0) == 0 && e.resource != "oit.accumulation";
@@ -344,7 +347,8 @@ void frameSection(ViewSession& s, PanelState& st) {
 
 } // namespace
 
-void writeShownImage(const ViewSession& session, const DebugView& view, const std::string& path) {
+void writeShownImage(const session::ViewSession& session, const viewer::DebugView& view,
+                     const std::string& path) {
     const bool exr = path.size() > 4 && (path.substr(path.size() - 4) == ".exr" ||
                                          path.substr(path.size() - 4) == ".EXR");
     if (!exr) {
@@ -354,26 +358,21 @@ void writeShownImage(const ViewSession& session, const DebugView& view, const st
     }
     io::ExrImage img;
     if (view.active()) {
-        const ResourceImage& raw = view.raw();
-        img.width = raw.width;
-        img.height = raw.height;
-        img.channels = raw.channels;
-        img.pixels = raw.pixels;
-        img.strings = {{"veil:resource", view.resource()},
-                       {"veil:layer", std::to_string(view.layer())}};
+        img = capture::resourceExr(view.raw(), {{"veil:resource", view.resource()},
+                                                {"veil:layer", std::to_string(view.layer())}});
     } else {
         // What `veil render -o out.exr` writes for this frame: RGB, A, Z and the metadata.
         const frame::Renderer& r = session.renderer();
-        const FrameExtras extras = captureExtras(r, false);
-        const RenderMetadata meta = describeRender(
+        const capture::FrameExtras extras = capture::captureExtras(r, false);
+        const capture::RenderMetadata meta = capture::describeRender(
             session.scenePath(), r.oitName(), r.technique().properties().values(), r.camera().name,
             extras, r.width(), r.height(), session.context().renderer);
-        img = makeExr(r.readHdr(), extras, meta, false);
+        img = capture::makeExr(r.readHdr(), extras, meta, false);
     }
     io::writeExr(path, img);
 }
 
-std::string screenshotPair(const ViewSession& session, const DebugView& view,
+std::string screenshotPair(const session::ViewSession& session, const viewer::DebugView& view,
                            const std::string& dir, int number) {
     VEIL_CHECK(fs::is_directory(dir), "screenshot folder '{}' does not exist", dir);
     const std::string stem = (fs::path(dir) / fmt::format("veil-{:04d}", number)).string();
@@ -382,7 +381,8 @@ std::string screenshotPair(const ViewSession& session, const DebugView& view,
     return stem + ".png";
 }
 
-void drawPanel(GLFWwindow* window, ViewSession& session, DebugView& view, PanelState& state) {
+void drawPanel(GLFWwindow* window, session::ViewSession& session, viewer::DebugView& view,
+               PanelState& state) {
     const float em = ImGui::GetFontSize();
     ImGui::SetNextWindowPos(ImVec2(em * 0.5f, em * 0.5f), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(em * 30, ImGui::GetIO().DisplaySize.y - em),

@@ -1,15 +1,15 @@
-// The viewer's ImGui panel over a ViewSession: techniques (unavailable ones greyed with the
-// reason; the combo shows what renders), every declared property of the OIT and shadow
-// techniques as generated widgets (app/property_widgets.h), the fog marcher, each volume,
+// The viewer's ImGui panel over a session::ViewSession: techniques (unavailable ones greyed with
+// the reason; the combo shows what renders), every declared property of the OIT and shadow
+// techniques as generated widgets (ui/property_widgets.h), the fog marcher, each volume,
 // light and the camera, the render settings, debug views of every frame resource, frame
 // times, per-pass times, GPU memory per resource, errors, and the file actions (open, save
 // scene as, copy render command, PNG + EXR screenshot into a folder). Every edit goes through
-// ViewSession::set as the `--set` override it is.
+// session::ViewSession::set as the `--set` override it is.
 #pragma once
 
-#include "app/debug_view.h"
 #include "app/file_dialog.h"
-#include "app/view_session.h"
+#include "session/view_session.h"
+#include "viewer/debug_view.h"
 
 #include <deque>
 #include <set>
@@ -30,14 +30,16 @@ struct PanelState {
 };
 
 // Draws the panel; edits act on `session` and `view` at once.
-void drawPanel(GLFWwindow* window, ViewSession& session, DebugView& view, PanelState& state);
+void drawPanel(GLFWwindow* window, session::ViewSession& session, viewer::DebugView& view,
+               PanelState& state);
 
 // Writes `dir`/veil-NNNN.png (the shown image) and .exr (linear HDR of the frame, or the
 // debug view's raw values); returns the PNG path.
-std::string screenshotPair(const ViewSession& session, const DebugView& view,
+std::string screenshotPair(const session::ViewSession& session, const viewer::DebugView& view,
                            const std::string& dir, int number);
 // One file: .png = the shown image (frame or debug view), .exr = the frame's linear HDR or
 // the debug view's raw resource values.
-void writeShownImage(const ViewSession& session, const DebugView& view, const std::string& path);
+void writeShownImage(const session::ViewSession& session, const viewer::DebugView& view,
+                     const std::string& path);
 
 } // namespace veil::app

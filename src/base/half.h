@@ -1,6 +1,7 @@
 // IEEE 754 binary16 ("half") from float, rounded to nearest with ties to even. The EXR writer
 // converts here rather than trusting a library or driver: a round-toward-zero conversion biases
-// every value down by half a step on average (-2.4e-4 at 0.7, issue 12).
+// every value down by half a step on average (-2.4e-4 at 0.7, measured on llvmpipe's RGBA16F
+// targets).
 #pragma once
 
 #include <bit>

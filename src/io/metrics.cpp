@@ -39,11 +39,6 @@ double mse(const ImageF& a, const ImageF& b) {
     return sum / count(a);
 }
 
-float srgbEncode(double c) {
-    c = std::clamp(c, 0.0, 1.0);
-    return static_cast<float>(c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055);
-}
-
 // Narkowicz 2015, "ACES Filmic Tone Mapping Curve" (the same fit as shaders/frame/tonemap).
 double acesFit(double x) {
     return std::clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
@@ -134,14 +129,19 @@ double percentileAbsError(const ImageF& a, const ImageF& b, double p) {
     return e[k];
 }
 
+double peak(const ImageF& reference) {
+    VEIL_CHECK(reference.channels >= 3, "no RGB in an image of {} channels", reference.channels);
+    double p = 0.0;
+    forEachRgb(reference, reference, [&](double, double y) { p = std::max(p, y); });
+    return p;
+}
+
 double psnr(const ImageF& a, const ImageF& reference) {
     checkSameSize(a, reference);
-    double peak = 0.0;
-    forEachRgb(a, reference, [&](double, double y) { peak = std::max(peak, y); });
+    const double top = peak(reference);
     const double m = mse(a, reference);
     if (m == 0.0) return std::numeric_limits<double>::infinity();
-    return peak > 0.0 ? 10.0 * std::log10(peak * peak / m)
-                      : std::numeric_limits<double>::quiet_NaN();
+    return top > 0.0 ? 10.0 * std::log10(top * top / m) : std::numeric_limits<double>::quiet_NaN();
 }
 
 double ssim(const ImageF& a, const ImageF& b) {
@@ -192,6 +192,11 @@ double ssim(const ImageF& a, const ImageF& b) {
         }
     }
     return total / (3.0 * double(n));
+}
+
+float srgbEncode(double c) {
+    c = std::clamp(c, 0.0, 1.0);
+    return static_cast<float>(c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055);
 }
 
 ImageF toneMapSrgb(const ImageF& hdr, double exposure, ToneMap op) {

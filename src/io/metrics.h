@@ -1,4 +1,4 @@
-// Image metrics for `veil compare` and `veil regress` (issue 12): error measures on linear
+// Image metrics for `veil compare` and `veil regress`: error measures on linear
 // HDR RGB(A) float images, SSIM on display-encoded images, and a per-pixel statistical test
 // of a stochastic estimator against a reference (the approach of Mitsuba 3's
 // src/render/tests/test_renders.py: test the estimator, do not threshold one noisy image).
@@ -31,8 +31,10 @@ double relativeMse(const ImageF& a, const ImageF& reference, double eps = kRelMs
 // the value at rank ceil(p / 100 * n) of the n sorted errors. p = 99 ignores the worst 1%
 // (fireflies, silhouette pixels) that max-abs reports.
 double percentileAbsError(const ImageF& a, const ImageF& b, double p = 99.0);
-// 10 log10(peak^2 / MSE) dB with peak = the largest RGB value of the reference (as
-// app/compare.h): +inf when MSE = 0, NaN when the reference is all zero and MSE > 0.
+// The largest RGB value of an image (the peak of psnr()).
+double peak(const ImageF& reference);
+// 10 log10(peak^2 / MSE) dB with peak = the largest RGB value of the reference: +inf when
+// MSE = 0, NaN when the reference is all zero and MSE > 0.
 double psnr(const ImageF& a, const ImageF& reference);
 
 // Mean structural similarity (Wang, Bovik, Sheikh and Simoncelli 2004, Eq. 13 with the
@@ -49,6 +51,8 @@ double ssim(const ImageF& a, const ImageF& b);
 // HDR radiance to display values: x * exposure, then the ACES fit of Narkowicz 2015 (aces)
 // or a clamp to [0, 1], then the sRGB transfer function (IEC 61966-2-1). RGB out.
 enum class ToneMap { Clamp, Aces };
+// The sRGB transfer function (IEC 61966-2-1) of a linear value clamped to [0, 1].
+float srgbEncode(double linear);
 ImageF toneMapSrgb(const ImageF& hdr, double exposure = 1.0, ToneMap op = ToneMap::Clamp);
 
 // A heat map of the error: per pixel e = max over RGB of |a - b|, mapped through a

@@ -7,6 +7,7 @@
 #include "base/log.h"
 #include "scene/json_reader.h"
 #include "scene/json_text.h"
+#include "scene/scene_values.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -17,10 +18,60 @@
 #include <map>
 #include <optional>
 #include <system_error>
+#include <type_traits>
+#include <utility>
+#include <variant>
 
 namespace veil::scene::detail {
 
 namespace {
+
+// Reads the declared values (scene_values.h) of a document of type `typeIndex` into `s`, with
+// the ranges and messages of json_reader.h.
+template <class S>
+void readValues(const Obj& o, const std::vector<ValueDecl<S>>& decls, S& s, int typeIndex = 0) {
+    for (const ValueDecl<S>& d : decls) {
+        if (!(d.acceptedBy & typeBit(typeIndex))) continue;
+        const Range r{d.accepted.lo, d.accepted.hi, d.accepted.loOpen, d.accepted.hiOpen};
+        std::visit(
+            [&](auto member) {
+                auto& field = s.*member;
+                using T = std::decay_t<decltype(field)>;
+                if constexpr (std::is_same_v<T, glm::vec3>)
+                    field = o.vec<3>(d.key, field, r, d.scalarAllowed);
+                else if constexpr (std::is_same_v<T, float>)
+                    field = o.num(d.key, field, r);
+                else if constexpr (std::is_same_v<T, bool>)
+                    field = o.boolean(d.key, field);
+                else if constexpr (std::is_same_v<T, std::string>)
+                    field = o.str(d.key, field, d.choices);
+                else {
+                    field = static_cast<T>(o.integer(d.key, static_cast<long long>(field),
+                                                     static_cast<long long>(d.accepted.lo),
+                                                     static_cast<long long>(d.accepted.hi)));
+                    if (d.refused && static_cast<long long>(field) == *d.refused)
+                        fail(o.ctx(), o.ptr(d.key), d.refusedMessage);
+                }
+            },
+            d.field);
+    }
+}
+
+// The keys a document of type `typeIndex` accepts: `before`, the declared values with `extra`
+// after the value `after` (the order of the "unknown key (known: ...)" message).
+template <class S>
+std::vector<std::string>
+keysOf(const std::vector<ValueDecl<S>>& decls, int typeIndex, std::vector<std::string> before,
+       const std::vector<std::pair<std::string, std::vector<std::string>>>& extra = {}) {
+    std::vector<std::string> keys = std::move(before);
+    for (const ValueDecl<S>& d : decls) {
+        if (!(d.acceptedBy & typeBit(typeIndex))) continue;
+        keys.push_back(d.key);
+        for (const auto& [after, more] : extra)
+            if (after == d.key) keys.insert(keys.end(), more.begin(), more.end());
+    }
+    return keys;
+}
 
 // T * Rz * Ry * Rx * S (rotations applied X, then Y, then Z), or a column-major matrix.
 glm::mat4 parseTransform(const Context& ctx, const json& j, const std::string& ptr) {
@@ -71,9 +122,9 @@ void parseTechniqueChoice(const Obj& o, const char* key, std::string& name,
     if (name.empty()) fail(o.ctx(), o.ptr(key), "technique name must not be empty");
 }
 
+// Every declared value first (scene_values.cpp), then the technique choices.
 void parseRender(const Obj& o, RenderSettings& r) {
-    r.width = int(o.integer("width", r.width, 1, 16384));
-    r.height = int(o.integer("height", r.height, 1, 16384));
+    readValues(o, renderValueDecls(), r);
     r.camera = o.str("camera", r.camera);
     parseTechniqueChoice(o, "oit", r.oit, r.oitProperties, r.oitWhere);
     parseTechniqueChoice(o, "shadows", r.shadows, r.shadowProperties, r.shadowsWhere);
@@ -99,21 +150,6 @@ void parseRender(const Obj& o, RenderSettings& r) {
         if (!r.shadowProperties.is_object()) r.shadowProperties = json::object();
         r.shadowProperties[key] = *v;
     }
-    r.seed = std::uint32_t(o.integer("seed", r.seed, 0, std::numeric_limits<std::uint32_t>::max()));
-    r.ambient = o.color("ambient", r.ambient);
-    r.background = o.color("background", r.background);
-    r.exposure = o.num("exposure", r.exposure, kPositive);
-    r.tonemap = o.str("tonemap", r.tonemap, {"aces", "clamp"});
-    r.fogSteps = static_cast<int>(o.integer("fog_steps", r.fogSteps, 1, 4096));
-    r.fogResolution = static_cast<int>(o.integer("fog_resolution", r.fogResolution, 1, 4));
-    if (r.fogResolution == 3) fail(o.ctx(), o.ptr("fog_resolution"), "must be 1, 2 or 4");
-    r.fogJitter = o.boolean("fog_jitter", r.fogJitter);
-    r.volumeBudgetMiB =
-        static_cast<int>(o.integer("volume_budget_mib", r.volumeBudgetMiB, 1, 1 << 20));
-    r.volumeOverBudget = o.str("volume_over_budget", r.volumeOverBudget, {"coarsen", "refuse"});
-    r.geometryBudgetMiB =
-        static_cast<int>(o.integer("geometry_budget_mib", r.geometryBudgetMiB, 1, 1 << 20));
-    r.fogSampleLimit = o.integer("fog_sample_limit", r.fogSampleLimit, -1, 1LL << 50);
 }
 
 Camera parseCamera(const Context& ctx, const json& j, const std::string& ptr, std::size_t i) {
@@ -122,20 +158,14 @@ Camera parseCamera(const Context& ctx, const json& j, const std::string& ptr, st
     std::string type = j.is_object() && j.contains("type") && j["type"].is_string()
                            ? j["type"].get<std::string>()
                            : "perspective";
-    std::vector<std::string> keys = {"name", "type", "position", "target", "up", "near", "far"};
-    keys.push_back(type == "orthographic" ? "ortho_height" : "fov_y");
-    Obj o(ctx, j, ptr, keys);
+    const CameraType peeked =
+        type == "orthographic" ? CameraType::Orthographic : CameraType::Perspective;
+    Obj o(ctx, j, ptr, keysOf(cameraValueDecls(), int(peeked), {"name", "type"}));
     c.name = o.str("name", c.name);
     c.type = o.str("type", "perspective", {"perspective", "orthographic"}) == "orthographic"
                  ? CameraType::Orthographic
                  : CameraType::Perspective;
-    c.position = o.vec<3>("position", c.position);
-    c.target = o.vec<3>("target", c.target);
-    c.up = o.vec<3>("up", c.up);
-    c.fovYDegrees = o.num("fov_y", c.fovYDegrees, Range{0.0, 180.0, true, true});
-    c.orthoHeight = o.num("ortho_height", c.orthoHeight, kPositive);
-    c.nearPlane = o.num("near", c.nearPlane, kPositive);
-    c.farPlane = o.num("far", c.farPlane, kPositive);
+    readValues(o, cameraValueDecls(), c, int(c.type));
     if (c.farPlane <= c.nearPlane)
         fail(ctx, o.ptr("far"),
              fmt::format("far ({}) must be greater than near ({})", c.farPlane, c.nearPlane));
@@ -167,19 +197,18 @@ Light parseLight(const Context& ctx, const json& j, const std::string& ptr, std:
     std::string type = j.is_object() && j.contains("type") && j["type"].is_string()
                            ? j["type"].get<std::string>()
                            : "directional";
-    std::vector<std::string> keys = {"name", "type", "color", "intensity", "shadows", "position"};
-    if (type != "point") keys.insert(keys.end(), {"direction", "target"});
-    if (type == "spot") keys.insert(keys.end(), {"inner_cone", "outer_cone"});
-    Obj o(ctx, j, ptr, keys);
+    const LightType peeked = type == "spot"    ? LightType::Spot
+                             : type == "point" ? LightType::Point
+                                               : LightType::Directional;
+    std::vector<std::pair<std::string, std::vector<std::string>>> aim;
+    if (peeked != LightType::Point) aim.push_back({"position", {"direction", "target"}});
+    Obj o(ctx, j, ptr, keysOf(lightValueDecls(), int(peeked), {"name", "type"}, aim));
     l.name = o.str("name", l.name);
     std::string t = o.str("type", "directional", {"directional", "spot", "point"});
     l.type = t == "spot"    ? LightType::Spot
              : t == "point" ? LightType::Point
                             : LightType::Directional;
-    l.color = o.color("color", l.color);
-    l.intensity = o.num("intensity", l.intensity, kNonNegative);
-    l.castShadows = o.boolean("shadows", l.castShadows);
-    l.position = o.vec<3>("position", l.position);
+    readValues(o, lightValueDecls(), l, int(l.type));
     if (o.has("direction") && o.has("target"))
         fail(ctx, o.ptr("target"), "give either direction or target, not both");
     if (o.has("target")) {
@@ -191,8 +220,6 @@ Light parseLight(const Context& ctx, const json& j, const std::string& ptr, std:
         if (d == glm::vec3(0.0f)) fail(ctx, o.ptr("direction"), "direction must not be zero");
         l.direction = unitDirection(ctx, d, o.ptr("direction"), "direction");
     }
-    l.innerConeDegrees = o.num("inner_cone", l.innerConeDegrees, Range{0.0, 90.0});
-    l.outerConeDegrees = o.num("outer_cone", l.outerConeDegrees, Range{0.0, 90.0});
     if (l.outerConeDegrees < l.innerConeDegrees)
         fail(ctx, o.ptr("outer_cone"),
              fmt::format("outer_cone ({}) must be >= inner_cone ({})", l.outerConeDegrees,
@@ -202,24 +229,10 @@ Light parseLight(const Context& ctx, const json& j, const std::string& ptr, std:
 
 Material parseMaterial(const Context& ctx, const json& j, const std::string& ptr,
                        const std::string& name) {
-    Obj o(ctx, j, ptr,
-          {"base_color", "roughness", "metalness", "emission", "alpha", "transmission",
-           "collimation", "ior", "attenuation_color", "attenuation_distance", "thickness",
-           "coverage_edge"});
+    Obj o(ctx, j, ptr, keysOf(materialValueDecls(), 0, {}));
     Material m;
     m.name = name;
-    m.baseColor = o.color("base_color", m.baseColor);
-    m.roughness = o.num("roughness", m.roughness, kUnit);
-    m.metalness = o.num("metalness", m.metalness, kUnit);
-    m.emission = o.color("emission", m.emission);
-    m.alpha = o.num("alpha", m.alpha, kUnit);
-    m.transmission = o.color("transmission", m.transmission, kUnit);
-    m.collimation = o.num("collimation", m.collimation, kUnit);
-    m.ior = o.num("ior", m.ior, Range{1.0, kInf});
-    m.attenuationColor = o.color("attenuation_color", m.attenuationColor);
-    m.attenuationDistance = o.num("attenuation_distance", m.attenuationDistance, kNonNegative);
-    m.thickness = o.num("thickness", m.thickness, kNonNegative);
-    m.coverageEdge = o.num("coverage_edge", m.coverageEdge, Range{0.0, 0.5});
+    readValues(o, materialValueDecls(), m);
     return m;
 }
 
@@ -405,9 +418,10 @@ void parseObject(const Context& ctx, const json& j, const std::string& ptr, std:
 }
 
 VolumeRef parseVolume(const Context& ctx, const json& j, const std::string& ptr, std::size_t i) {
-    Obj o(ctx, j, ptr,
-          {"name", "path", "procedural", "size", "voxel_size", "seed", "grid", "transform",
-           "density_scale", "albedo", "anisotropy", "emission"});
+    Obj o(
+        ctx, j, ptr,
+        keysOf(volumeValueDecls(), 0,
+               {"name", "path", "procedural", "size", "voxel_size", "seed", "grid", "transform"}));
     VolumeRef v;
     v.name = o.str("name", fmt::format("volume{}", i));
     if (o.get("path") && o.get("procedural"))
@@ -428,10 +442,7 @@ VolumeRef parseVolume(const Context& ctx, const json& j, const std::string& ptr,
     if (v.grid.empty()) fail(ctx, o.ptr("grid"), "grid name must not be empty");
     if (const json* t = o.get("transform"))
         v.transform = parseTransform(ctx, *t, o.ptr("transform"));
-    v.densityScale = o.num("density_scale", v.densityScale, kNonNegative);
-    v.albedo = o.color("albedo", v.albedo, kUnit);
-    v.anisotropy = o.num("anisotropy", v.anisotropy, Range{-1.0, 1.0, true, true});
-    v.emission = o.color("emission", v.emission);
+    readValues(o, volumeValueDecls(), v);
     return v;
 }
 
@@ -453,27 +464,9 @@ Scene parseSceneDocument(const json& doc, const fs::path& baseDir, const std::st
 
     if (const json* r = root.get("render"))
         parseRender(Obj(ctx, *r, root.ptr("render"),
-                        {"width",
-                         "height",
-                         "camera",
-                         "oit",
-                         "shadows",
-                         "ao",
-                         "seed",
-                         "ambient",
-                         "background",
-                         "exposure",
-                         "tonemap",
-                         "shadow_map_size",
-                         "shadow_bias",
-                         "pcf_radius",
-                         "fog_steps",
-                         "fog_resolution",
-                         "fog_jitter",
-                         "volume_budget_mib",
-                         "volume_over_budget",
-                         "geometry_budget_mib",
-                         "fog_sample_limit"}),
+                        keysOf(renderValueDecls(), 0, {},
+                               {{"height", {"camera", "oit", "shadows", "ao"}},
+                                {"tonemap", {"shadow_map_size", "shadow_bias", "pcf_radius"}}})),
                     scene.render);
 
     forEach(root, "cameras", [&](const json& j, const std::string& p, std::size_t i) {

@@ -1,4 +1,4 @@
-// The veil command against hostile input and a hostile machine (issue 8): every failure is
+// The veil command against hostile input and a hostile machine: every failure is
 // one "veil: error:" line naming the file, exit status 1, no output and no temporary left;
 // a full disk, SIGTERM mid-write and bad output paths included.
 #include "support/test_support.h"
@@ -241,7 +241,7 @@ TEST(CliRobustTest, SigtermDuringWriteLeavesNoTemporary) {
 
 // Before: a typo said "A subcommand is required" and usage errors exited 105, 106 or 109;
 // --device -7, --voxel-size -1 / 1e-9 (the last failed in OpenVDB) and --smooth nan were
-// accepted. Usage errors exit 2 (issue 12), errors while running 1.
+// accepted. Usage errors exit 2, errors while running 1.
 TEST(CliRobustTest, UsageErrorsAreOneLineAndExitTwo) {
     const fs::path dir = freshDir("usage");
     const fs::path scene = writeFile(dir / "scene.json", kScene);

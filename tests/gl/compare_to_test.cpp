@@ -1,4 +1,4 @@
-// `veil render --compare-to FILE|cpu` (issue 12 item 2): a stored image, with errors that are
+// `veil render --compare-to FILE|cpu`: a stored image, with errors that are
 // known in closed form, and the fog's CPU reference.
 #include "support/test_support.h"
 

@@ -1,4 +1,4 @@
-// `veil render --dump DIR` (issue 12 item 6): every frame resource of a scene with a volume
+// `veil render --dump DIR`: every frame resource of a scene with a volume
 // and a shadowed spot light, read back through OpenImageIO and VTK and checked against the
 // frame's own EXR (same frame, same values).
 #include "support/test_support.h"

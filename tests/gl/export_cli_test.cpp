@@ -1,4 +1,4 @@
-// `veil export grid.vdb -o grid.vti` (issue 12 item 5), read back with VTK's own
+// `veil export grid.vdb -o grid.vti` , read back with VTK's own
 // vtkXMLImageDataReader and checked against OpenVDB's values and sampling at the same points.
 #include "support/test_support.h"
 #include "support/vdb_read.h"

@@ -183,7 +183,7 @@ TEST_F(FogTest, SelfShadowingThroughTheBrickAtlasMatchesCpuReference) {
     // The light-transmittance volume on the brick-atlas path (a 107^3 smoke ball: over the
     // 96^3 dense limit), lit by a directional light straight down: the light march clips its
     // steps to the volume's box, with the light ray parallel to two index axes (the case that
-    // gave 0 * inf = NaN in the box test; issue 14 item 4). Radiance RMSE within 5% of the
+    // gave 0 * inf = NaN in the box test). Radiance RMSE within 5% of the
     // mean, as the dense case above (half-float densities, a light volume of about 2 voxels
     // per texel); measured on llvmpipe: 0.10%. Too loose to see a few steps dropped at the
     // box's exit (0.24%): the ball's density fades to 0 there.
@@ -263,7 +263,7 @@ TEST_F(FogTest, FogBetweenGlassPanesUnderReferenceIsTheAnalyticComposite) {
 }
 
 TEST_F(FogTest, FogAloneIsOneExactContributionInEveryTechnique) {
-    // Issue 14: the fog enters blend, wboit, phenomenological and moment-* from a compute pass
+    // The fog enters blend, wboit, phenomenological and moment-* from a compute pass
     // (fog_emit.comp, images, the blend equations in the shader) and reference / stochastic as
     // a full-screen fragment. With the fog the only contribution (no transparent surfaces), a
     // grey lit slab over a coloured background, every technique composites one layer, which

@@ -1,4 +1,4 @@
-// Density grids that used to upload wrongly or not at all (src/volume/gpu_volume.cpp): grids of
+// Density grids that are hard to upload (src/volume/gpu_volume.cpp): grids of
 // active tiles, level sets turned into fog (interior tiles), grids wider than the GL 3D texture
 // limit, index coordinates near the int32 limits, and sparse data spread far apart. Each either
 // renders the analytic transmittance or ends quickly in one veil::Error giving the estimate and

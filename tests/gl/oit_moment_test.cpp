@@ -368,7 +368,7 @@ TEST_F(OitMomentGLTest, Storage16NeedsInterlock) {
         const ImageF gpu = render(info(), planes, name);
         ASSERT_TRUE(allFinite(gpu)) << name;
         const ImageDiff d = compareImages(gpu, exact);
-        // Issue 14: no worse than 1.5x the float32 variant against the exact composite.
+        // No worse than 1.5x the float32 variant against the exact composite.
         const std::string float32 = std::string(name).substr(0, std::string(name).size() - 3);
         const ImageDiff d32 = compareImages(render(info(), planes, float32), exact);
         std::printf("[ moments ] %s: rmse vs exact %.4f max %.3f (%s %.4f)\n", name, d.rmse,
@@ -441,7 +441,7 @@ TEST_F(OitMomentGLTest, Storage16TransformMatchesCpu) {
 
 // Half-float storage (additive blending into RGBA16F / RG16F, b_0 in float32, no interlock):
 // against the exact sorted composite on three random 16-plane scenes, the error must be at
-// most 1.5x that of the float32 variant of the same moment set (issue 14). The half path
+// most 1.5x that of the float32 variant of the same moment set. The half path
 // differs from float32 only by the rounding of every unnormalized moment to 11 significant
 // bits per addition and the stronger (16-bit) bias that 002 section 4.1 prescribes.
 TEST_F(OitMomentGLTest, HalfStorageErrorWithinFloat32) {

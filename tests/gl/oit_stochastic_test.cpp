@@ -516,7 +516,7 @@ TEST_F(OitStochasticGLTest, EightSamplesWhereTheDriverHasThem) {
 }
 
 TEST_F(OitStochasticGLTest, OpaqueDepthCopiedOnlyWhereAPassWroteDepth) {
-    // Issue 14: the MSAA copy of the opaque depth is redrawn only before a pass that needs it
+    // The MSAA copy of the opaque depth is redrawn only before a pass that needs it
     // and finds depth written since the last copy: pass 0 and every stochastic pass but the
     // first after the total-alpha pass, i.e. P copies per frame for P passes (1 + P before:
     // the total-alpha pass writes no depth). Counted by the technique (stats "depth_copies")

@@ -1,4 +1,4 @@
-// The progress line of `veil render` (issue 12 item 3): on stderr only, only past the delay,
+// The progress line of `veil render`: on stderr only, only past the delay,
 // only with --progress when stderr is not a terminal; stdout unchanged.
 #include "support/test_support.h"
 

@@ -1,5 +1,5 @@
 // The refinement's tiles split to fit a time budget (frame::Renderer::refineStep's maxTilePx,
-// app::ViewSession's view.refine_budget_ms; docs/viewer.md "Slow drivers"): however the steps
+// session::ViewSession's view.refine_budget_ms; docs/viewer.md "Slow drivers"): however the steps
 // halve the grid's tiles, the tiles cover every pixel exactly once and the refined frame equals
 // the frame in one piece bit for bit; the session takes the smallest tile while it has no
 // estimate, halves tiles under a budget no step can meet, and keeps whole tiles under a budget

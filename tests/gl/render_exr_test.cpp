@@ -1,4 +1,4 @@
-// `veil render -o out.exr` end to end (issue 12 item 1): float32 R, G, B, A, Z (+ fog AOVs),
+// `veil render -o out.exr` end to end: float32 R, G, B, A, Z (+ fog AOVs),
 // read back through OpenImageIO; Z against the analytic view depth of a ground plane;
 // header metadata against independently computed values (sha256sum, glm::lookAt).
 #include "support/test_support.h"

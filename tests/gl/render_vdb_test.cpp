@@ -1,4 +1,4 @@
-// `veil render file.vdb` (issue 12 item 4): a bare volume framed by a default camera and light.
+// `veil render file.vdb`: a bare volume framed by a default camera and light.
 #include "support/test_support.h"
 
 #include <OpenImageIO/imageio.h>

@@ -159,6 +159,8 @@ ProjectPrograms projectPrograms(const gpu::ContextInfo& info, gpu::ProgramManage
             ADD_FAILURE() << "shadows " << t.name << ": " << e.what();
         }
     }
+    // The shadow technique template (src/shadows/_template), not registered by default.
+    visibilities.push_back({{"veil:light_visibility", "shadows/_template/visibility.glsl"}});
     for (const auto& v : visibilities) {
         P.push_back(ProgramDesc::graphics("frame/mesh.vert", "frame/opaque.frag", {}, v));
         P.push_back(

@@ -1,5 +1,5 @@
-// `veil voxelize mesh.obj|.ply` without a scene and `veil info file.vdb` per grid (issue 12
-// item 7), checked against bounds read from the OBJ text and values read through OpenVDB.
+// `veil voxelize mesh.obj|.ply` without a scene and `veil info file.vdb` per grid,
+// checked against bounds read from the OBJ text and values read through OpenVDB.
 #include "support/test_support.h"
 #include "support/vdb_read.h"
 

@@ -1,4 +1,4 @@
-// Work and memory estimated before anything is allocated (issue 8, "hangs and memory"): a
+// Work and memory estimated before anything is allocated (hangs and memory): a
 // particle cloud over the geometry budget, a fog march over the sample limit and a smoothing
 // over its work limit each end at once in one line naming the file, the estimate and the
 // limit, with exit 1 and no output; below the limits the same commands work.

@@ -1,4 +1,4 @@
-// Golden images per OIT technique on llvmpipe (issue 3): datasets/scenes/oit-glass.json at
+// Golden images per OIT technique on llvmpipe: datasets/scenes/oit-glass.json at
 // 128 x 72, linear HDR compared with tests/regression/golden/oit-<name>.exr (max-abs 0.05 for
 // edge pixels, RMSE 0.003). Each golden is itself checked against the exact composite of the
 // same frame (`reference`), relative to the error of the same frame with no transparency
@@ -31,7 +31,7 @@ struct Case {
     // transparency at all (both over 4 x 4 block means): see the bounds below.
     double maxFractionOfNoTransparency;
 };
-// ctest lists cases by this, not by a hex dump of the struct (issue 9: readable names).
+// ctest lists cases by this, not by a hex dump of the struct (readable names).
 void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
 
 // Mean over k x k pixel blocks: the stochastic estimators' per-pixel noise has zero mean
@@ -166,8 +166,7 @@ TEST_P(OitGoldenTest, MatchesGoldenAndGoldenIsCloseToReference) {
 // along transparent silhouettes (4 MSAA samples against the reference's one at the pixel
 // centre), yet about 65 remain after leaving out every pixel whose reference modulation jumps
 // by 2% in its 3 x 3 neighbourhood (worst at (76, 51), 135 times the bound; not shadows: 918
-// channels are off with no lights at all), so they are skipped until that is understood
-// (reported in issue 8).
+// channels are off with no lights at all), so they are skipped until that is understood.
 TEST_P(OitGoldenTest, ModulationOnlyFrameIsExact) {
     const Case c = GetParam();
     const std::string name = c.name;

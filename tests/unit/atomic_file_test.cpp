@@ -1,4 +1,4 @@
-// Atomic writes (base/atomic_file.h) under hostile conditions (issue 8): a full file
+// Atomic writes (base/atomic_file.h) under hostile conditions: a full file
 // system, a writer that ignores its own write errors (as OpenVDB's File::write does), a
 // file name near NAME_MAX, SIGTERM in the middle of a write, and outputs that would
 // overwrite an input.

@@ -39,7 +39,7 @@ TEST(HalfTest, RoundsToNearestEven) {
     EXPECT_EQ(halfToFloat(floatToHalf(1.99995f)), 2.0f);
 }
 
-// Issue 12 measured -2e-4 at 0.7 from round-toward-zero. Rounded to nearest, the mean error
+// Round-toward-zero (llvmpipe's conversion) gives -2e-4 at 0.7. Rounded to nearest, the mean error
 // over values spread through [0.5, 1) is far below half a step (2.4e-4) and every error is
 // at most half a step.
 TEST(HalfTest, NoBiasOverAnOctave) {

@@ -580,7 +580,7 @@ TEST(OitMomentReference, Power6And8QuantizationRoundTrip) {
 }
 
 TEST(OitMomentReference, Storage16ErrorWithinFloat32OnRandomStacks) {
-    // Issue 14: the 16-bit storages must not be worse than 1.5x the float32 variant against
+    // The 16-bit storages must not be worse than 1.5x the float32 variant against
     // the exact transmittance. Per stack (1..12 layers, some pairs 1e-3 apart in warped depth),
     // the transmittance in front of every layer is compared with the exact one: float32 =
     // exact double moments with the float32 bias (the GPU float32 path rounds far less than

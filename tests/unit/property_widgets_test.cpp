@@ -1,13 +1,13 @@
-// The viewer's generated property widgets (src/app/property_widgets.h), driven headless
+// The viewer's generated property widgets (src/ui/property_widgets.h), driven headless
 // through Dear ImGui without a backend: every declared property of every technique gets a
 // widget, nothing changes without input, and a click on a checkbox flips its value.
-#include "app/property_widgets.h"
 #include "oit/technique.h"
+#include "ui/property_widgets.h"
 
 #include <gtest/gtest.h>
 #include <imgui.h>
 
-namespace veil::app {
+namespace veil::ui {
 namespace {
 
 struct HeadlessImGui {
@@ -68,4 +68,4 @@ TEST(PropertyWidgetsTest, ClickingACheckboxFlipsIt) {
 }
 
 } // namespace
-} // namespace veil::app
+} // namespace veil::ui

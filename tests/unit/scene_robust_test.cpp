@@ -1,4 +1,4 @@
-// Hostile scene input (issue 8): documents nested 500k deep, numbers that do not fit a double
+// Hostile scene input: documents nested 500k deep, numbers that do not fit a double
 // or a float, invalid UTF-8 in --set. Each ends in a veil::Error naming the file (or the
 // override) and the JSON pointer; none crashes or lets an nlohmann exception escape.
 #include "base/error.h"

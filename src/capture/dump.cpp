@@ -1,0 +1,174 @@
+#include "capture/dump.h"
+
+#include "capture/resource_image.h"
+
+#include "base/atomic_file.h"
+#include "base/error.h"
+#include "gpu/readback.h"
+#include "io/exr_writer.h"
+#include "io/vtk_export.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+namespace veil::capture {
+
+namespace fs = std::filesystem;
+
+// What the values mean, per resource (renderer.h lists them).
+std::string resourceUnits(const std::string& resource) {
+    if (resource == "hdr") return "linear HDR radiance, RGBA (A unused)";
+    if (resource == "ldr") return "tone-mapped, sRGB-encoded display values in [0, 1]";
+    if (resource == "depth")
+        return "window depth in [0, 1] of the nearest opaque surface (nonlinear; 1 = nothing "
+               "drawn); the render EXR's Z is it as view depth";
+    if (resource == "shadow.depth")
+        return "per light view (layer): linear depth along the view axis of the nearest opaque "
+               "caster, normalized to the view's [near, far] (1 = none)";
+    if (resource.rfind("shadow.", 0) == 0)
+        return "the shadow technique's maps, one layer per light view (docs/shadows.md)";
+    if (resource == "fog.radiance")
+        return "RGB radiance in-scattered by the fog toward the camera, A = mean fog depth "
+               "(view units); at 1/render.fog_resolution of the frame size";
+    if (resource == "fog.light_transmittance")
+        return "transmittance toward the primary light, one value per texel of the first "
+               "volume's light-space grid (spacing and origin in texels)";
+    return "raw texel values";
+}
+
+namespace {
+
+std::string unitsOf(const std::string& resource) { return resourceUnits(resource); }
+
+// A single-channel texture (depth or red) as floats, row 0 = top for 2D.
+std::vector<float> readRed(const gpu::Texture& t, GLenum format) {
+    std::vector<float> v(std::size_t(t.width()) * t.height() * std::max(1, t.depth()));
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glGetTextureImage(t.id(), 0, format, GL_FLOAT, static_cast<GLsizei>(v.size() * sizeof(float)),
+                      v.data());
+    if (t.target() == GL_TEXTURE_2D) {
+        const std::size_t row = std::size_t(t.width());
+        for (int y = 0; y < t.height() / 2; ++y)
+            std::swap_ranges(v.begin() + y * row, v.begin() + (y + 1) * row,
+                             v.begin() + (t.height() - 1 - y) * row);
+    }
+    return v;
+}
+
+// Characters safe in a file name: the resource names are ids like "shadow.0", kept as they are.
+std::string fileStem(const std::string& resource) {
+    std::string s = resource;
+    for (char& c : s)
+        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-'))
+            c = '_';
+    return s;
+}
+
+} // namespace
+
+void checkDumpDirectory(const fs::path& dir) {
+    std::error_code ec;
+    const fs::file_status st = fs::status(dir, ec);
+    VEIL_CHECK(!fs::exists(st) || fs::is_directory(st), "--dump '{}': exists and is not a folder",
+               dir.string());
+    VEIL_CHECK(fs::exists(st) ||
+                   fs::is_directory(dir.parent_path().empty() ? "." : dir.parent_path()),
+               "--dump '{}': its parent folder does not exist", dir.string());
+}
+
+io::ExrImage resourceExr(const ResourceImage& image,
+                         std::vector<std::pair<std::string, std::string>> strings) {
+    io::ExrImage exr;
+    exr.width = image.width;
+    exr.height = image.height;
+    exr.channels = image.channels;
+    exr.pixels = image.pixels;
+    exr.strings = std::move(strings);
+    return exr;
+}
+
+nlohmann::json dumpFrame(const frame::Renderer& renderer, const fs::path& dir) {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    VEIL_CHECK(!ec && fs::is_directory(dir), "--dump '{}': cannot create the folder ({})",
+               dir.string(), ec.message());
+    nlohmann::json entries = nlohmann::json::array();
+    for (const std::string& name : renderer.passes().resources()) {
+        nlohmann::json e = {{"resource", name}};
+        const gpu::Texture* t = renderer.resourceTexture(name);
+        if (!t || !*t) {
+            e["dumpable"] = false;
+            e["reason"] = name.rfind("oit.", 0) == 0
+                              ? fmt::format("lives inside the OIT technique '{}' (no frame "
+                                            "texture)",
+                                            renderer.oitName())
+                              : std::string("no texture behind this resource");
+            entries.push_back(e);
+            continue;
+        }
+        const GLenum f = t->format();
+        e["format"] = formatName(f);
+        e["units"] = unitsOf(name);
+        e["width"] = t->width();
+        e["height"] = t->height();
+        if (t->target() == GL_TEXTURE_3D) {
+            io::DenseGrid g;
+            g.name = name;
+            g.dims = {t->width(), t->height(), t->depth()};
+            g.values = readRed(*t, GL_RED);
+            const std::string file = fileStem(name) + ".vti";
+            io::writeVti(dir / file, g);
+            e["depth"] = t->depth();
+            e["file"] = file;
+            e["type"] = "float32 VTK ImageData (vtkXMLImageDataWriter), one scalar per texel";
+            e["dumpable"] = true;
+        } else if (t->target() == GL_TEXTURE_2D) {
+            const io::ExrImage exr =
+                resourceExr(readResourceImage(*t), {{"veil:resource", name},
+                                                    {"veil:format", formatName(f)},
+                                                    {"veil:units", unitsOf(name)}});
+            const std::string file = fileStem(name) + ".exr";
+            io::writeExr(dir / file, exr);
+            e["file"] = file;
+            e["channels"] = exr.channels;
+            e["type"] = "float32 OpenEXR";
+            e["dumpable"] = true;
+        } else if (t->target() == GL_TEXTURE_2D_ARRAY && f != GL_R32UI && f != GL_RGBA32UI) {
+            // One EXR per layer (a shadow technique's maps: one layer per light view).
+            const int layers = resourceLayers(*t);
+            nlohmann::json files = nlohmann::json::array();
+            for (int k = 0; k < layers; ++k) {
+                const std::string file = fmt::format("{}.layer{}.exr", fileStem(name), k);
+                io::writeExr(dir / file, resourceExr(readResourceImage(*t, k),
+                                                     {{"veil:resource", name},
+                                                      {"veil:layer", std::to_string(k)},
+                                                      {"veil:format", formatName(f)},
+                                                      {"veil:units", unitsOf(name)}}));
+                files.push_back(file);
+            }
+            e["layers"] = layers;
+            e["files"] = files;
+            e["type"] = "float32 OpenEXR, one file per layer (light view)";
+            e["dumpable"] = true;
+        } else {
+            e["dumpable"] = false;
+            e["reason"] = fmt::format(
+                "texture target 0x{:04x} (e.g. multisample, integer lists) cannot be read "
+                "back",
+                t->target());
+        }
+        entries.push_back(e);
+    }
+    nlohmann::json manifest = {{"renderer", "veil " VEIL_VERSION},
+                               {"oit", renderer.oitName()},
+                               {"camera", renderer.camera().name},
+                               {"frame_width", renderer.width()},
+                               {"frame_height", renderer.height()},
+                               {"passes", renderer.passes().describe()},
+                               {"resources", entries}};
+    writeTextFileAtomically(dir / "manifest.json", manifest.dump(2) + "\n");
+    return manifest;
+}
+
+} // namespace veil::capture

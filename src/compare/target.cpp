@@ -1,0 +1,89 @@
+#include "compare/target.h"
+
+#include "base/error.h"
+#include "base/text.h"
+#include "io/image_io.h"
+#include "volume/cpu_reference.h"
+#include "volume/density_grid.h"
+
+#include <algorithm>
+#include <filesystem>
+
+namespace veil::compare {
+
+namespace fs = std::filesystem;
+
+CompareTarget parseCompareTarget(const std::string& text) {
+    CompareTarget t;
+    t.text = text;
+    if (text.empty())
+        t.kind = CompareTarget::Kind::None;
+    else if (text == "cpu")
+        t.kind = CompareTarget::Kind::Cpu;
+    else if (text.rfind("shadows:", 0) == 0) {
+        t.kind = CompareTarget::Kind::Shadows;
+        t.shadows = text.substr(8);
+    } else if (text.find_first_of("/.") != std::string::npos)
+        t.kind = CompareTarget::Kind::File; // technique ids have neither
+    else
+        t.kind = CompareTarget::Kind::Technique;
+    return t;
+}
+
+void checkCompareTarget(const CompareTarget& target, const scene::Scene& scene) {
+    if (target.kind == CompareTarget::Kind::File) {
+        std::error_code ec;
+        VEIL_CHECK(fs::is_regular_file(target.text, ec),
+                   "--compare-to '{}': no such image file (give an .exr, a technique or cpu)",
+                   target.text);
+        const std::string ext = lowerExtension(target.text);
+        VEIL_CHECK(ext == ".exr" || ext == ".png" || ext == ".hdr" || ext == ".tif" ||
+                       ext == ".tiff",
+                   "--compare-to '{}': not an image (.exr; .png, .hdr and .tif are read too)",
+                   target.text);
+    } else if (target.kind == CompareTarget::Kind::Cpu) {
+        VEIL_CHECK(!scene.volumes.empty(),
+                   "--compare-to cpu: scene '{}' has no volumes (the CPU reference is the "
+                   "fog's)",
+                   scene.sourcePath.string());
+    }
+}
+
+ImageF loadReferenceImage(const CompareTarget& target, int width, int height) {
+    ImageF image = io::readImage(target.text);
+    VEIL_CHECK(image.channels >= 3, "--compare-to '{}': {} channel(s), need at least R, G, B",
+               target.text, image.channels);
+    VEIL_CHECK(image.width == width && image.height == height,
+               "--compare-to '{}' is {}x{}, the render is {}x{} (use --width/--height)",
+               target.text, image.width, image.height, width, height);
+    return image;
+}
+
+ImageF cpuFogOverBackground(const scene::Scene& scene, const scene::Camera& camera, int width,
+                            int height, int steps) {
+    std::vector<openvdb::FloatGrid::ConstPtr> grids;
+    for (const scene::VolumeRef& v : scene.volumes)
+        if (v.procedural != "homogeneous") grids.push_back(volume::loadVolume(v));
+    const volume::CpuFogReference reference(scene, grids);
+    const ImageF fog = reference.render(camera, width, height, steps);
+    ImageF out(width, height, 3);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int c = 0; c < 3; ++c)
+                out.at(x, y, c) = fog.at(x, y, c) + fog.at(x, y, 3) * scene.render.background[c];
+    return out;
+}
+
+ImageF cpuFogReference(const scene::Scene& scene, const std::string& camera, int width, int height,
+                       std::string& note) {
+    ImageF out = cpuFogOverBackground(scene, scene.camera(camera), width, height,
+                                      std::max(256, scene.render.fogSteps));
+    note = scene.objects.empty()
+               ? std::string()
+               : fmt::format("note: the CPU reference is fog over the background only; the "
+                             "scene's {} object(s) are not in it",
+                             scene.objects.size());
+    return out;
+}
+
+} // namespace veil::compare

@@ -1,0 +1,46 @@
+// What `veil render --compare-to X` compares the frame with: another OIT technique of the
+// same frame (a technique id), the same frame with another shadow technique (`shadows:ID`,
+// e.g. shadows:reference, at the frame's map size), a stored image (a path: anything with '/' or
+// '.', e.g. ref.exr), or `cpu`: the fog's double-precision CPU reference
+// (src/volume/cpu_reference.h) composited over the scene's background, for scenes with volumes.
+#pragma once
+
+#include "base/image.h"
+#include "scene/scene.h"
+
+#include <string>
+
+namespace veil::compare {
+
+struct CompareTarget {
+    enum class Kind { None, Technique, Shadows, File, Cpu };
+    Kind kind = Kind::None;
+    std::string text;
+    std::string shadows; // Kind::Shadows: the shadow technique id
+};
+
+CompareTarget parseCompareTarget(const std::string& text);
+
+// Checks before any rendering: the file exists and is a readable image, or the scene has
+// volumes for `cpu` (throws veil::Error naming the file or scene). Techniques are checked by
+// the caller against the registry.
+void checkCompareTarget(const CompareTarget& target, const scene::Scene& scene);
+
+// The stored image (RGB of its first channels), refused with both sizes when it is not
+// width x height.
+ImageF loadReferenceImage(const CompareTarget& target, int width, int height);
+
+// The fog's double-precision CPU reference (volume/cpu_reference.h) seen from `camera` with
+// `steps` march steps, over the scene's background: per pixel L + T * background, with L the
+// single-scattered radiance and T the transmittance along the camera ray. Nothing but fog is
+// in it (no surfaces). RGB.
+ImageF cpuFogOverBackground(const scene::Scene& scene, const scene::Camera& camera, int width,
+                            int height, int steps);
+
+// The CPU fog reference of the frame: per pixel L + T * background, with L the single-scattered
+// radiance and T the transmittance along the camera ray (render.fog_steps steps, at least 256).
+// Surfaces are not part of it (cpu_reference.h): `note` says so when the scene has objects.
+ImageF cpuFogReference(const scene::Scene& scene, const std::string& camera, int width, int height,
+                       std::string& note);
+
+} // namespace veil::compare

@@ -1,0 +1,141 @@
+#include "viewer/view_script.h"
+
+#include "base/error.h"
+#include "base/text.h"
+#include "scene/json_text.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace veil::viewer {
+
+namespace {
+
+// Action key -> the JSON type its value must have.
+enum class Want { String, Number, Bool, Array };
+
+Want wantFor(const std::string& kind) {
+    static const std::set<std::string> strings = {
+        "set",          "oit",        "shadows",    "camera",
+        "view",         "open",       "screenshot", "window_screenshot",
+        "copy_command", "save_scene", "status"};
+    if (strings.count(kind)) return Want::String;
+    if (kind == "frames" || kind == "refine_tile_px" || kind == "refine_budget_ms")
+        return Want::Number;
+    if (kind == "reset_camera" || kind == "reload_shaders" || kind == "reuse_shadow_maps")
+        return Want::Bool;
+    return Want::Array; // orbit, pan, resize, expand
+}
+
+bool known(const std::string& kind) {
+    static const std::set<std::string> all = {"set",
+                                              "oit",
+                                              "shadows",
+                                              "camera",
+                                              "reset_camera",
+                                              "orbit",
+                                              "pan",
+                                              "view",
+                                              "open",
+                                              "resize",
+                                              "reload_shaders",
+                                              "frames",
+                                              "refine_tile_px",
+                                              "refine_budget_ms",
+                                              "reuse_shadow_maps",
+                                              "screenshot",
+                                              "window_screenshot",
+                                              "copy_command",
+                                              "save_scene",
+                                              "status",
+                                              "expand"};
+    return all.count(kind) > 0;
+}
+
+} // namespace
+
+std::vector<ScriptAction> loadViewScript(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    VEIL_CHECK(in.good() && !std::filesystem::is_directory(path), "cannot open script '{}'",
+               path.string());
+    std::stringstream text;
+    text << in.rdbuf();
+    const nlohmann::json doc = scene::parseJsonText(text.str(), path.string());
+    VEIL_CHECK(doc.is_array(), "{}: a view script is a JSON array of actions, not a {}",
+               path.string(), doc.type_name());
+    std::vector<ScriptAction> actions;
+    static const std::set<std::string> extras = {"layer", "zoom", "output"};
+    for (std::size_t i = 0; i < doc.size(); ++i) {
+        const nlohmann::json& a = doc[i];
+        const std::string where = fmt::format("{}: action {}", path.string(), i);
+        VEIL_CHECK(a.is_object(),
+                   "{}: expected an object such as {{\"set\": \"render.exposure=2\"}}", where);
+        ScriptAction act;
+        act.index = i;
+        act.action = a;
+        for (const auto& [key, value] : a.items()) {
+            if (extras.count(key)) continue;
+            VEIL_CHECK(known(key),
+                       "{}: unknown action '{}' (known: set, oit, shadows, camera, reset_camera, "
+                       "orbit, pan, view, open, resize, reload_shaders, frames, refine_tile_px, "
+                       "reuse_shadow_maps, screenshot, "
+                       "window_screenshot, copy_command, save_scene, status, expand)",
+                       where, printable(key));
+            VEIL_CHECK(act.kind.empty(), "{}: two actions ('{}', '{}') in one object", where,
+                       act.kind, key);
+            act.kind = key;
+            act.value = value;
+        }
+        VEIL_CHECK(!act.kind.empty(), "{}: no action key", where);
+        const Want want = wantFor(act.kind);
+        // "set" also takes a list of edits, applied before one frame.
+        const bool setList = act.kind == "set" && act.value.is_array() &&
+                             std::all_of(act.value.begin(), act.value.end(),
+                                         [](const nlohmann::json& x) { return x.is_string(); });
+        // frames: 1..100000; refine_tile_px: 0 (off)..16384; refine_budget_ms: 0 (off)..1e6.
+        const bool tile = act.kind == "refine_tile_px", budget = act.kind == "refine_budget_ms";
+        const long long lo = tile || budget ? 0 : 1, hi = tile ? 16384 : budget ? 1000000 : 100000;
+        const bool ok = setList || (want == Want::String && act.value.is_string()) ||
+                        (want == Want::Number && (act.value.is_number_integer() || budget) &&
+                         act.value.is_number() && act.value.get<double>() >= double(lo) &&
+                         act.value.get<double>() <= double(hi)) ||
+                        (want == Want::Bool && act.value.is_boolean()) ||
+                        (want == Want::Array && act.value.is_array());
+        VEIL_CHECK(ok, "{}: '{}' expects {}, not {}", where, act.kind,
+                   want == Want::String ? std::string("a string")
+                   : want == Want::Number
+                       ? fmt::format("{} in {}..{}", budget ? "a number" : "an integer", lo, hi)
+                   : want == Want::Bool ? std::string("true or false")
+                                        : std::string("an array"),
+                   scene::describeJson(act.value));
+        if (act.kind == "orbit" || act.kind == "pan" || act.kind == "resize") {
+            VEIL_CHECK(act.value.size() == 2 && act.value[0].is_number() &&
+                           act.value[1].is_number(),
+                       "{}: '{}' expects two numbers", where, act.kind);
+            if (act.kind == "resize")
+                for (const auto& v : act.value)
+                    VEIL_CHECK(v.is_number_integer() && v.get<long long>() >= 1 &&
+                                   v.get<long long>() <= 16384,
+                               "{}: 'resize' expects two integers in 1..16384", where);
+        }
+        if (act.kind == "expand")
+            for (const auto& v : act.value)
+                VEIL_CHECK(v.is_string(), "{}: 'expand' expects section names", where);
+        if (a.contains("layer"))
+            VEIL_CHECK(a["layer"].is_number_integer() && a["layer"].get<long long>() >= 0,
+                       "{}: 'layer' must be an integer >= 0", where);
+        if (a.contains("zoom"))
+            VEIL_CHECK(a["zoom"].is_number() && a["zoom"].get<double>() > 0.0,
+                       "{}: 'zoom' must be a number > 0", where);
+        if (a.contains("output"))
+            VEIL_CHECK(a["output"].is_string(), "{}: 'output' must be a string", where);
+        actions.push_back(std::move(act));
+    }
+    return actions;
+}
+
+} // namespace veil::viewer

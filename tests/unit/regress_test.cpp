@@ -1,0 +1,223 @@
+// The regression library (src/regress) called directly, without GL: suites are parsed and
+// checked as a whole, shards split the cases, reports survive a write and a read, and merging
+// shard folders finds missing, doubled and foreign cases.
+#include "base/error.h"
+#include "regress/report.h"
+#include "regress/runner.h"
+#include "regress/suite.h"
+#include "support/test_support.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
+
+namespace veil::test {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path dir() { return outputSubdir("regress-library"); }
+
+void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+
+const char* kScene = R"({
+  "render": {"width": 16, "height": 12, "oit": "blend"},
+  "cameras": [{"name": "c", "position": [0, 1, 4], "target": [0, 0.5, 0]}],
+  "lights": [{"type": "directional", "direction": [0.3, -1, -0.2], "intensity": 2}],
+  "materials": {"glass": {"base_color": 1, "alpha": 0.4}},
+  "objects": [{"shape": {"type": "sphere", "radius": 0.5}, "material": "glass"}]
+})";
+
+// Writes the scene and `suite` into a folder of their own; returns the suite file.
+fs::path suiteFile(const std::string& name, const std::string& suite) {
+    const fs::path d = dir() / name;
+    fs::create_directories(d);
+    write(d / "scene.json", kScene);
+    write(d / "suite.json", suite);
+    return d / "suite.json";
+}
+
+std::string errorOf(const fs::path& suite) {
+    try {
+        regress::loadSuite(suite, false);
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+const char* kThreeCases = R"({
+  "name": "three",
+  "defaults": {"scene": "scene.json", "reference": "reference"},
+  "cases": [
+    {"name": "a", "technique": "blend", "metrics": {"rmse": 0.1}},
+    {"name": "b", "technique": "wboit", "width": 8, "metrics": {"psnr": 20, "maxabs": 1}},
+    {"name": "c", "technique": {"type": "stochastic", "samples": 4}, "seeds": 2,
+     "metrics": {"rejected": 0.5}}
+  ]
+})";
+
+regress::CaseResult result(const std::string& name, bool passed) {
+    regress::CaseResult r;
+    r.name = name;
+    r.technique = "blend";
+    r.reference = "reference";
+    r.passed = passed;
+    r.metrics.push_back({"rmse", 0.01, 0.1, true});
+    r.metrics.push_back({"psnr", std::numeric_limits<double>::infinity(), 30.0, true});
+    r.metrics.push_back({"maxabs", std::nan(""), 1.0, false});
+    return r;
+}
+
+} // namespace
+
+TEST(RegressLibraryTest, SuiteIsParsedWithDefaultsAndDerivedOverrides) {
+    const regress::Suite suite = regress::loadSuite(suiteFile("parse", kThreeCases), false);
+    EXPECT_EQ(suite.name, "three");
+    ASSERT_EQ(suite.cases.size(), 3u);
+    const regress::RegressCase& b = suite.cases[1];
+    EXPECT_EQ(b.name, "b");
+    EXPECT_EQ(b.technique, "wboit");
+    EXPECT_EQ(b.reference, regress::ReferenceKind::Technique);
+    EXPECT_EQ(b.referenceTechnique, "reference");
+    EXPECT_EQ(b.scene.filename(), "scene.json");
+    // Metrics in name order (JSON objects are read sorted).
+    ASSERT_EQ(b.metrics.size(), 2u);
+    EXPECT_EQ(b.metrics[0].first, "maxabs");
+    EXPECT_EQ(b.metrics[1].first, "psnr");
+    const std::vector<std::string> want{"render.oit=\"wboit\"", "render.width=8"};
+    EXPECT_EQ(b.overrides, want);
+    EXPECT_EQ(suite.cases[2].seeds, 2);
+    EXPECT_EQ(suite.cases[2].technique, "stochastic");
+}
+
+TEST(RegressLibraryTest, BadSuitesNameTheFileAndJsonPointer) {
+    const std::string unknown = errorOf(suiteFile("unknown-key", R"({"cases": [
+        {"name": "a", "scene": "scene.json", "reference": "reference", "metrics": {"rmse": 1},
+         "colour": 3}]})"));
+    EXPECT_NE(unknown.find("suite.json: /cases/0/colour: unknown key"), std::string::npos)
+        << unknown;
+    const std::string twice = errorOf(suiteFile("twice", R"({"cases": [
+        {"name": "a", "scene": "scene.json", "reference": "reference", "metrics": {"rmse": 1}},
+        {"name": "a", "scene": "scene.json", "reference": "reference", "metrics": {"rmse": 1}}]})"));
+    EXPECT_NE(twice.find("/cases/1/name: case name 'a' is used twice"), std::string::npos) << twice;
+    const std::string stored = errorOf(suiteFile("stored", R"({"cases": [
+        {"name": "a", "scene": "scene.json", "reference": "a.exr", "metrics": {"rmse": 1}}]})"));
+    EXPECT_NE(stored.find("/cases/0/reference: reference image"), std::string::npos) << stored;
+    EXPECT_NE(stored.find("--update writes it"), std::string::npos) << stored;
+    // With update, a missing stored reference is what is about to be written.
+    EXPECT_NO_THROW(regress::loadSuite(dir() / "stored" / "suite.json", true));
+    const std::string cpu = errorOf(suiteFile("cpu", R"({"cases": [
+        {"name": "a", "scene": "scene.json", "reference": "cpu", "metrics": {"rmse": 1}}]})"));
+    EXPECT_NE(cpu.find("draws no surfaces"), std::string::npos) << cpu;
+    const std::string rejected = errorOf(suiteFile("rejected", R"({"cases": [
+        {"name": "a", "scene": "scene.json", "reference": "reference",
+         "metrics": {"rejected": 0.1}}]})"));
+    EXPECT_NE(rejected.find("needs \"seeds\" >= 2"), std::string::npos) << rejected;
+}
+
+TEST(RegressLibraryTest, ShardsSplitCasesByIndex) {
+    const regress::Suite suite = regress::loadSuite(suiteFile("shards", kThreeCases), false);
+    EXPECT_EQ(regress::shardCases(suite, {}).size(), 3u);
+    const auto first = regress::shardCases(suite, {0, 2});
+    ASSERT_EQ(first.size(), 2u);
+    EXPECT_EQ(first[0]->name, "a");
+    EXPECT_EQ(first[1]->name, "c");
+    const auto second = regress::shardCases(suite, {1, 2});
+    ASSERT_EQ(second.size(), 1u);
+    EXPECT_EQ(second[0]->name, "b");
+    EXPECT_EQ((regress::Shard{1, 2}).label(), "1/2");
+    EXPECT_EQ(regress::Shard{}.label(), "");
+}
+
+TEST(RegressLibraryTest, ShardArgumentsAreChecked) {
+    const regress::Shard s = regress::shardFromArgumentOrEnvironment("2/5");
+    EXPECT_EQ(s.index, 2);
+    EXPECT_EQ(s.count, 5);
+    EXPECT_THROW(regress::shardFromArgumentOrEnvironment("2"), Error);
+    EXPECT_THROW(regress::shardFromArgumentOrEnvironment("x/2"), Error);
+    EXPECT_THROW(regress::shardFromArgumentOrEnvironment("2/2"), Error);
+    EXPECT_THROW(regress::shardFromArgumentOrEnvironment("-1/2"), Error);
+}
+
+TEST(RegressLibraryTest, ShardComesFromArrayJobVariables) {
+    ::setenv("JOB_COMPLETION_INDEX", "1", 1);
+    ::setenv("VEIL_SHARD_COUNT", "4", 1);
+    const regress::Shard s = regress::shardFromArgumentOrEnvironment("");
+    EXPECT_EQ(s.index, 1);
+    EXPECT_EQ(s.count, 4);
+    // The argument wins over the environment.
+    EXPECT_EQ(regress::shardFromArgumentOrEnvironment("0/2").count, 2);
+    ::unsetenv("VEIL_SHARD_COUNT");
+    EXPECT_THROW(regress::shardFromArgumentOrEnvironment(""), Error);
+    ::unsetenv("JOB_COMPLETION_INDEX");
+    EXPECT_EQ(regress::shardFromArgumentOrEnvironment("").count, 1);
+}
+
+TEST(RegressLibraryTest, ReportSurvivesWriteAndRead) {
+    const fs::path d = dir() / "report";
+    fs::remove_all(d);
+    regress::Report r{
+        "suite", "/x/suite.json", "0/2", {result("a", true), result("b", false)}, 1.5};
+    r.cases[1].error = "it broke";
+    EXPECT_EQ(r.failed(), 1);
+    regress::writeReport(d, r);
+    for (const char* f : {"results.json", "results.xml", "index.html", "cases/a.json"})
+        EXPECT_TRUE(fs::exists(d / f)) << f;
+    const regress::Report back = regress::readReport(d);
+    EXPECT_EQ(back.suiteName, "suite");
+    EXPECT_EQ(back.shard, "0/2");
+    EXPECT_EQ(back.seconds, 1.5);
+    ASSERT_EQ(back.cases.size(), 2u);
+    EXPECT_EQ(back.cases[1].error, "it broke");
+    ASSERT_EQ(back.cases[0].metrics.size(), 3u);
+    EXPECT_EQ(back.cases[0].metrics[0].value, 0.01);
+    EXPECT_TRUE(std::isinf(back.cases[0].metrics[1].value)); // JSON has no infinity...
+    EXPECT_TRUE(std::isnan(back.cases[0].metrics[2].value)); // ...nor NaN
+    EXPECT_THROW(regress::readReport(dir() / "no-such-folder"), Error);
+}
+
+TEST(RegressLibraryTest, MergeJoinsShardsInSuiteOrder) {
+    const regress::Suite suite = regress::loadSuite(suiteFile("merge", kThreeCases), false);
+    const fs::path d = dir() / "merge";
+    for (const char* f : {"s0", "s1", "out", "dup", "foreign"})
+        fs::remove_all(d / f);
+    regress::writeReport(d / "s0", {"three", "", "0/2", {result("c", true), result("a", true)}, 2});
+    regress::Report s1{"three", "", "1/2", {result("b", false)}, 3};
+    s1.cases[0].renderPng = "images/b-render.png";
+    fs::create_directories(d / "s1" / "images");
+    write(d / "s1" / "images" / "b-render.png", "png");
+    regress::writeReport(d / "s1", s1);
+
+    const regress::Report merged = regress::mergeReports(suite, {d / "s0", d / "s1"}, d / "out");
+    ASSERT_EQ(merged.cases.size(), 3u);
+    EXPECT_EQ(merged.cases[0].name, "a");
+    EXPECT_EQ(merged.cases[1].name, "b");
+    EXPECT_EQ(merged.cases[2].name, "c");
+    EXPECT_EQ(merged.failed(), 1);
+    EXPECT_EQ(merged.seconds, 3); // the slowest shard
+    EXPECT_TRUE(fs::exists(d / "out" / "images" / "b-render.png"));
+
+    // A case no folder ran is a failed case.
+    const regress::Report partial = regress::mergeReports(suite, {d / "s0"}, d / "out");
+    EXPECT_EQ(partial.cases[1].error, "no merged shard ran this case");
+    EXPECT_FALSE(partial.cases[1].passed);
+
+    // The same case twice, or a case of another suite, is an error.
+    regress::writeReport(d / "dup", {"three", "", "", {result("a", true)}, 1});
+    EXPECT_THROW(regress::mergeReports(suite, {d / "s0", d / "dup"}, d / "out"), Error);
+    regress::writeReport(d / "foreign", {"three", "", "", {result("zz", true)}, 1});
+    try {
+        regress::mergeReports(suite, {d / "foreign"}, d / "out");
+        FAIL() << "a case not in the suite is refused";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("case 'zz' is not in suite"), std::string::npos)
+            << e.what();
+    }
+}
+
+} // namespace veil::test
