@@ -1,4 +1,4 @@
-// A compute pass over part of its target (oit::OitFrameTargets::region, dispatchRegion()):
+// A compute pass over part of its target (pass::Context::region, dispatchRegion()):
 // the dispatch covers the region's size, its origin is added here.
 uniform ivec4 region; // x0 y0 x1 y1, x1 and y1 exclusive
 

@@ -16,7 +16,7 @@ layout(binding = VEIL_IMG_FOG_TRANSMITTANCE, rgba16f) uniform writeonly image2D 
 
 uniform int resolutionDivisor;
 // The fog texels marched by this dispatch, [x0, y0) .. [x1, y1): the whole target, or one tile
-// of the viewer's tiled refinement (FogTargets::region).
+// of the viewer's tiled refinement (pass::Context::region).
 uniform ivec4 marchRegion;
 
 void main() {

@@ -126,11 +126,20 @@ const gpu::Texture& AmbientOcclusion::visibility() const {
     return properties_.getInt("blur_radius") > 0 ? blurred_ : raw_;
 }
 
-const gpu::Texture* AmbientOcclusion::resourceTexture(const std::string& name) const {
-    if (name == "ao.depth") return &csz_;
-    if (name == "ao.raw") return &raw_;
-    if (name == "ao.visibility") return &visibility();
-    return nullptr;
+std::vector<pass::Pass> AmbientOcclusion::passes() const {
+    return {{"ao",
+             {"depth"},
+             {"ao.depth", "ao.raw"},
+             [this](const pass::Context& context) { estimate(*context.depth); }},
+            {"ao.blur", {"ao.depth", "ao.raw"}, {"ao.visibility"}, [this](const pass::Context&) {
+                 blur();
+             }}};
+}
+
+void AmbientOcclusion::addResources(pass::Resources& resources) const {
+    resources.add("ao.depth", [this] { return &csz_; });
+    resources.add("ao.raw", [this] { return &raw_; });
+    resources.add("ao.visibility", [this] { return &visibility(); });
 }
 
 std::size_t AmbientOcclusion::gpuBytes() const {

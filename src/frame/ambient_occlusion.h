@@ -34,6 +34,7 @@
 #include "base/properties.h"
 #include "gpu/objects.h"
 #include "gpu/shader.h"
+#include "pass/pass.h"
 
 #include <string>
 #include <vector>
@@ -55,8 +56,10 @@ public:
     void blur() const; // no-op with blur_radius 0
     // The ambient visibility every receiver reads (blurred, or raw without blur).
     const gpu::Texture& visibility() const;
-    // ao.depth (the z pyramid), ao.raw, ao.visibility; null for another name.
-    const gpu::Texture* resourceTexture(const std::string& name) const;
+    // The passes `ao` (estimate() from the context's depth: writes ao.depth, the z pyramid,
+    // and ao.raw) and `ao.blur` (writes ao.visibility), scope Frame, and their resources.
+    std::vector<pass::Pass> passes() const;
+    void addResources(pass::Resources& resources) const;
     std::size_t gpuBytes() const;
     int levels() const { return levels_; }
 

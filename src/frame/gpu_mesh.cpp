@@ -3,6 +3,8 @@
 #include "base/error.h"
 #include "shaders/common/bindings.h"
 
+#include <glm/gtc/matrix_inverse.hpp>
+
 namespace veil::frame {
 
 GpuMesh::GpuMesh(const scene::MeshData& mesh) : billboard_(mesh.billboard) {
@@ -32,6 +34,40 @@ void GpuMesh::draw() const {
 
 std::size_t GpuMesh::gpuBytes() const {
     return positions_.size() + normals_.size() + uvs_.size() + sizes_.size() + indices_.size();
+}
+
+void drawObjects(const scene::Scene& scene, const std::vector<GpuMesh>& meshes,
+                 const gpu::Program& program, pass::ObjectSet set) {
+    using pass::ObjectSet;
+    program.use();
+    for (const auto& object : scene.objects) {
+        const scene::Material& m = scene.materials.at(object.material);
+        const bool transparent = m.isTransparent();
+        // A binary-coverage material's alpha = 1 interior is opaque [McGuire17 sec. 6].
+        const bool binary = m.baseCoverageIsBinary();
+        if (set == ObjectSet::Opaque && transparent && !binary) continue;
+        if (set == ObjectSet::Transparent && !transparent) continue;
+        if (set == ObjectSet::OpaqueCasters && (transparent || !object.castShadows)) continue;
+        if (set == ObjectSet::TransparentCasters && (!transparent || !object.castShadows)) continue;
+        const GpuMesh& mesh = meshes.at(object.mesh);
+        program.set("model", object.transform)
+            .set("normalMatrix", glm::inverseTranspose(glm::mat3(object.transform)))
+            .set("billboard", mesh.billboard() ? 1 : 0)
+            .set("baseColor", m.baseColor)
+            .set("roughness", m.roughness)
+            .set("metalness", m.metalness)
+            .set("emission", m.emission)
+            .set("coverage", m.alpha)
+            .set("coverageEdge", m.coverageEdge)
+            .set("binaryCoverage", binary ? 1 : 0)
+            .set("transmission", m.transmission)
+            .set("collimation", m.collimation)
+            .set("ior", m.ior)
+            .set("attenuationColor", m.attenuationColor)
+            .set("attenuationDistance", m.attenuationDistance);
+        mesh.draw();
+    }
+    glBindVertexArray(0);
 }
 
 } // namespace veil::frame

@@ -1,8 +1,14 @@
-// A scene::MeshData uploaded to GL: one buffer per attribute, an index buffer, a VAO.
+// A scene::MeshData uploaded to GL: one buffer per attribute, an index buffer, a VAO; and the
+// frame's one way of drawing the scene's objects (drawObjects).
 #pragma once
 
 #include "gpu/objects.h"
+#include "gpu/shader.h"
+#include "pass/pass.h"
 #include "scene/mesh.h"
+#include "scene/scene.h"
+
+#include <vector>
 
 namespace veil::frame {
 
@@ -19,5 +25,11 @@ private:
     GLsizei indexCount_ = 0;
     bool billboard_ = false;
 };
+
+// Draws the objects of `set` of `scene` (meshes[i] is scene.meshes[i] uploaded) with `program`
+// in use: frame/mesh.vert's inputs and the material uniforms of shaders/frame/material.glsl
+// per object. What every pass gets as pass::Context::drawObjects.
+void drawObjects(const scene::Scene& scene, const std::vector<GpuMesh>& meshes,
+                 const gpu::Program& program, pass::ObjectSet set);
 
 } // namespace veil::frame

@@ -1,23 +1,19 @@
-// The frame as an ordered list of passes (DESIGN.md "Passes, properties, resources"). Each
-// pass has a name (its GPU timer's name too), the named frame resources it reads and writes
-// (`depth`, `hdr`, `shadow.<light>`, `fog.radiance`, `oit.accumulation`, `ldr`, ...) and one
-// execute(). The list is built from the scene (which lights cast shadows, whether there are
-// volumes, which OIT technique) and checked once when it is built: a pass that reads a
-// resource no earlier pass writes is an error naming both, not a black image.
+// The frame as an ordered list of passes (DESIGN.md "Passes, properties, resources"): the
+// modules' declared passes (pass::Pass, src/pass/pass.h) concatenated, each with a name (its
+// GPU timer's name too), the named frame resources it reads and writes (`depth`, `hdr`,
+// `shadow.<what>`, `fog.radiance`, `oit.accumulation`, `ldr`, ...), its scope and execute().
+// The list is checked once when it is built: a pass that reads a resource no earlier pass
+// writes is an error naming both, not a black image.
 #pragma once
 
-#include <functional>
+#include "pass/pass.h"
+
 #include <string>
 #include <vector>
 
 namespace veil::frame {
 
-struct Pass {
-    std::string name;
-    std::vector<std::string> reads;
-    std::vector<std::string> writes;
-    std::function<void()> execute;
-};
+using Pass = pass::Pass;
 
 class PassList {
 public:

@@ -40,21 +40,24 @@ void Renderer::beginRefinement(int tilePx) {
     // light transmittance volumes (march() step 1) follow in slabs, one per refineStep().
     beginFrame();
     refine_.active = true;
-    const bool banded = std::any_of(shadowRows_.begin(), shadowRows_.end(),
-                                    [](const auto& f) { return static_cast<bool>(f); });
-    if (shadowPassCount_ > 0 && !skipShadowPasses_ && banded) {
+    const std::vector<pass::Pass>& passes = passes_.passes();
+    const bool banded = std::any_of(passes.begin(), passes.end(), [](const pass::Pass& p) {
+        return p.scope == pass::Scope::Lights && p.executeRows;
+    });
+    if (!skipShadowPasses_ && banded) {
         // The shadow maps in bands over the next steps (kRefineShadowBandTexels).
         shadowMapsValid_ = false; // until the last band of the last pass
         refine_.shadowPass = 0;
         refine_.perFramePending = true;
     } else {
-        runPerFramePasses(0);
+        runPerFramePasses(true);
     }
     passTimes_ = timer_.collect();
 }
 
-void Renderer::runPerFramePasses(std::size_t first) {
-    runPasses(first, firstPerPixelPass_);
+void Renderer::runPerFramePasses(bool lights) {
+    if (lights) runLightPasses();
+    runPasses(pass::Scope::Frame);
     if (!opaqueHdr_ || opaqueHdr_.width() != width_ || opaqueHdr_.height() != height_) {
         opaqueHdr_ = likeTexture(hdr_, GL_RGBA16F);
         refinedHdr_ = likeTexture(hdr_, GL_RGBA16F);
@@ -65,27 +68,31 @@ void Renderer::runPerFramePasses(std::size_t first) {
 }
 
 void Renderer::refineShadowStep() {
-    const std::vector<Pass>& passes = passes_.passes();
+    // The Lights passes are the first of the list.
+    const std::vector<pass::Pass>& passes = passes_.passes();
     const auto i = static_cast<std::size_t>(refine_.shadowPass);
-    const int size = shadowFrame_.mapSize;
+    const int size = shadowMapSize_;
     {
         gpu::TimerScope timer(timer_, passes[i].name);
-        if (shadowRows_[i]) {
-            // One band of rows (shadows::ShadowPass::executeRows: the bands in order equal the
+        if (passes[i].executeRows) {
+            // One band of rows (pass::Pass::executeRows: the bands in order equal the
             // pass in one piece), about kRefineShadowBandTexels texels per layer.
             const int rows = std::max(1, kRefineShadowBandTexels / std::max(1, size));
             const int y0 = refine_.shadowRow, y1 = std::min(size, y0 + rows);
-            shadowRows_[i](y0, y1);
+            passes[i].executeRows(pass_, y0, y1);
             refine_.shadowRow = y1;
         } else {
-            passes[i].execute();
+            passes[i].execute(pass_);
             refine_.shadowRow = size;
         }
     }
     ++refine_.shadowSteps;
     if (refine_.shadowRow < size) return;
     refine_.shadowRow = 0;
-    if (++refine_.shadowPass < static_cast<int>(shadowPassCount_)) return;
+    if (i + 1 < passes.size() && passes[i + 1].scope == pass::Scope::Lights) {
+        ++refine_.shadowPass;
+        return;
+    }
     refine_.shadowPass = -1;
     shadowMapsValid_ = true;
     ++shadowMapRenders_;
@@ -122,16 +129,18 @@ bool Renderer::refineStep(int maxTilePx) {
     }
     if (refine_.perFramePending) { // the passes after the shadow maps: AO, opaque
         refine_.lastStep = Refinement::Step::PerFrame;
-        runPerFramePasses(shadowPassCount_);
+        runPerFramePasses(false);
         passTimes_ = timer_.collect();
         return false;
     }
+    // The per-frame work of the Pixels passes (the fog's light transmittance volumes) while
+    // there is some: its next step, alone.
     bool slab = false;
-    if (fog_) {
-        // While the light transmittance volumes are not valid: their next slab, alone.
-        gpu::TimerScope timer(timer_, "fog.light_transmittance");
-        if (shadowSet_.viewCount > 0) shadows_->bindForReceivers();
-        slab = fog_->updateLightVolumesSlab(fogTargets_, kRefineLightSlabTexels);
+    for (const pass::Pass& p : passes_.passes()) {
+        if (p.scope != pass::Scope::Pixels || !p.prepareStep) continue;
+        gpu::TimerScope timer(timer_, p.prepareName);
+        if (p.receivesShadows && shadowSet_.viewCount > 0) shadows_->bindForReceivers();
+        if ((slab = p.prepareStep(pass_))) break;
     }
     if (slab) {
         refine_.lastStep = Refinement::Step::LightSlab;
@@ -147,17 +156,15 @@ bool Renderer::refineStep(int maxTilePx) {
     const int m = refineMarginPx();
     const glm::ivec4 r(std::max(0, tile.x - m), std::max(0, tile.y - m),
                        std::min(width_, tile.z + m), std::min(height_, tile.w + m));
-    // The resolve composites over hdr in the region (oit::OitFrameTargets::region): it starts
-    // from the opaque image there every tile.
+    // The resolve composites over hdr in the region (pass::Context::region): it starts from
+    // the opaque image there every tile.
     copyRect(opaqueHdr_, hdr_, r);
-    region_ = r;
-    fogTargets_.region = r;
+    setRegion(r);
     state_.setScissorLimit(glm::ivec4(r.x, r.y, r.z - r.x, r.w - r.y));
-    runPasses(firstPerPixelPass_, passes_.passes().size());
+    runPasses(pass::Scope::Pixels);
     state_.setScissorLimit(std::nullopt);
     state_.apply(gpu::PipelineState{}); // the scissor test off again for whoever draws next
-    region_ = glm::ivec4(0, 0, width_, height_);
-    fogTargets_.region = glm::ivec4(0);
+    setRegion(glm::ivec4(0, 0, width_, height_));
     copyRect(hdr_, refinedHdr_, tile);
     copyRect(ldr_, refinedLdr_, tile);
     refine_.lastTile = tile;

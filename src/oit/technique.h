@@ -15,6 +15,7 @@
 #include "gpu/objects.h"
 #include "gpu/pipeline_state.h"
 #include "gpu/shader.h"
+#include "pass/pass.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -27,40 +28,23 @@
 
 namespace veil::oit {
 
-// What the frame gives a technique. hdrColor holds the opaque image and receives the
-// composite; depth is the opaque depth (techniques test against it, never write it).
-struct OitFrameTargets {
-    int width = 0;
-    int height = 0;
-    const gpu::Texture* hdrColor = nullptr; // RGBA16F/32F
-    const gpu::Texture* depth = nullptr;    // DEPTH_COMPONENT32F
-    std::uint32_t seed = 1;
-    // The frame's state tracker: a technique applies a declared PipelineState before each of
-    // its draws (and before clears, which obey the colour and depth masks) and issues no raw
-    // GL state calls of its own.
-    gpu::StateTracker* state = nullptr;
-    // The frame's ambient visibility (R16F, one value per pixel, src/frame/ambient_occlusion.h)
-    // when render.ao is on, else null: techniques that infer AO at partial coverage read it.
-    const gpu::Texture* ambientOcclusion = nullptr;
-    // The pixels the frame's per-pixel passes cover, x0 y0 x1 y1 (x1, y1 exclusive): the
-    // viewer's tiled refinement sets one tile and its margin (frame/renderer.h,
-    // beginRefinement; Renderer::refineMarginPx()), else the frame sets the whole frame. Zero
-    // or empty means the whole frame (frameRegion()). Every compute pass of a technique (its
-    // resolve and any pass feeding it) dispatches over the region only, the region's origin
-    // an offset uniform in the shader (shaders/common/region.glsl), and leaves hdrColor
-    // outside it untouched. The accumulation targets outside it hold whatever they held (the
-    // draws and clears are scissored to it): a technique whose result at a pixel reads
-    // accumulation or hdrColor at other pixels says how far (Technique::refineMarginPx()).
-    glm::ivec4 region{0};
-    // During a refinement, the opaque image of the whole frame (hdrColor holds it inside the
-    // region only: outside, earlier tiles' composites); null otherwise, when hdrColor holds
-    // it everywhere before the resolve. For techniques that read the background at other
-    // pixels than their own (phenomenological's refraction and diffusion).
-    const gpu::Texture* opaqueColor = nullptr;
-};
+// What the frame gives a technique is the pass::Context of every pass (src/pass/pass.h):
+// hdrColor holds the opaque image and receives the composite; depth is the opaque depth
+// (techniques test against it, never write it); the state tracker (a technique applies a
+// declared PipelineState before each of its draws and clears and issues no raw GL state calls);
+// ambientOcclusion (render.ao on: techniques that infer AO at partial coverage read it);
+// region: the pixels of the per-pixel passes (the viewer's tiled refinement sets one tile and
+// its margin, frame/renderer.h). Every compute pass of a technique (its resolve and any pass
+// feeding it) dispatches over the region only, the region's origin an offset uniform in the
+// shader (shaders/common/region.glsl), and leaves hdrColor outside it untouched. The
+// accumulation targets outside it hold whatever they held (the draws and clears are scissored
+// to it): a technique whose result at a pixel reads accumulation or hdrColor at other pixels
+// says how far (Technique::refineMarginPx()). opaqueColor: during a refinement the opaque image
+// of the whole frame, for techniques that read the background at other pixels than their own
+// (phenomenological's refraction and diffusion).
 
 // targets.region clamped to the frame, the whole frame when it is empty.
-inline glm::ivec4 frameRegion(const OitFrameTargets& targets) {
+inline glm::ivec4 frameRegion(const pass::Context& targets) {
     const glm::ivec4 r = targets.region;
     const glm::ivec4 c(std::max(r.x, 0), std::max(r.y, 0), std::min(r.z, targets.width),
                        std::min(r.w, targets.height));
@@ -87,7 +71,7 @@ inline void dispatchRegion(const gpu::Program& program, glm::ivec4 r) {
 
 // What every accumulation pass starts from: the full viewport, depth tested against the
 // opaque depth and not written, no culling, no blending.
-inline gpu::PipelineState accumulationState(const OitFrameTargets& targets) {
+inline gpu::PipelineState accumulationState(const pass::Context& targets) {
     gpu::PipelineState s;
     s.view(targets.width, targets.height).depth(GL_LESS, false);
     return s;
@@ -117,10 +101,10 @@ public:
     // stochastic with repeated seeds: several). Each pass gets its own program.
     virtual int geometryPasses() const { return 1; }
     // Called when the frame targets are (re)created.
-    virtual void resize(const OitFrameTargets& targets) = 0;
+    virtual void resize(const pass::Context& targets) = 0;
     // Binds the accumulation targets and blend state for geometry pass `pass`, and sets any
     // uniforms it needs on `program` (the pass's transparent-surface program).
-    virtual void beginAccumulate(int pass, const OitFrameTargets& targets,
+    virtual void beginAccumulate(int pass, const pass::Context& targets,
                                  const gpu::Program& program) = 0;
     // Sets the uniforms the pass's emit include needs on `program`. The frame calls it for
     // every further program drawn inside the pass (the fog emission of src/volume); a
@@ -137,7 +121,7 @@ public:
     // Binds pass `pass`'s targets on image units VEIL_IMG_OIT_TARGET0 + location for the
     // compute emission (called after beginAccumulate() and prepareProgram(); the frame issues
     // the memory barriers after the dispatch).
-    virtual void bindPerPixelEmit(int pass, const OitFrameTargets& targets) const {
+    virtual void bindPerPixelEmit(int pass, const pass::Context& targets) const {
         (void)pass;
         (void)targets;
     }
@@ -157,7 +141,7 @@ public:
     //     float oitNextSurfaceDepth(uint list, float after); // nearest depth > after, or 1e30
     virtual bool fogSegments() const { return false; }
     // Composites the accumulation over targets.hdrColor.
-    virtual void resolve(const OitFrameTargets& targets) = 0;
+    virtual void resolve(const pass::Context& targets) = 0;
     // How far (pixels) a pixel's result reads the accumulation and the opaque depth around it:
     // the viewer's tiled refinement (frame::Renderer::refineStep) accumulates a tile and this
     // margin around it, so that the tile comes out as in the whole frame. 0: the resolve reads
@@ -166,18 +150,34 @@ public:
     // Bytes of technique-owned storage per pixel (memory reports, benchmarks).
     virtual std::size_t bytesPerPixel() const = 0;
     // The technique's own targets as frame resources (debug views, `veil render --dump`),
-    // named "oit.<technique>.<target>": those the transparent pass writes and the resolve
-    // reads (accumulation), and those the resolve writes (e.g. `reference`'s fragments per
-    // pixel). resourceTexture() gives the texture behind each name (null: none now).
-    virtual std::vector<std::string> accumulationResources() const { return {}; }
-    virtual std::vector<std::string> resolveResources() const { return {}; }
-    virtual const gpu::Texture* resourceTexture(const std::string& name) const {
-        (void)name;
-        return nullptr;
-    }
+    // declared once: name "oit.<technique>.<target>", the texture behind it (null: none now)
+    // and whether the resolve writes it (e.g. `reference`'s fragments per pixel) rather than
+    // the transparent pass (the accumulation targets, which the resolve reads).
+    struct Resource {
+        std::string name;
+        std::function<const gpu::Texture*()> texture;
+        bool writtenByResolve = false;
+    };
+    virtual std::vector<Resource> resources() const { return {}; }
     // Counters of the last frame for reports and the viewer (e.g. `reference`'s node pool),
     // as a JSON object; empty for techniques that keep none.
     virtual nlohmann::json stats() const { return nlohmann::json::object(); }
+
+    // The frame's two passes of the technique, `transparent` (every geometry pass: the
+    // transparent surfaces, with what `hooks` adds) and `resolve`, scope Pixels, writing
+    // oit.accumulation and resources() (src/oit/technique.cpp).
+    struct GeometryHooks {
+        // The transparent-surface program of geometry pass `pass` (the frame builds it with
+        // the emit include and defines(pass)).
+        std::function<const gpu::Program&(int pass)> surfaceProgram;
+        // Inside geometry pass `pass`, after beginAccumulate() and before the surfaces (the
+        // fog's per-pixel emission), and after the surfaces before endAccumulate() (the fog's
+        // piecewise march); either may be null.
+        std::function<void(const pass::Context&, int pass)> beforeSurfaces, afterSurfaces;
+        // Resources the transparent pass reads besides the depth (fog.radiance, ao.visibility).
+        std::vector<std::string> reads;
+    };
+    std::vector<pass::Pass> passes(GeometryHooks hooks);
 
     // The effective values of the technique's declared properties (Registry::create sets them).
     const Properties& properties() const { return properties_; }

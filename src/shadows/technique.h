@@ -20,6 +20,7 @@
 #include "gpu/objects.h"
 #include "gpu/pipeline_state.h"
 #include "gpu/shader.h"
+#include "pass/pass.h"
 #include "scene/scene.h"
 #include "shadows/views.h"
 
@@ -32,61 +33,15 @@
 
 namespace veil::shadows {
 
-enum class CasterSet {
-    Opaque,      // opaque materials of objects with "shadows": true
-    Transparent, // transparent materials (coverage < 1 or transmission > 0) that cast
-};
-
-// What the frame gives a technique's passes.
-struct ShadowFrame {
-    const std::vector<LightView>* views = nullptr;
-    // The scene being drawn (materials of the casters, e.g. transmittance classes).
-    const scene::Scene* scene = nullptr;
-    int mapSize = 0;
-    // The frame's state tracker: a pass applies a declared PipelineState before each of its
-    // draws and clears (clears obey the masks) and issues no raw GL state calls of its own.
-    gpu::StateTracker* state = nullptr;
-    // Draws the casters of `set` with `program` in use (frame/mesh.vert inputs and the
-    // material uniforms of shaders/frame/material.glsl set per object). The caller sets
-    // `viewProjection`, `useOverride` = 1 and `billboardAxes` (particles face the light).
-    std::function<void(const gpu::Program&, CasterSet)> drawCasters;
-    // Binds the scene's density volumes for sampling with shaders/volume/volume_common.glsl
-    // (textures and the uniforms of `program`); null when the scene has no volumes.
-    std::function<void(const gpu::Program&)> bindMedia;
-    std::uint32_t seed = 1;
-    // The camera image (screen-space techniques, e.g. `volume`): its size and world -> clip
-    // matrix (the camera block at VEIL_UBO_CAMERA holds the same while the passes run).
-    int width = 0, height = 0;
-    glm::mat4 cameraViewProjection{1.0f};
-    bool orthographicCamera = false;
-};
-
-// One pass of a technique, added to the frame as "shadow" (the first) or "shadow.<name>".
-// Resources are named "shadow.<what>" (shadow.depth is the opaque casters' depth array).
-struct ShadowPass {
-    std::string name;
-    std::vector<std::string> reads;
-    std::vector<std::string> writes;
-    std::function<void(const ShadowFrame&)> execute;
-    // Optional banded form of `execute`, so that a slow driver need not run an expensive pass
-    // in one piece (the viewer's progressive refinement, docs/viewer.md "Slow drivers").
-    // executeRows(frame, y0, y1) does what execute(frame) does restricted to the texel rows
-    // [y0, y1) of every view's map (all layers); 0 <= y0 < y1 <= frame.mapSize. Running it over
-    // consecutive bands [0, a), [a, b), ..., [z, frame.mapSize) (any heights, increasing, no
-    // band skipped or repeated) leaves every resource of the technique bit for bit as one
-    // execute(frame) does. Rules for the caller:
-    //   - the passes still run in order: the first band of a pass starts after the last band
-    //     of the pass before it (a band may read rows outside [y0, y1) of what earlier passes
-    //     wrote, e.g. a vertical blur), and nothing else runs the technique's passes between
-    //     the bands of one pass;
-    //   - the frame (views, scene, media, seed) is the same for every band of a frame's
-    //     passes; the state tracker's scissor limit (StateTracker::setScissorLimit) is off, as
-    //     for execute (a pass scissors its draws and clears to the band itself);
-    //   - between two bands the pass's resources hold partial work: receivers read them only
-    //     after the last band of the last pass.
-    // Null: the pass only runs whole (call execute).
-    std::function<void(const ShadowFrame&, int y0, int y1)> executeRows = nullptr;
-};
+// A technique's passes are pass::Pass (src/pass/pass.h), run with the frame's pass::Context:
+// the frame adds them first, scope Lights, as "shadow" (the first) or "shadow.<name>".
+// Resources are named "shadow.<what>" (shadow.depth is the opaque casters' depth array). The
+// context gives the passes lightViews (one layer of the maps each), the scene (materials of the
+// casters), the state tracker, drawObjects (ObjectSet::OpaqueCasters / TransparentCasters: the
+// caller sets `viewProjection`, `useOverride` = 1 and `billboardAxes`, particles face the
+// light), bindMedia (null without grid volumes), the seed, and the camera (screen-space
+// techniques, e.g. `volume`: width, height, viewProjection, orthographicCamera). A pass may run
+// in bands of map rows (pass::Pass::executeRows, rows = the map size).
 
 class Technique {
 public:
@@ -98,7 +53,7 @@ public:
     // with one layer per view.
     virtual void resize(int mapSize, int viewCount) = 0;
     // The passes, in order. The frame's receivers read `receiverResources()`.
-    virtual std::vector<ShadowPass> passes() = 0;
+    virtual std::vector<pass::Pass> passes() = 0;
     virtual std::vector<std::string> receiverResources() const = 0;
     // Binds the textures the visibility include samples (VEIL_TEX_SHADOW_MAP, _SHADOW1..3);
     // called before every receiving pass.
@@ -107,7 +62,7 @@ public:
     // surfaces, the fog marcher) before it draws: e.g. frame.bindMedia(program) for an include
     // that marches the density toward the light. Most techniques need nothing beyond the
     // textures of bindForReceivers() and the shadows block.
-    virtual void prepareReceiver(const gpu::Program& program, const ShadowFrame& frame) const {
+    virtual void prepareReceiver(const gpu::Program& program, const pass::Context& frame) const {
         (void)program;
         (void)frame;
     }
@@ -117,7 +72,7 @@ public:
     // must not multiply its own self-shadowing volumes (src/volume) in again. (Global
     // homogeneous fog stays analytic in the marcher.)
     virtual bool attenuatesMedia() const { return false; }
-    // Whether the maps depend on the camera (frame.width/height, cameraViewProjection,
+    // Whether the maps depend on the camera (context width/height, viewProjection,
     // orthographicCamera, the camera block in the technique's passes). A technique that says
     // false promises that its passes write the same maps for every camera as long as the
     // lights, the casters (geometry, transforms, materials), the media, its properties and

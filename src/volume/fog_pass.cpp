@@ -94,6 +94,25 @@ std::size_t FogPass::gpuBytes() const {
     return bytes + std::size_t(width_) * height_ * 16;
 }
 
+std::vector<pass::Pass> FogPass::passes(int slabTexels) {
+    pass::Pass fog{"fog",
+                   {"depth"},
+                   {"fog.light_transmittance", "fog.radiance"},
+                   [this](const pass::Context& context) { march(context); }};
+    fog.scope = pass::Scope::Pixels;
+    fog.receivesShadows = true;
+    fog.prepareStep = [this, slabTexels](const pass::Context& context) {
+        return updateLightVolumesSlab(context, slabTexels);
+    };
+    fog.prepareName = "fog.light_transmittance";
+    return {std::move(fog)};
+}
+
+void FogPass::addResources(pass::Resources& resources) const {
+    resources.add("fog.radiance", [this] { return perPixelMarchRuns() ? &radiance_ : nullptr; });
+    resources.add("fog.light_transmittance", [this] { return lightTransmittanceTexture(0); });
+}
+
 void FogPass::resize(int width, int height) {
     width_ = (width + divisor_ - 1) / divisor_;
     height_ = (height + divisor_ - 1) / divisor_;
@@ -126,7 +145,7 @@ void FogPass::setVolumeUniforms(const gpu::Program& program) const {
     }
 }
 
-void FogPass::march(const FogTargets& targets) {
+void FogPass::march(const pass::Context& targets) {
     if (!active()) return;
     updateLightVolumes(targets);
     // 2. March (not needed beside the piecewise march, perPixelMarchRuns()).
@@ -156,7 +175,7 @@ void FogPass::march(const FogTargets& targets) {
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 }
 
-bool FogPass::lightVolumesStale(const FogTargets& targets, glm::vec4& key) {
+bool FogPass::lightVolumesStale(const pass::Context& targets, glm::vec4& key) {
     if (targets.width != width_ * divisor_ || targets.height != height_ * divisor_ || !radiance_)
         resize(targets.width, targets.height);
     // 1. Transmittance toward the primary light through all volumes (self-shadowing).
@@ -169,12 +188,12 @@ bool FogPass::lightVolumesStale(const FogTargets& targets, glm::vec4& key) {
     return selfShadowing_ && light && !volumes_.empty() && (!lightValid_ || key != lightKey_);
 }
 
-void FogPass::updateLightVolumes(const FogTargets& targets) {
+void FogPass::updateLightVolumes(const pass::Context& targets) {
     while (updateLightVolumesSlab(targets, std::numeric_limits<int>::max())) {
     }
 }
 
-bool FogPass::updateLightVolumesSlab(const FogTargets& targets, int slabTexels) {
+bool FogPass::updateLightVolumesSlab(const pass::Context& targets, int slabTexels) {
     glm::vec4 key;
     if (!active() || !lightVolumesStale(targets, key)) return false;
     if (!slab_.started || slab_.key != key) slab_ = {true, key, 0, 0};
@@ -218,7 +237,7 @@ std::string FogPass::slotsDefine() const {
     return fmt::format("VEIL_VOLUME_SLOTS {}", std::max<std::size_t>(1, volumes_.size()));
 }
 
-void FogPass::setMarchUniforms(const gpu::Program& program, const FogTargets& targets) const {
+void FogPass::setMarchUniforms(const gpu::Program& program, const pass::Context& targets) const {
     setVolumeUniforms(program);
     program.set("invViewProjection", glm::inverse(targets.viewProjection))
         .set("steps", scene_.render.fogSteps)
@@ -242,7 +261,7 @@ void FogPass::enableSegments(std::vector<std::string> oitDefines,
     segmentsEnabled_ = true;
 }
 
-void FogPass::marchSegments(const FogTargets& targets,
+void FogPass::marchSegments(const pass::Context& targets,
                             const std::function<void(const gpu::Program&)>& prepareOit) {
     if (!active() || !segmentsEnabled_) return;
     // The surfaces were stored by fragment shaders; the marcher reads their lists.
@@ -261,7 +280,7 @@ void FogPass::marchSegments(const FogTargets& targets,
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 }
 
-void FogPass::bindForEmit(const gpu::Program& program, const FogTargets& targets) const {
+void FogPass::bindForEmit(const gpu::Program& program, const pass::Context& targets) const {
     program.set("resolutionDivisor", divisor_)
         .set("invProjection", glm::inverse(targets.projection))
         .set("projection", targets.projection);

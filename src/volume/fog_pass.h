@@ -15,6 +15,7 @@
 
 #include "gpu/objects.h"
 #include "gpu/shader.h"
+#include "pass/pass.h"
 #include "scene/scene.h"
 #include "volume/gpu_volume_stats.h"
 
@@ -31,20 +32,6 @@ namespace veil::volume {
 
 class GpuVolume;
 
-struct FogTargets {
-    int width = 0, height = 0;           // full resolution
-    const gpu::Texture* depth = nullptr; // opaque depth
-    glm::mat4 viewProjection{1.0f}, projection{1.0f};
-    std::uint32_t seed = 1;
-    // Called on the march program before it runs: the shadow technique's receiver uniforms.
-    std::function<void(const gpu::Program&)> prepareReceiver;
-    // The pixels to march, full-resolution [x0, y0) .. [x1, y1) in texel coordinates (row 0 at
-    // the bottom); x1 = 0: the whole frame. The viewer's tiled refinement (Renderer::
-    // beginRefinement) marches one screen tile per call; every pixel's march is the same as
-    // in the whole frame (its jitter hashes its own coordinate).
-    glm::ivec4 region{0, 0, 0, 0};
-};
-
 class FogPass {
 public:
     // Loads and uploads the scene's volumes (throws veil::Error for bad files or budgets).
@@ -60,21 +47,31 @@ public:
     std::vector<GpuVolumeStats> stats() const;
     std::size_t gpuBytes() const;
 
+    // The frame's pass `fog` (scope Pixels, a receiver of the shadow technique): march() over
+    // the context's region (a pixel's march is the same as in the whole frame: its jitter
+    // hashes its own coordinate), with updateLightVolumesSlab(slabTexels) as its prepare
+    // step for the tiled refinement. Reads depth, writes fog.light_transmittance and
+    // fog.radiance.
+    std::vector<pass::Pass> passes(int slabTexels);
+    // fog.radiance (null where perPixelMarchRuns() is false) and fog.light_transmittance (the
+    // first volume's) into the frame's resource table.
+    void addResources(pass::Resources& resources) const;
+
     // Recomputes the light transmittance volumes and marches every pixel. Expects the camera
     // and lights uniform blocks and the shadow map bound (renderer.cpp does this).
-    void march(const FogTargets& targets);
+    void march(const pass::Context& targets);
     // Step 1 of march() alone: resizes to the targets and recomputes the light transmittance
     // volumes when invalid. The tiled refinement runs it once before its first tile.
-    void updateLightVolumes(const FogTargets& targets);
+    void updateLightVolumes(const pass::Context& targets);
     // Step 1 piecewise (the tiled refinement, one call per UI frame): while the light
     // transmittance volumes are not valid, computes the next `slabTexels` z slices of one
     // volume and returns true; false when they are valid (nothing computed). The slabs
     // together equal updateLightVolumes() bit for bit (a texel depends on its coordinate only).
-    bool updateLightVolumesSlab(const FogTargets& targets, int slabTexels);
+    bool updateLightVolumesSlab(const pass::Context& targets, int slabTexels);
     // Slabs computed since construction, a whole volume in one piece counting one (tests).
     int lightSlabs() const { return lightSlabs_; }
     // Binds the fog results for fog_emit.frag and sets its uniforms on `program`.
-    void bindForEmit(const gpu::Program& program, const FogTargets& targets) const;
+    void bindForEmit(const gpu::Program& program, const pass::Context& targets) const;
     // Draws the full-screen triangle (the emit program must be in use).
     void drawEmit() const;
     // For an OIT technique with fogSegments() (`reference`): builds the piecewise marcher
@@ -105,7 +102,7 @@ public:
     // Marches every full-resolution pixel piecewise between the surfaces the technique has
     // stored and emits one contribution per segment; `prepareOit` sets the technique's
     // uniforms on the program (Technique::prepareProgram). After march() in the same frame.
-    void marchSegments(const FogTargets& targets,
+    void marchSegments(const pass::Context& targets,
                        const std::function<void(const gpu::Program&)>& prepareOit);
     // Binds the grid volumes and sets the volume uniforms of shaders/volume/volume_common.glsl
     // on `program` (for other passes that sample the density: shadow techniques).
@@ -134,9 +131,9 @@ public:
 
 private:
     void resize(int width, int height);
-    bool lightVolumesStale(const FogTargets& targets, glm::vec4& key);
+    bool lightVolumesStale(const pass::Context& targets, glm::vec4& key);
     void setVolumeUniforms(const gpu::Program& program) const;
-    void setMarchUniforms(const gpu::Program& program, const FogTargets& targets) const;
+    void setMarchUniforms(const gpu::Program& program, const pass::Context& targets) const;
     std::string slotsDefine() const;
 
     const scene::Scene& scene_;

@@ -244,9 +244,9 @@ TEST_F(AmbientOcclusionGLTest, EstimatorMatchesCpuDoubleOnTheDepthBuffer) {
     const frame::AmbientOcclusion* a = renderer.ambientOcclusion();
     ASSERT_NE(a, nullptr);
     const Level depth = readLevel(*renderer.resourceTexture("depth"), 0, GL_DEPTH_COMPONENT);
-    const Level raw = readLevel(*a->resourceTexture("ao.raw"), 0, GL_RED);
-    const Level blurred = readLevel(*a->resourceTexture("ao.visibility"), 0, GL_RED);
-    const Level z0 = readLevel(*a->resourceTexture("ao.depth"), 0, GL_RED);
+    const Level raw = readLevel(*renderer.resourceTexture("ao.raw"), 0, GL_RED);
+    const Level blurred = readLevel(*renderer.resourceTexture("ao.visibility"), 0, GL_RED);
+    const Level z0 = readLevel(*renderer.resourceTexture("ao.depth"), 0, GL_RED);
     const Projection p = projectionOf(renderer);
     const double far = renderer.camera().farPlane;
     const Level cpu = cpuSao(depth, p, paramsOf(a->properties(), a->levels()), far);

@@ -1,6 +1,6 @@
 // The tiled refinement (frame::Renderer::refineStep, docs/viewer.md "Slow drivers") with every
 // registered OIT technique: each technique's resolve and compute passes dispatch over the
-// tile and its margin only (oit::OitFrameTargets::region), and the refined frame equals the
+// tile and its margin only (pass::Context::region), and the refined frame equals the
 // frame in one piece bit for bit; a tile's passes leave hdr outside its region untouched.
 #include "gl_fixture.h"
 

@@ -81,7 +81,7 @@ TEST_F(RefineTilesTest, SplitTilesCoverTheFrameOnceAndEqualOnePiece) {
     EXPECT_EQ(differing(rgba8(tiled.ldrTexture()), expected), 0u) << "bytes of the refined frame";
 }
 
-// The shadow maps drawn in bands during a refinement (shadows::ShadowPass::executeRows,
+// The shadow maps drawn in bands during a refinement (pass::Pass::executeRows,
 // frame::Renderer::kRefineShadowBandTexels): fog.json's `moment` shadows with 512^2 maps
 // (rows per band 131072 / 512 = 256: two bands per banded pass). The first call only begins
 // the frame; then each step runs one band (or an unbanded pass), in pass order; then one step

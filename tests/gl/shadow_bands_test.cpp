@@ -1,4 +1,4 @@
-// Banded shadow passes (shadows::ShadowPass::executeRows, src/shadows/technique.h): a pass
+// Banded shadow passes (pass::Pass::executeRows, src/pass/pass.h): a pass
 // run over consecutive bands of texel rows must leave every map bit for bit as the pass run
 // whole (execute), so that the viewer can spread an expensive pass over several UI frames
 // without changing the frame (docs/viewer.md "Slow drivers"). The reference is the whole
@@ -9,7 +9,7 @@
 //
 // The scene is datasets/scenes/fog.json (a spot light through window slats onto glass and a
 // smoke volume: opaque and transparent casters and a density volume in one map) with 256^2
-// maps, built into a ShadowFrame as frame::Renderer builds it (renderer.cpp). The bands are
+// maps, with a pass::Context as frame::Renderer gives it (renderer.cpp). The bands are
 // uneven and include ones thinner than the moment filter's radius.
 #include "gl_fixture.h"
 
@@ -21,8 +21,6 @@
 #include "shadows/views.h"
 #include "support/test_support.h"
 #include "volume/fog_pass.h"
-
-#include <glm/gtc/matrix_inverse.hpp>
 
 #include <algorithm>
 #include <cstdint>
@@ -42,7 +40,7 @@ constexpr int kMapSize = 256;
 const std::vector<int> kBands = {100, 3, 1, 33, 119};
 
 // The pieces of renderer.cpp's shadow frame for one scene: meshes, views, the shadows block,
-// the fog's volumes (ShadowFrame::bindMedia).
+// the fog's volumes (pass::Context::bindMedia).
 struct Harness {
     scene::Scene scene;
     gpu::ProgramManager programs;
@@ -52,7 +50,7 @@ struct Harness {
     std::unique_ptr<volume::FogPass> fog;
     gpu::Buffer shadowsUbo;
     gpu::StateTracker state;
-    shadows::ShadowFrame frame;
+    pass::Context frame;
 
     explicit Harness(const std::string& shadows)
         : scene(scene::loadScene(sourceDir() / "datasets/scenes/fog.json",
@@ -63,15 +61,14 @@ struct Harness {
         views = shadows::fitViews(scene, set, lo, hi);
         for (const auto& mesh : scene.meshes)
             meshes.emplace_back(mesh);
-        frame.views = &views;
+        frame.lightViews = &views;
         frame.scene = &scene;
-        frame.mapSize = kMapSize;
         frame.state = &state;
         frame.seed = scene.render.seed;
         frame.width = 64;
         frame.height = 48;
-        frame.drawCasters = [this](const gpu::Program& program, shadows::CasterSet casters) {
-            drawCasters(program, casters);
+        frame.drawObjects = [this](const gpu::Program& program, pass::ObjectSet set) {
+            frame::drawObjects(scene, meshes, program, set);
         };
     }
 
@@ -95,42 +92,13 @@ struct Harness {
         return t;
     }
 
-    // renderer.cpp's drawObjects for the caster subsets.
-    void drawCasters(const gpu::Program& program, shadows::CasterSet casters) const {
-        program.use();
-        for (const auto& object : scene.objects) {
-            const scene::Material& m = scene.materials.at(object.material);
-            const bool transparent = m.isTransparent();
-            if (!object.castShadows || transparent != (casters == shadows::CasterSet::Transparent))
-                continue;
-            const frame::GpuMesh& mesh = meshes.at(object.mesh);
-            program.set("model", object.transform)
-                .set("normalMatrix", glm::inverseTranspose(glm::mat3(object.transform)))
-                .set("billboard", mesh.billboard() ? 1 : 0)
-                .set("baseColor", m.baseColor)
-                .set("roughness", m.roughness)
-                .set("metalness", m.metalness)
-                .set("emission", m.emission)
-                .set("coverage", m.alpha)
-                .set("coverageEdge", m.coverageEdge)
-                .set("binaryCoverage", m.baseCoverageIsBinary() ? 1 : 0)
-                .set("transmission", m.transmission)
-                .set("collimation", m.collimation)
-                .set("ior", m.ior)
-                .set("attenuationColor", m.attenuationColor)
-                .set("attenuationDistance", m.attenuationDistance);
-            mesh.draw();
-        }
-        glBindVertexArray(0);
-    }
-
     // Every pass of `t`, whole or (where the pass has executeRows) in kBands; afterBand(pass,
     // y0, y1) after each band.
     void run(shadows::Technique& t, bool banded, int* bandedPasses = nullptr,
              const std::function<void(const std::string&, int, int)>& afterBand = {}) {
         state.invalidate();
         shadowsUbo.bindBase(GL_UNIFORM_BUFFER, VEIL_UBO_SHADOWS);
-        for (shadows::ShadowPass& p : t.passes()) {
+        for (pass::Pass& p : t.passes()) {
             if (!banded || !p.executeRows) {
                 p.execute(frame);
                 continue;

@@ -42,7 +42,7 @@ layout(std430, binding = VEIL_SSBO_STOCH_MASKS) readonly buffer StochMasks {
     uint stochCount[33];
     uint stochMask[];
 };
-uniform uint stochSeed;    // OitFrameTargets::seed
+uniform uint stochSeed;    // pass::Context::seed
 uniform uint stochGroup;   // which table mask this pass draws from (a new one per group)
 uniform int stochShift;    // first mask bit used by this pass
 uniform int stochBits;     // N = bits per table mask (samples x passes sharing one mask)

@@ -13,7 +13,7 @@ public:
 
     // Targets: the frame's HDR image itself (a technique with accumulation targets creates
     // them here, sized targets.width x targets.height).
-    void resize(const OitFrameTargets& targets) override {
+    void resize(const pass::Context& targets) override {
         framebuffer_ = gpu::Framebuffer();
         framebuffer_.attach(GL_COLOR_ATTACHMENT0, *targets.hdrColor)
             .attach(GL_DEPTH_ATTACHMENT, *targets.depth)
@@ -22,7 +22,7 @@ public:
     }
 
     // Declared state, applied through the frame's tracker; no raw GL state calls.
-    void beginAccumulate(int pass, const OitFrameTargets& targets,
+    void beginAccumulate(int pass, const pass::Context& targets,
                          const gpu::Program& program) override {
         framebuffer_.bind();
         gpu::PipelineState state = accumulationState(targets);
@@ -38,7 +38,7 @@ public:
     }
 
     void endAccumulate(int) override { glBindFramebuffer(GL_FRAMEBUFFER, 0); }
-    void resolve(const OitFrameTargets&) override {} // composited while accumulating
+    void resolve(const pass::Context&) override {} // composited while accumulating
     std::size_t bytesPerPixel() const override { return 0; }
     nlohmann::json stats() const override { return {{"opacity_scale", opacityScale_}}; }
 

@@ -11,7 +11,7 @@ public:
     std::string name() const override { return "blend"; }
     std::filesystem::path emitInclude() const override { return "oit/blend/emit.glsl"; }
 
-    void resize(const OitFrameTargets& targets) override {
+    void resize(const pass::Context& targets) override {
         framebuffer_ = gpu::Framebuffer();
         framebuffer_.attach(GL_COLOR_ATTACHMENT0, *targets.hdrColor)
             .attach(GL_DEPTH_ATTACHMENT, *targets.depth)
@@ -19,7 +19,7 @@ public:
         framebuffer_.checkComplete("oit/blend");
     }
 
-    void beginAccumulate(int, const OitFrameTargets& targets, const gpu::Program&) override {
+    void beginAccumulate(int, const pass::Context& targets, const gpu::Program&) override {
         framebuffer_.bind();
         gpu::PipelineState state = accumulationState(targets);
         // dst = src0 * 1 + dst * src1 (dual-source: per-channel modulation of the background)
@@ -29,14 +29,14 @@ public:
 
     // The fog from compute: dst = src0 + src1 * dst on the HDR image (emit.glsl).
     PerPixelEmit perPixelEmit(int) const override { return PerPixelEmit::Compute; }
-    void bindPerPixelEmit(int, const OitFrameTargets& targets) const override {
+    void bindPerPixelEmit(int, const pass::Context& targets) const override {
         glBindImageTexture(VEIL_IMG_OIT_TARGET0, targets.hdrColor->id(), 0, GL_FALSE, 0,
                            GL_READ_WRITE, GL_RGBA16F);
     }
 
     void endAccumulate(int) override { glBindFramebuffer(GL_FRAMEBUFFER, 0); }
 
-    void resolve(const OitFrameTargets&) override {} // composited during accumulation
+    void resolve(const pass::Context&) override {} // composited during accumulation
     std::size_t bytesPerPixel() const override { return 0; }
 
 private:

@@ -134,7 +134,7 @@ public:
 
     PerPixelEmit perPixelEmit(int) const override { return PerPixelEmit::Compute; }
 
-    void bindPerPixelEmit(int pass, const OitFrameTargets&) const override {
+    void bindPerPixelEmit(int pass, const pass::Context&) const override {
         // The 16-bit storage's images are bound by beginAccumulate (pass 0).
         if (pass == 0 && quantized()) return;
         if (pass == 0) {
@@ -147,7 +147,7 @@ public:
         }
     }
 
-    void resize(const OitFrameTargets& targets) override {
+    void resize(const pass::Context& targets) override {
         auto make = [&](GLenum format) {
             gpu::Texture t(GL_TEXTURE_2D);
             t.storage2D(1, format, targets.width, targets.height)
@@ -180,7 +180,7 @@ public:
         accumFbo_.checkComplete("oit/moment (accumulation)");
     }
 
-    void beginAccumulate(int pass, const OitFrameTargets& targets,
+    void beginAccumulate(int pass, const pass::Context& targets,
                          const gpu::Program& program) override {
         gpu::PipelineState state = accumulationState(targets);
         if (pass != 0 || !quantized())
@@ -225,7 +225,7 @@ public:
         }
     }
 
-    void resolve(const OitFrameTargets& targets) override {
+    void resolve(const pass::Context& targets) override {
         const gpu::Program& program = programs_.get(resolveProgram_);
         program.use();
         moments_[0].bind(VEIL_TEX_OIT0 + 0);
@@ -247,18 +247,15 @@ public:
     // Geometry pass 0 (002 Algorithm 1/2 inputs): moments0 holds b_0, moments1..2 the power
     // or trigonometric moments (momentFormat); pass 1: accum = sum of radiance * T (rgb) and
     // alpha * T (a), renormalized by the resolve (002 Eq. 2).
-    std::vector<std::string> accumulationResources() const override {
-        std::vector<std::string> r;
+    std::vector<Resource> resources() const override {
+        std::vector<Resource> r;
         for (int i = 0; i < momentTargets(); ++i)
-            r.push_back(fmt::format("oit.{}.moments{}", name(), i));
-        r.push_back(fmt::format("oit.{}.accum", name()));
+            r.push_back({fmt::format("oit.{}.moments{}", name(), i), [this, i] {
+                             const auto k = static_cast<std::size_t>(i);
+                             return k < moments_.size() ? &moments_[k] : nullptr;
+                         }});
+        r.push_back({fmt::format("oit.{}.accum", name()), [this] { return &accum_; }});
         return r;
-    }
-    const gpu::Texture* resourceTexture(const std::string& n) const override {
-        for (int i = 0; i < static_cast<int>(moments_.size()); ++i)
-            if (n == fmt::format("oit.{}.moments{}", name(), i)) return &moments_[i];
-        if (n == fmt::format("oit.{}.accum", name())) return &accum_;
-        return nullptr;
     }
 
 private:

@@ -120,7 +120,7 @@ public:
         return d;
     }
 
-    void resize(const OitFrameTargets& targets) override {
+    void resize(const pass::Context& targets) override {
         const int w = targets.width, h = targets.height;
         accumA_ = makeTarget(GL_RGBA16F, w, h, GL_NEAREST);
         betaD_ = makeTarget(GL_RGBA16, w, h, GL_NEAREST);
@@ -161,7 +161,7 @@ public:
         }
     }
 
-    void beginAccumulate(int pass, const OitFrameTargets& targets,
+    void beginAccumulate(int pass, const pass::Context& targets,
                          const gpu::Program& program) override {
         if (isThicknessPass(pass)) {
             beginSlicePass(targets);
@@ -248,7 +248,7 @@ public:
         return !isThicknessPass(pass) && innerPass(pass) == 0 ? PerPixelEmit::Compute
                                                               : PerPixelEmit::None;
     }
-    void bindPerPixelEmit(int, const OitFrameTargets&) const override {
+    void bindPerPixelEmit(int, const pass::Context&) const override {
         glBindImageTexture(VEIL_IMG_OIT_TARGET0, accumA_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
                            GL_RGBA16F);
         glBindImageTexture(VEIL_IMG_OIT_TARGET0 + 1, betaD_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
@@ -269,7 +269,7 @@ public:
     // the pixel moved by its refraction offset (000 section 5): within refineMarginPx() for
     // offsets up to 16 px; a larger offset reads another tile's accumulation. The background
     // is the opaque image everywhere (targets.opaqueColor during a refinement).
-    void resolve(const OitFrameTargets& targets) override {
+    void resolve(const pass::Context& targets) override {
         if (lowRes()) upsample(targets);
         // The gather reads neighbours of the background while the result is written: read a
         // copy. During a refinement hdrColor holds the opaque image inside the region only:
@@ -319,18 +319,13 @@ public:
     // The accumulation targets of 000 Table 2 (Listing 1): A = weighted premultiplied radiance
     // and coverage, beta_d = transmission (rgb) and diffusion, delta = refraction offsets;
     // thickness with volume_refraction.
-    std::vector<std::string> accumulationResources() const override {
-        std::vector<std::string> r = {"oit.phenomenological.a", "oit.phenomenological.beta_d",
-                                      "oit.phenomenological.delta"};
-        if (volume()) r.push_back("oit.phenomenological.thickness");
+    std::vector<Resource> resources() const override {
+        std::vector<Resource> r = {{"oit.phenomenological.a", [this] { return &accumA_; }},
+                                   {"oit.phenomenological.beta_d", [this] { return &betaD_; }},
+                                   {"oit.phenomenological.delta", [this] { return &delta_; }}};
+        if (volume())
+            r.push_back({"oit.phenomenological.thickness", [this] { return &thickness_; }});
         return r;
-    }
-    const gpu::Texture* resourceTexture(const std::string& name) const override {
-        if (name == "oit.phenomenological.a") return &accumA_;
-        if (name == "oit.phenomenological.beta_d") return &betaD_;
-        if (name == "oit.phenomenological.delta") return &delta_;
-        if (name == "oit.phenomenological.thickness" && volume()) return &thickness_;
-        return nullptr;
     }
 
 private:
@@ -339,7 +334,7 @@ private:
     // start at floor((p + 0.5) / s - 0.5) - 1 >= floor(p / s) - 2 and end before
     // ceil((p + 1) / s) + 2 (upsample.comp), so the region divided by s, rounded outward and
     // grown by 2 texels.
-    glm::ivec4 lowRegion(const OitFrameTargets& targets) const {
+    glm::ivec4 lowRegion(const pass::Context& targets) const {
         return coarseRegion(frameRegion(targets), params_.particleDownsample, 2,
                             glm::ivec2(lowWidth_, lowHeight_));
     }
@@ -361,7 +356,7 @@ private:
 
     // 003 section 2: slice maps of the transparent surfaces, bits OR-ed in 8 RGBA32UI targets,
     // depth-tested against the opaque depth (hidden media do not count).
-    void beginSlicePass(const OitFrameTargets& targets) {
+    void beginSlicePass(const pass::Context& targets) {
         sliceFramebuffer_.bind();
         gpu::PipelineState state = accumulationState(targets);
         targets.state->apply(state);
@@ -374,7 +369,7 @@ private:
     }
 
     // 003 section 3: the slice maps walked into a thickness per pixel (thickness.comp).
-    void computeThickness(const OitFrameTargets& targets) {
+    void computeThickness(const pass::Context& targets) {
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
         const gpu::Program& program = programs_.get(thicknessProgram_);
         program.use();
@@ -391,7 +386,7 @@ private:
     }
 
     // 000 section 5 "Upsample" into the full-resolution buffers (upsample.comp).
-    void upsample(const OitFrameTargets& targets) {
+    void upsample(const pass::Context& targets) {
         const gpu::Program& program = programs_.get(upsampleProgram_);
         program.use();
         program.set("phenScale", params_.particleDownsample);

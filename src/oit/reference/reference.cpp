@@ -45,7 +45,7 @@ void ReferenceTechnique::allocatePool(std::uint64_t nodes) {
     stats_.poolNodes = nodes;
 }
 
-void ReferenceTechnique::resize(const OitFrameTargets& targets) {
+void ReferenceTechnique::resize(const pass::Context& targets) {
     width_ = targets.width;
     height_ = targets.height;
     heads_ = gpu::Texture(GL_TEXTURE_2D);
@@ -64,7 +64,7 @@ void ReferenceTechnique::resize(const OitFrameTargets& targets) {
     allocatePool(std::min(nodes, maxPoolNodes_));
 }
 
-void ReferenceTechnique::beginAccumulate(int pass, const OitFrameTargets& targets,
+void ReferenceTechnique::beginAccumulate(int pass, const pass::Context& targets,
                                          const gpu::Program& program) {
     if (pass == 0) {
         // A new accumulation (first or repeated): empty lists, zero counters.
@@ -122,7 +122,7 @@ bool ReferenceTechnique::repeatAccumulation() {
     return true;
 }
 
-void ReferenceTechnique::resolve(const OitFrameTargets& targets) {
+void ReferenceTechnique::resolve(const pass::Context& targets) {
     const gpu::Program& program = programs_.get(resolveProgram_);
     program.use();
     program.set("oitRefCapacity", static_cast<unsigned>(stats_.poolNodes));
@@ -154,10 +154,6 @@ void ReferenceTechnique::resolve(const OitFrameTargets& targets) {
 std::size_t ReferenceTechnique::bytesPerPixel() const {
     const std::uint64_t pixels = std::max<std::uint64_t>(1, std::uint64_t(width_) * height_);
     return 4 + 4 + static_cast<std::size_t>((stats_.poolNodes * kNodeBytes + pixels - 1) / pixels);
-}
-
-const gpu::Texture* ReferenceTechnique::resourceTexture(const std::string& name) const {
-    return name == kFragmentsPerPixel ? &fragmentCounts_ : nullptr;
 }
 
 nlohmann::json ReferenceTechnique::stats() const {

@@ -63,17 +63,18 @@ public:
     std::string name() const override { return "reference"; }
     std::filesystem::path emitInclude() const override { return "oit/reference/emit.glsl"; }
     bool fogSegments() const override { return true; }
-    void resize(const OitFrameTargets& targets) override;
-    void beginAccumulate(int pass, const OitFrameTargets& targets,
+    void resize(const pass::Context& targets) override;
+    void beginAccumulate(int pass, const pass::Context& targets,
                          const gpu::Program& program) override;
     void prepareProgram(int pass, const gpu::Program& program) const override;
     void endAccumulate(int pass) override;
     bool repeatAccumulation() override;
-    void resolve(const OitFrameTargets& targets) override;
+    void resolve(const pass::Context& targets) override;
     std::size_t bytesPerPixel() const override;
 
-    std::vector<std::string> resolveResources() const override { return {kFragmentsPerPixel}; }
-    const gpu::Texture* resourceTexture(const std::string& name) const override;
+    std::vector<Resource> resources() const override {
+        return {{kFragmentsPerPixel, [this] { return &fragmentCounts_; }, true}};
+    }
 
     const ReferenceStats& referenceStats() const { return stats_; }
     nlohmann::json stats() const override;

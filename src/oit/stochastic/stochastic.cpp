@@ -12,7 +12,7 @@
 //                                                          across the passes (footnote 3);
 //                                                          otherwise each pass draws its own
 //                                                          S-bit mask
-//   seed               OitFrameTargets::seed  004 sec. 6   hashed with pixel, primitive id
+//   seed               pass::Context::seed    004 sec. 6   hashed with pixel, primitive id
 //                                                          and depth into the mask choice;
 //                                                          same seed, same image
 //   mask table         all C(N,R) masks for N <= 16, else 16384 distinct random ones per R
@@ -106,7 +106,7 @@ public:
         return passes_;
     }
 
-    void resize(const OitFrameTargets& targets) override {
+    void resize(const pass::Context& targets) override {
         VEIL_CHECK(targets.hdrColor && targets.depth && targets.width > 0 && targets.height > 0,
                    "{}: frame targets missing", name());
         VEIL_CHECK(targets.hdrColor->format() == GL_RGBA16F,
@@ -156,7 +156,7 @@ public:
             .set("stochSamples", samples_);
     }
 
-    void beginAccumulate(int pass, const OitFrameTargets& targets,
+    void beginAccumulate(int pass, const pass::Context& targets,
                          const gpu::Program& program) override {
         const PassInfo info = passInfo(pass);
         region_ = frameRegion(targets);
@@ -225,7 +225,7 @@ public:
         }
     }
 
-    void resolve(const OitFrameTargets& targets) override {
+    void resolve(const pass::Context& targets) override {
         const gpu::Program& program = programs_->get(resolveProgram_);
         program.use();
         program.set("variant", static_cast<int>(mode_))
@@ -260,18 +260,14 @@ public:
 
     // The per-sample colour (and total alpha) are multisample (listed, not readable); the
     // sum over passes is a plain RGBA32F target.
-    std::vector<std::string> accumulationResources() const override {
-        std::vector<std::string> r = {fmt::format("oit.{}.color", name())};
-        if (mode_ != StochasticMode::Basic) r.push_back(fmt::format("oit.{}.total_alpha", name()));
+    std::vector<Resource> resources() const override {
+        std::vector<Resource> r = {
+            {fmt::format("oit.{}.color", name()), [this] { return &msColor_; }}};
+        if (mode_ != StochasticMode::Basic)
+            r.push_back({fmt::format("oit.{}.total_alpha", name()), [this] { return &msTotal_; }});
         if (mode_ != StochasticMode::DepthBased)
-            r.push_back(fmt::format("oit.{}.pass_sum", name()));
+            r.push_back({fmt::format("oit.{}.pass_sum", name()), [this] { return &passSum_; }});
         return r;
-    }
-    const gpu::Texture* resourceTexture(const std::string& n) const override {
-        if (n == fmt::format("oit.{}.color", name())) return &msColor_;
-        if (n == fmt::format("oit.{}.total_alpha", name())) return &msTotal_;
-        if (n == fmt::format("oit.{}.pass_sum", name())) return &passSum_;
-        return nullptr;
     }
 
 private:
@@ -303,7 +299,7 @@ private:
                                region_.w - region_.y, 1, GL_RGBA, GL_FLOAT, zero);
     }
 
-    void copyOpaqueDepth(const OitFrameTargets& targets) {
+    void copyOpaqueDepth(const pass::Context& targets) {
         ++depthCopies_;
         depthFbo_.bind();
         gpu::PipelineState state;
@@ -323,7 +319,7 @@ private:
     bool grouped_ = true;
     bool msDepthHoldsOpaque_ = false; // msDepth_ = the opaque depth (no pass wrote it since)
     int depthCopies_ = 0;             // full-screen MSAA depth copies of the last frame (stats())
-    std::uint32_t seed_ = 1;          // OitFrameTargets::seed of the current frame
+    std::uint32_t seed_ = 1;          // pass::Context::seed of the current frame
     glm::ivec4 region_{0};            // frameRegion() of the current geometry pass
     gpu::ProgramHandle copyProgram_, foldProgram_, resolveProgram_;
     gpu::Buffer masks_{gpu::NoCreate};

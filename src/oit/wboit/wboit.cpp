@@ -14,7 +14,7 @@ public:
     std::string name() const override { return "wboit"; }
     std::filesystem::path emitInclude() const override { return "oit/wboit/emit.glsl"; }
 
-    void resize(const OitFrameTargets& targets) override {
+    void resize(const pass::Context& targets) override {
         accum_ = gpu::Texture(GL_TEXTURE_2D);
         accum_.storage2D(1, GL_RGBA16F, targets.width, targets.height);
         revealage_ = gpu::Texture(GL_TEXTURE_2D);
@@ -27,7 +27,7 @@ public:
         framebuffer_.checkComplete("oit/wboit");
     }
 
-    void beginAccumulate(int, const OitFrameTargets& targets, const gpu::Program&) override {
+    void beginAccumulate(int, const pass::Context& targets, const gpu::Program&) override {
         framebuffer_.bind();
         gpu::PipelineState state = accumulationState(targets);
         state.blend[0] = gpu::BlendState::func(GL_ONE, GL_ONE);                  // A: sums
@@ -40,7 +40,7 @@ public:
 
     // The fog from compute through emit.glsl's OIT_WRITE (the two blend equations above).
     PerPixelEmit perPixelEmit(int) const override { return PerPixelEmit::Compute; }
-    void bindPerPixelEmit(int, const OitFrameTargets&) const override {
+    void bindPerPixelEmit(int, const pass::Context&) const override {
         glBindImageTexture(VEIL_IMG_OIT_TARGET0, accum_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
                            GL_RGBA16F);
         glBindImageTexture(VEIL_IMG_OIT_TARGET0 + 1, revealage_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
@@ -49,7 +49,7 @@ public:
 
     void endAccumulate(int) override { glBindFramebuffer(GL_FRAMEBUFFER, 0); }
 
-    void resolve(const OitFrameTargets& targets) override {
+    void resolve(const pass::Context& targets) override {
         const gpu::Program& program = programs_.get(resolveProgram_);
         program.use();
         accum_.bind(VEIL_TEX_OIT0);
@@ -65,13 +65,9 @@ public:
 
     // 000 Eq. 5: accum = sum of weighted premultiplied radiance (rgb) and coverage (a),
     // revealage = prod(1 - alpha).
-    std::vector<std::string> accumulationResources() const override {
-        return {"oit.wboit.accum", "oit.wboit.revealage"};
-    }
-    const gpu::Texture* resourceTexture(const std::string& name) const override {
-        if (name == "oit.wboit.accum") return &accum_;
-        if (name == "oit.wboit.revealage") return &revealage_;
-        return nullptr;
+    std::vector<Resource> resources() const override {
+        return {{"oit.wboit.accum", [this] { return &accum_; }},
+                {"oit.wboit.revealage", [this] { return &revealage_; }}};
     }
 
 private:

@@ -25,14 +25,14 @@ public:
 
     // The frame adds these in order as "shadow" and "shadow.<name>", with their resources.
     // A technique with maps of its own adds a pass here, e.g.
-    //   {"filter", {"shadow.depth"}, {"shadow.<name>"}, [this](const ShadowFrame& f) {...}}
+    //   {"filter", {"shadow.depth"}, {"shadow.<name>"}, [this](const pass::Context& f) {...}}
     // applying a declared gpu::PipelineState through f.state before each draw or clear.
-    std::vector<ShadowPass> passes() override {
+    std::vector<pass::Pass> passes() override {
         return {{"",
                  {},
                  {"shadow.depth"},
-                 [this](const ShadowFrame& f) { depth_.render(f); },
-                 [this](const ShadowFrame& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }}};
+                 [this](const pass::Context& f) { depth_.render(f); },
+                 [this](const pass::Context& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }}};
     }
     std::vector<std::string> receiverResources() const override { return {"shadow.depth"}; }
     void bindForReceivers() const override { depth_.bind(); }

@@ -30,9 +30,9 @@ void setCasterView(const gpu::Program& program, const LightView& view) {
         .set("overrideUp", glm::vec3(inv[1]));
 }
 
-void DepthMaps::renderRows(const ShadowFrame& frame, int y0, int y1) {
+void DepthMaps::renderRows(const pass::Context& frame, int y0, int y1) {
     const gpu::Program& program = programs_.get(program_);
-    for (const LightView& view : *frame.views) {
+    for (const LightView& view : *frame.lightViews) {
         framebuffer_.attachLayer(GL_DEPTH_ATTACHMENT, texture_, view.layer).drawBuffers({GL_NONE});
         framebuffer_.bind();
         gpu::PipelineState s;
@@ -47,7 +47,7 @@ void DepthMaps::renderRows(const ShadowFrame& frame, int y0, int y1) {
         program.use();
         setCasterView(program, view);
         program.set("shadowView", view.layer);
-        frame.drawCasters(program, CasterSet::Opaque);
+        frame.drawObjects(program, pass::ObjectSet::OpaqueCasters);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }

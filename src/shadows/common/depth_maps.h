@@ -14,10 +14,10 @@ public:
     explicit DepthMaps(gpu::ProgramManager& programs);
     void resize(int size, int layers);
     // Clears every layer and draws the opaque casters into it.
-    void render(const ShadowFrame& frame) { renderRows(frame, 0, size_); }
-    // The same restricted to the texel rows [y0, y1) of every layer (ShadowPass::executeRows):
+    void render(const pass::Context& frame) { renderRows(frame, 0, size_); }
+    // The same restricted to the texel rows [y0, y1) of every layer (pass::Pass::executeRows):
     // the clear and the draws scissored to the band.
-    void renderRows(const ShadowFrame& frame, int y0, int y1);
+    void renderRows(const pass::Context& frame, int y0, int y1);
     void bind() const { texture_.bind(VEIL_TEX_SHADOW_MAP); }
     const gpu::Texture& texture() const { return texture_; }
     std::size_t gpuBytes() const { return std::size_t(size_) * size_ * layers_ * 4; }

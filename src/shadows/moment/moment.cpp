@@ -63,40 +63,40 @@ public:
             t = gpu::Texture(gpu::NoCreate);
     }
 
-    // Every pass also runs in bands of texel rows (ShadowPass::executeRows): each texel of
+    // Every pass also runs in bands of texel rows (pass::Pass::executeRows): each texel of
     // the depth, caster, media and quantize passes depends on its own texel only, so a band
     // is the whole pass with its clears, draws (scissor) and dispatches restricted to the
     // rows; the filter's bands are filterRows().
-    std::vector<ShadowPass> passes() override {
-        std::vector<ShadowPass> p;
+    std::vector<pass::Pass> passes() override {
+        std::vector<pass::Pass> p;
         p.push_back(
             {"",
              {},
              {"shadow.depth"},
-             [this](const ShadowFrame& f) { depth_.render(f); },
-             [this](const ShadowFrame& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }});
+             [this](const pass::Context& f) { depth_.render(f); },
+             [this](const pass::Context& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }});
         p.push_back({"transparent",
                      {},
                      {"shadow.moments"},
-                     [this](const ShadowFrame& f) { renderCasters(f, 0, size_); },
-                     [this](const ShadowFrame& f, int y0, int y1) { renderCasters(f, y0, y1); }});
+                     [this](const pass::Context& f) { renderCasters(f, 0, size_); },
+                     [this](const pass::Context& f, int y0, int y1) { renderCasters(f, y0, y1); }});
         p.push_back({"media",
                      {"shadow.moments"},
                      {"shadow.moments"},
-                     [this](const ShadowFrame& f) { renderMedia(f, 0, size_); },
-                     [this](const ShadowFrame& f, int y0, int y1) { renderMedia(f, y0, y1); }});
+                     [this](const pass::Context& f) { renderMedia(f, 0, size_); },
+                     [this](const pass::Context& f, int y0, int y1) { renderMedia(f, y0, y1); }});
         if (blurRadius_ > 0)
             p.push_back({"filter",
                          {"shadow.moments"},
                          {"shadow.moments"},
-                         [this](const ShadowFrame&) { filter(); },
-                         [this](const ShadowFrame&, int y0, int y1) { filterRows(y0, y1); }});
+                         [this](const pass::Context&) { filter(); },
+                         [this](const pass::Context&, int y0, int y1) { filterRows(y0, y1); }});
         if (quantized_)
             p.push_back({"quantize",
                          {"shadow.moments"},
                          {"shadow.moments16"},
-                         [this](const ShadowFrame&) { quantize(0, size_); },
-                         [this](const ShadowFrame&, int y0, int y1) { quantize(y0, y1); }});
+                         [this](const pass::Context&) { quantize(0, size_); },
+                         [this](const pass::Context&, int y0, int y1) { quantize(y0, y1); }});
         return p;
     }
     std::vector<std::string> receiverResources() const override {
@@ -144,7 +144,7 @@ private:
     // Rows [y0, y1): the clear and the additive draws (scissor) of those rows. Blending adds
     // a texel's fragments in primitive order whatever the scissor box, so the bands sum to
     // the whole pass's values exactly.
-    void renderCasters(const ShadowFrame& f, int y0, int y1) {
+    void renderCasters(const pass::Context& f, int y0, int y1) {
         const gpu::Program& program = programs_.get(caster_);
         gpu::PipelineState s;
         s.view(size_, size_);
@@ -156,7 +156,7 @@ private:
             s.scissor = glm::ivec4(0, y0, size_, y1 - y0);
         }
         clearMaps(y0, y1);
-        for (const LightView& view : *f.views) {
+        for (const LightView& view : *f.lightViews) {
             framebuffer_.attachLayer(GL_COLOR_ATTACHMENT0, absorbance_, view.layer)
                 .attachLayer(GL_COLOR_ATTACHMENT1, moments_, view.layer)
                 .attachLayer(GL_COLOR_ATTACHMENT2, media_, view.layer)
@@ -166,7 +166,7 @@ private:
             program.use();
             setCasterView(program, view);
             program.set("shadowView", view.layer);
-            f.drawCasters(program, CasterSet::Transparent);
+            f.drawObjects(program, pass::ObjectSet::TransparentCasters);
         }
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
@@ -185,13 +185,13 @@ private:
                         GL_TEXTURE_FETCH_BARRIER_BIT);
     }
 
-    void renderMedia(const ShadowFrame& f, int y0, int y1) {
+    void renderMedia(const pass::Context& f, int y0, int y1) {
         mediaMarched_ = static_cast<bool>(f.bindMedia);
         if (!f.bindMedia) return;
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
         const gpu::Program& program = programs_.get(mediaProgram_);
         f.bindMedia(program);
-        for (const LightView& view : *f.views)
+        for (const LightView& view : *f.lightViews)
             program.set(fmt::format("clipToWorld[{}]", view.layer).c_str(),
                         glm::inverse(view.viewProjection));
         program.set("firstLayer", 0)
@@ -226,7 +226,7 @@ private:
         }
     }
 
-    // filter() over rows [y0, y1) of each map, the bands in order (ShadowPass::executeRows).
+    // filter() over rows [y0, y1) of each map, the bands in order (pass::Pass::executeRows).
     // The vertical blur of rows [y0, y1) reads the horizontal result of rows [y0 - r, y1 + r)
     // and writes the map in place, so each map keeps its own horizontal result across the
     // bands (bandTemps_, made on first use: two more arrays than filter() needs) and every

@@ -16,12 +16,12 @@ public:
         return "shadows/opaque/visibility.glsl";
     }
     void resize(int mapSize, int viewCount) override { depth_.resize(mapSize, viewCount); }
-    std::vector<ShadowPass> passes() override {
+    std::vector<pass::Pass> passes() override {
         return {{"",
                  {},
                  {"shadow.depth"},
-                 [this](const ShadowFrame& f) { depth_.render(f); },
-                 [this](const ShadowFrame& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }}};
+                 [this](const pass::Context& f) { depth_.render(f); },
+                 [this](const pass::Context& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }}};
     }
     std::vector<std::string> receiverResources() const override { return {"shadow.depth"}; }
     void bindForReceivers() const override { depth_.bind(); }

@@ -41,15 +41,15 @@ public:
             .parameter(GL_TEXTURE_MAG_FILTER, GL_NEAREST);
         framebuffer_ = gpu::Framebuffer();
     }
-    std::vector<ShadowPass> passes() override {
-        // The depth pass also in bands of texel rows (ShadowPass::executeRows); the lists run
+    std::vector<pass::Pass> passes() override {
+        // The depth pass also in bands of texel rows (pass::Pass::executeRows); the lists run
         // whole (one pool and counter for every texel, regrown and redrawn on overflow).
         return {{"",
                  {},
                  {"shadow.depth"},
-                 [this](const ShadowFrame& f) { depth_.render(f); },
-                 [this](const ShadowFrame& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }},
-                {"transparent", {}, {"shadow.lists"}, [this](const ShadowFrame& f) {
+                 [this](const pass::Context& f) { depth_.render(f); },
+                 [this](const pass::Context& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }},
+                {"transparent", {}, {"shadow.lists"}, [this](const pass::Context& f) {
                      renderLists(f);
                  }}};
     }
@@ -62,7 +62,7 @@ public:
         nodes_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_NODES);
         counter_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_COUNTER);
     }
-    void prepareReceiver(const gpu::Program& program, const ShadowFrame& frame) const override {
+    void prepareReceiver(const gpu::Program& program, const pass::Context& frame) const override {
         if (frame.bindMedia) frame.bindMedia(program);
     }
     void fillParams(ShadowsBlock& block) const override {
@@ -93,7 +93,7 @@ private:
         nodes_.setStorage(std::size_t(capacity_) * kNodeBytes, nullptr, 0);
     }
 
-    void renderLists(const ShadowFrame& f) {
+    void renderLists(const pass::Context& f) {
         const gpu::Program& program = programs_.get(caster_);
         for (int attempt = 0; attempt < 2; ++attempt) {
             const std::uint32_t counter[2] = {0u, capacity_};
@@ -109,7 +109,7 @@ private:
             nodes_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_NODES);
             counter_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_COUNTER);
             glBindImageTexture(1, heads_.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
-            for (const LightView& view : *f.views) {
+            for (const LightView& view : *f.lightViews) {
                 // The depth layer gives the framebuffer its size; it is neither tested nor written.
                 framebuffer_.attachLayer(GL_DEPTH_ATTACHMENT, depth_.texture(), view.layer)
                     .drawBuffers({GL_NONE});
@@ -118,7 +118,7 @@ private:
                 program.use();
                 setCasterView(program, view);
                 program.set("shadowView", view.layer);
-                f.drawCasters(program, CasterSet::Transparent);
+                f.drawObjects(program, pass::ObjectSet::TransparentCasters);
             }
             glBindFramebuffer(GL_FRAMEBUFFER, 0);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |

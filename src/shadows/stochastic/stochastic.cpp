@@ -96,21 +96,21 @@ public:
         }
     }
 
-    // Every pass also runs in bands of texel rows (ShadowPass::executeRows): a texel's
+    // Every pass also runs in bands of texel rows (pass::Pass::executeRows): a texel's
     // samples depend on its own fragments only (the masks hash the texel and the depth, not
     // the viewport), and its moments on its own samples, so those bands are the pass with
     // its clears and draws scissored and its dispatch restricted to the rows; the blur's
     // bands are blur().
-    std::vector<ShadowPass> passes() override {
-        std::vector<ShadowPass> p;
+    std::vector<pass::Pass> passes() override {
+        std::vector<pass::Pass> p;
         p.push_back(
             {"",
              {},
              {"shadow.depth"},
-             [this](const ShadowFrame& f) { depth_.render(f); },
-             [this](const ShadowFrame& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }});
-        auto stochastic = [this](const ShadowFrame& f) { renderStochastic(f, 0, size_); };
-        auto stochasticRows = [this](const ShadowFrame& f, int y0, int y1) {
+             [this](const pass::Context& f) { depth_.render(f); },
+             [this](const pass::Context& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }});
+        auto stochastic = [this](const pass::Context& f) { renderStochastic(f, 0, size_); };
+        auto stochasticRows = [this](const pass::Context& f, int y0, int y1) {
             renderStochastic(f, y0, y1);
         };
         if (mode_ == Mode::Stochastic) {
@@ -120,8 +120,8 @@ public:
             p.push_back({"vsm",
                          {"shadow.moments"},
                          {"shadow.vsm"},
-                         [this](const ShadowFrame& f) { blur(f, 0, size_); },
-                         [this](const ShadowFrame& f, int y0, int y1) { blur(f, y0, y1); }});
+                         [this](const pass::Context& f) { blur(f, 0, size_); },
+                         [this](const pass::Context& f, int y0, int y1) { blur(f, y0, y1); }});
         }
         return p;
     }
@@ -169,9 +169,9 @@ private:
     // surface covers holds the depth of what is behind (the receiver's own depth where it is
     // the first opaque surface), which makes Chebyshev's bound exact for one plane.
     // Rows [y0, y1) of every layer (all of them: 0, size_).
-    void renderStochastic(const ShadowFrame& frame, int y0, int y1) {
+    void renderStochastic(const pass::Context& frame, int y0, int y1) {
         const gpu::Program& caster = programs_.get(casterProgram_);
-        for (const LightView& view : *frame.views) {
+        for (const LightView& view : *frame.lightViews) {
             for (int c = 0; c < channels_; ++c) {
                 const int layer = mode_ == Mode::Stochastic ? view.layer * channels_ + c : c;
                 framebuffer_.attachLayer(GL_DEPTH_ATTACHMENT, msDepth_, layer)
@@ -191,7 +191,7 @@ private:
                     opaque.use();
                     setCasterView(opaque, view);
                     opaque.set("shadowView", view.layer);
-                    frame.drawCasters(opaque, CasterSet::Opaque);
+                    frame.drawObjects(opaque, pass::ObjectSet::OpaqueCasters);
                 }
                 caster.use();
                 setCasterView(caster, view);
@@ -203,7 +203,7 @@ private:
                     .set("lightOrthographic", view.orthographic ? 1 : 0)
                     .set("lightPosition", view.position)
                     .set("lightDirection", view.direction);
-                frame.drawCasters(caster, CasterSet::Transparent);
+                frame.drawObjects(caster, pass::ObjectSet::TransparentCasters);
             }
             glBindFramebuffer(GL_FRAMEBUFFER, 0);
             if (mode_ == Mode::Vsm) resolveMoments(frame, view, y0, y1);
@@ -213,7 +213,7 @@ private:
 
     // 000 sec. 4.3: "convert the shadow maps to Variance Shadow Maps": per texel the mean of z
     // and z^2 over its S samples (the box filter of the samples, 004 sec. 4.1 operator F).
-    void resolveMoments(const ShadowFrame& frame, const LightView& view, int y0, int y1) {
+    void resolveMoments(const pass::Context& frame, const LightView& view, int y0, int y1) {
         frame.state->apply(gpu::PipelineState{}); // compute only
         const gpu::Program& program = programs_.get(momentsProgram_);
         program.use();
@@ -230,7 +230,7 @@ private:
     // the horizontal result (blurTmp_) of rows [y0 - r, y1 + r); bands run in order, so an
     // earlier band made it up to row y0 + r and this one adds rows [y0 + r, y1 + r) (from
     // moments_, which this pass does not change): every texel the same sums as in one piece.
-    void blur(const ShadowFrame& frame, int y0, int y1) {
+    void blur(const pass::Context& frame, int y0, int y1) {
         frame.state->apply(gpu::PipelineState{}); // compute only
         const gpu::Program& program = programs_.get(blurProgram_);
         program.use();

@@ -165,23 +165,23 @@ public:
             .parameter(GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE)
             .parameter(GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
     }
-    // Bands of texel rows (ShadowPass::executeRows) for the depth and fog passes. The slices
+    // Bands of texel rows (pass::Pass::executeRows) for the depth and fog passes. The slices
     // pass runs whole: its words are packed by src/voxelize's pack.comp (whole targets, no
     // row offset) into one buffer cleared whole, and its class grouping is per pass.
-    std::vector<ShadowPass> passes() override {
-        std::vector<ShadowPass> p = {
+    std::vector<pass::Pass> passes() override {
+        std::vector<pass::Pass> p = {
             {"",
              {},
              {"shadow.depth"},
-             [this](const ShadowFrame& f) { depth_.render(f); },
-             [this](const ShadowFrame& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }},
-            {"slices", {}, {"shadow.slices"}, [this](const ShadowFrame& f) { render(f); }}};
+             [this](const pass::Context& f) { depth_.render(f); },
+             [this](const pass::Context& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }},
+            {"slices", {}, {"shadow.slices"}, [this](const pass::Context& f) { render(f); }}};
         if (fog_)
             p.push_back({"fog",
                          {},
                          {"shadow.fog"},
-                         [this](const ShadowFrame& f) { fog(f, 0, size_); },
-                         [this](const ShadowFrame& f, int y0, int y1) { fog(f, y0, y1); }});
+                         [this](const pass::Context& f) { fog(f, 0, size_); },
+                         [this](const pass::Context& f, int y0, int y1) { fog(f, y0, y1); }});
         return p;
     }
     std::vector<std::string> receiverResources() const override {
@@ -200,7 +200,7 @@ public:
     }
     // The classes and the fog come from this frame's passes (they run before every
     // receiver; the shadows block is filled before them): uniforms of the receiver.
-    void prepareReceiver(const gpu::Program& program, const ShadowFrame& frame) const override {
+    void prepareReceiver(const gpu::Program& program, const pass::Context& frame) const override {
         (void)frame;
         std::vector<glm::vec3> t(3, glm::vec3(1.0f));
         for (int c = 0; c < classCount(); ++c)
@@ -237,7 +237,7 @@ private:
     // Optical depth of the grid density volumes per slice along every fog column (fog.comp),
     // for the map rows [y0, y1) (all: 0, size_): the column rows [y0 C / size, y1 C / size)
     // of the C = fog_columns, so consecutive bands of map rows cover the columns once.
-    void fog(const ShadowFrame& frame, int y0, int y1) {
+    void fog(const pass::Context& frame, int y0, int y1) {
         fogActive_ = static_cast<bool>(frame.bindMedia);
         if (!fogActive_) return;
         const int c0 = int(std::int64_t(y0) * fogColumns_ / size_);
@@ -248,7 +248,7 @@ private:
         frame.bindMedia(p);
         glBindImageTexture(VEIL_IMG_VOLUME_LIGHT, fogTau_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
                            GL_R32F);
-        for (const LightView& view : *frame.views) {
+        for (const LightView& view : *frame.lightViews) {
             p.set("shadowView", view.layer)
                 .set("uSlices", slices_)
                 .set("uSubsteps", fogSubsteps_)
@@ -261,7 +261,7 @@ private:
         glUseProgram(0);
     }
 
-    void render(const ShadowFrame& frame) {
+    void render(const pass::Context& frame) {
         VEIL_CHECK(frame.scene, "transmittance-slicemap: the frame gives no scene (classes)");
         const std::vector<glm::dvec3> ts = slicemap::casterTransmittances(*frame.scene);
         classT_ = ts.empty() ? std::vector<glm::dvec3>{} : slicemap::groupClasses(ts, maxClasses_);
@@ -286,7 +286,7 @@ private:
         std::vector<glm::vec3> classT(3, glm::vec3(1.0f));
         for (int c = 0; c < classCount(); ++c)
             classT[c] = glm::vec3(classT_[c]);
-        for (const LightView& view : *frame.views) {
+        for (const LightView& view : *frame.lightViews) {
             if (local_) {
                 // 003 sec. 2.2: per-column near and far of the casters (one MIN-blended pass).
                 rangeFbo_.attachLayer(GL_COLOR_ATTACHMENT0, range_, view.layer)
@@ -303,7 +303,7 @@ private:
                 range.use();
                 setCasterView(range, view);
                 range.set("shadowView", view.layer);
-                frame.drawCasters(range, CasterSet::Transparent);
+                frame.drawObjects(range, pass::ObjectSet::TransparentCasters);
                 glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
                 range_.bind(VEIL_TEX_SHADOW1);
             }
@@ -331,7 +331,7 @@ private:
                         .set("uClasses", classCount());
                     glProgramUniform3fv(slice.id(), slice.uniformLocation("uClassT"), 3,
                                         &classT[0].x);
-                    frame.drawCasters(slice, CasterSet::Transparent);
+                    frame.drawObjects(slice, pass::ObjectSet::TransparentCasters);
                     glBindFramebuffer(GL_FRAMEBUFFER, 0);
                     // src/voxelize's pack pass: targets -> column-contiguous words of map
                     // (view, class).

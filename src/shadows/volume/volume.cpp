@@ -69,9 +69,9 @@ public:
         return "shadows/volume/visibility.glsl";
     }
     void resize(int mapSize, int viewCount) override { depth_.resize(mapSize, viewCount); }
-    std::vector<ShadowPass> passes() override {
-        return {{"", {}, {"shadow.depth"}, [this](const ShadowFrame& f) { depth_.render(f); }},
-                {"volume", {"shadow.depth"}, {"shadow.volume"}, [this](const ShadowFrame& f) {
+    std::vector<pass::Pass> passes() override {
+        return {{"", {}, {"shadow.depth"}, [this](const pass::Context& f) { depth_.render(f); }},
+                {"volume", {"shadow.depth"}, {"shadow.volume"}, [this](const pass::Context& f) {
                      render(f);
                  }}};
     }
@@ -103,12 +103,12 @@ public:
     nlohmann::json stats() const override { return stats_; }
 
 private:
-    void prepare(const ShadowFrame& frame);
-    void render(const ShadowFrame& frame);
+    void prepare(const pass::Context& frame);
+    void render(const pass::Context& frame);
     // `stamp` (the `timing` GL_TIMESTAMP) after the receivers and the occluders.
-    void classify(const ShadowFrame& frame, const std::vector<int>& casters,
+    void classify(const pass::Context& frame, const std::vector<int>& casters,
                   const std::function<void(const char*)>& stamp);
-    void buildVolumes(const ShadowFrame& frame, int casterCount, int slot);
+    void buildVolumes(const pass::Context& frame, int casterCount, int slot);
 
     gpu::ProgramManager& programs_;
     DepthMaps depth_;
@@ -150,7 +150,7 @@ std::vector<int> opaqueCasters(const scene::Scene& scene) {
 
 // Builds the geometry at the first frame (the scene arrives with the frame) and refuses what
 // shadow volumes cannot cast.
-void VolumeTechnique::prepare(const ShadowFrame& frame) {
+void VolumeTechnique::prepare(const pass::Context& frame) {
     if (scene_ != frame.scene) {
         scene_ = frame.scene;
         const std::vector<int> casters = opaqueCasters(*scene_);
@@ -170,7 +170,7 @@ void VolumeTechnique::prepare(const ShadowFrame& frame) {
     }
     // Lights in layer order: the first view of each shadowed light.
     lights_.clear();
-    for (const LightView& view : *frame.views) {
+    for (const LightView& view : *frame.lightViews) {
         if (!lights_.empty() && lights_.back().light == view.light) continue;
         VolumeLight l;
         l.light = view.light;
@@ -217,7 +217,7 @@ void setSlotViews(const gpu::Program& program, const std::vector<VolumeLight>& l
 
 // 003 Sec. 3.2: the receivers into each light's slice map, the occluders' far depth per
 // column, and per caster and light: culled, clamped or infinite (casters_).
-void VolumeTechnique::classify(const ShadowFrame& frame, const std::vector<int>& casters,
+void VolumeTechnique::classify(const pass::Context& frame, const std::vector<int>& casters,
                                const std::function<void(const char*)>& stamp) {
     const bool any = casterCulling_ || receiverCulling_ || clamping_;
     const std::size_t entries = std::max<std::size_t>(casters.size() * slots_, 1);
@@ -267,7 +267,7 @@ void VolumeTechnique::classify(const ShadowFrame& frame, const std::vector<int>&
         setSlotViews(p, lights_);
         p.set("uGrid", grid_)
             .set("uSlices", slices_)
-            .set("invViewProjection", glm::inverse(frame.cameraViewProjection))
+            .set("invViewProjection", glm::inverse(frame.viewProjection))
             .set("screenSize", glm::ivec2(width_, height_))
             .set("slotCount", slots_);
         depthStencil_.bind(VEIL_TEX_SHADOW2);
@@ -304,7 +304,7 @@ void VolumeTechnique::classify(const ShadowFrame& frame, const std::vector<int>&
 // One light's volumes into triangles_: the surviving casters' work list and dispatch
 // (compact.comp), then their silhouettes, caps and sides (silhouette.comp), drawn with
 // glDrawArraysIndirect from draw_.
-void VolumeTechnique::buildVolumes(const ShadowFrame& frame, int casterCount, int slot) {
+void VolumeTechnique::buildVolumes(const pass::Context& frame, int casterCount, int slot) {
     const VolumeLight& l = lights_[slot];
     casters_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_VOLUME_CASTERS);
     bounds_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_VOLUME_BOUNDS);
@@ -343,7 +343,7 @@ void VolumeTechnique::buildVolumes(const ShadowFrame& frame, int casterCount, in
                     GL_SHADER_STORAGE_BARRIER_BIT);
 }
 
-void VolumeTechnique::render(const ShadowFrame& frame) {
+void VolumeTechnique::render(const pass::Context& frame) {
     prepare(frame);
     const std::vector<int> casters = opaqueCasters(*scene_);
     const gpu::Program& program = programs_.get(volumeProgram_);
