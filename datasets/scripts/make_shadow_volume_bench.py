@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Writes datasets/scenes/shadow-volumes-city.json: the many-caster scene of the `volume`
-shadow benchmark (003 Sec. 3.2): a 14x14 grid of towers of stacked boxes (216
+shadow benchmark [Eisemann06 sec. 3.2]: a 14x14 grid of towers of stacked boxes (216
 boxes: deep depth complexity from the light, most lower boxes hidden behind the ones above),
 112 finely tessellated spheres (96 x 48) on the towers and the floor, and the Utah teapot
 (datasets/third_party/utah-teapot) in the middle, over a floor; about 1.05 M triangles. One

@@ -24,7 +24,7 @@
 #define VEIL_TEX_AO_INPUT 14 // the AO passes' own inputs (camera-space z pyramid, raw AO)
 #define VEIL_TEX_OIT0 4
 
-// OIT `phenomenological` (000 Table 2 targets and the resolve's inputs).
+// OIT `phenomenological` ([McGuire16 Table 2] targets and the resolve's inputs).
 #define VEIL_PHEN_TEX_DEPTH (VEIL_TEX_OIT0 + 0)
 #define VEIL_PHEN_TEX_A (VEIL_TEX_OIT0 + 1)
 #define VEIL_PHEN_TEX_BD (VEIL_TEX_OIT0 + 2)

@@ -1,8 +1,8 @@
 // 16-bit quantization of 4, 6 or 8 normalized power moments b_k / b0 on [-1, 1]
-// depth (MOMENTS-NOTES.md, 002 section 4.1 / Peters et al. 2017), shared by the moment OIT's
+// depth (docs/oit.md#moment-constants, [Munstermann18 sec. 4.1] / [Peters17]), shared by the moment OIT's
 // 16-bit storage and the moment shadow maps' 16-bit storage. The CPU reference is
 // src/oit/cpu (quantizePower4), tested in tests/unit/oit_moment_test.cpp.
-// MOMENTS-NOTES.md: odd (b1, b3) and even (b2, b4) 2x2 transforms; see cpu::quantizePower4.
+// docs/oit.md#moment-constants: odd (b1, b3) and even (b2, b4) 2x2 transforms; see cpu::quantizePower4.
 vec4 momentQuantize4(vec4 n) { // n = (b1, b2, b3, b4) / b0
     const float s3 = 1.7320508075688772;
     return vec4(1.5 * n.x - 2.0 * n.z + 0.5, 0.5 * s3 * n.x - 2.0 * s3 / 9.0 * n.z + 0.5,
@@ -17,7 +17,7 @@ vec4 momentDequantize4(vec4 q) {
 }
 
 
-// 6 and 8 power moments (MOMENTS-NOTES.md; CPU reference cpu::quantizePower, whose comment says
+// 6 and 8 power moments (docs/oit.md#moment-constants; CPU reference cpu::quantizePower, whose comment says
 // why the offsets come after the transform). GLSL matrix constructors fill columns, so a
 // row-major list M gives mat * v = v M (6 moments: row vector times matrix) and v * mat = M v
 // (8 moments: matrix times column vector). Odd = (n1, n3, n5[, n7]), even = (n2, n4, n6[, n8]).

@@ -6,11 +6,11 @@ uniform float roughness;
 uniform float metalness;
 uniform vec3 emission;
 uniform float coverage;      // coverage alpha
-uniform vec3 transmission;   // T, 000 Eq. 2
-uniform float collimation;   // c, 000 section 4.1
-uniform float ior;           // eta of the medium behind the surface, 000 Eq. 8
+uniform vec3 transmission;   // T, [McGuire16 Eq. 2]
+uniform float collimation;   // c, [McGuire16 sec. 4.1]
+uniform float ior;           // eta of the medium behind the surface, [McGuire16 Eq. 8]
 uniform bool billboard;
-// 001 section 6: coverage from a binary mask whose filtered edge is coverageEdge wide (UV
+// [McGuire17 sec. 6]: coverage from a binary mask whose filtered edge is coverageEdge wide (UV
 // units; scene::Material::coverageEdge); binaryCoverage = baseMIPisBinary (no transmission).
 uniform float coverageEdge;
 uniform bool binaryCoverage;
@@ -51,7 +51,7 @@ float surfaceCoverage() {
 }
 
 // What a transparent surface lets through toward what is behind it (light toward a shadow
-// receiver, the background toward the eye), per channel: 1 - alpha + alpha T (000 Eq. 2).
+// receiver, the background toward the eye), per channel: 1 - alpha + alpha T [McGuire16 Eq. 2].
 vec3 surfaceTransmittance(float alpha) { return vec3(1.0 - alpha) + alpha * transmission; }
 
 // Shading normal facing the viewer (two-sided for thin transparent surfaces).

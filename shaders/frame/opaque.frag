@@ -17,7 +17,7 @@ uniform bool depthPrepass;
 #endif
 
 void main() {
-    // A binary-coverage material (001 section 6): only its alpha = 1 interior is opaque.
+    // A binary-coverage material [McGuire17 sec. 6]: only its alpha = 1 interior is opaque.
     if (binaryCoverage && surfaceCoverage() < 1.0) discard;
     vec3 V = viewVector(vWorldPos);
     vec3 N = facingNormal(V);

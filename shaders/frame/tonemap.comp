@@ -1,6 +1,6 @@
 #version 450 core
-// Tone mapping (compute: no rasterizer needed, GPU-DEVICE.md). Exposure, then either the
-// ACES filmic fit of Narkowicz 2015, f(x) = x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14), per
+// Tone mapping (compute: no rasterizer needed). Exposure, then either the
+// ACES filmic fit of [Narkowicz16], f(x) = x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14), per
 // channel, or a plain clamp; then the sRGB transfer function (IEC 61966-2-1).
 #include "../common/bindings.h"
 

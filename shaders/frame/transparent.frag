@@ -1,6 +1,6 @@
 #version 450 core
 // Transparent surfaces: shaded as in the opaque pass, then handed to the active OIT
-// technique's oitEmit() (DESIGN.md "How fog and surfaces share one transparency technique").
+// technique's oitEmit() (docs/architecture.md "Two GLSL interfaces join techniques without joining their code").
 #include "../common/camera.glsl"
 #include "material.glsl"
 #include "shading.glsl"
@@ -12,7 +12,7 @@ void main() {
     SurfaceMaterial m = currentMaterial();
     float alpha = surfaceCoverage(); // m.alpha with the particles' soft round falloff
     if (alpha <= 0.0) discard;
-    // A binary-coverage material's alpha = 1 interior was drawn opaque (001 section 6).
+    // A binary-coverage material's alpha = 1 interior was drawn opaque [McGuire17 sec. 6].
     if (binaryCoverage && alpha >= 1.0) discard;
     // Light that is transmitted is not diffusely reflected.
     float diffuseWeight = 1.0 - maxComponent(m.transmission);
@@ -21,7 +21,7 @@ void main() {
     f.surface = true;
     f.particle = billboard;
     f.collimation = collimation;
-    // Relative index eta = eta_before / eta_after (000 Eq. 8): entering through a face whose
+    // Relative index eta = eta_before / eta_after [McGuire16 Eq. 8]: entering through a face whose
     // outward normal faces the viewer, leaving through one that faces away.
     f.eta = dot(vNormal, V) >= 0.0 ? 1.0 / ior : ior;
     f.viewPos = (camera.view * vec4(vWorldPos, 1.0)).xyz;

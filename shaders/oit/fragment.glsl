@@ -1,7 +1,6 @@
 #include "../common/bindings.h"
 
-// The one contribution every OIT technique takes (DESIGN.md "How fog and surfaces share one
-// transparency technique"): each technique's emit.glsl defines
+// The one contribution every OIT technique takes (docs/architecture.md "Two GLSL interfaces join techniques without joining their code"): each technique's emit.glsl defines
 //     void oitEmit(OitFragment f);
 // Transparent surfaces fill every field (shaders/frame/transparent.frag); the fog's emission
 // pass (shaders/volume/fog_emit.frag) fills the first four through oitFragment(), one per
@@ -11,19 +10,19 @@
 struct OitFragment {
     vec3 radiance;     // reflected + emitted radiance, premultiplied by coverage alpha
     float alpha;       // coverage
-    vec3 transmission; // T in [0,1]^3; the background is modulated by 1 - a + a T (000 Eq. 2)
+    vec3 transmission; // T in [0,1]^3; the background is modulated by 1 - a + a T [McGuire16 Eq. 2]
     float viewDepth;   // distance along the view axis
     // Surfaces only (defaults for the fog):
     bool surface;      // false for a medium's per-pixel contribution (no geometry, no material)
     bool particle;     // a camera-facing billboard (phenomenological's low-resolution pass)
-    float collimation; // c of 000 section 4.1 (1 = collimated, no diffusion)
-    float eta;         // relative index of refraction across the interface (000 Eq. 8)
-    vec3 viewPos;      // view-space position and normal (refraction offset, 000 Eq. 8-9)
+    float collimation; // c of [McGuire16 sec. 4.1] (1 = collimated, no diffusion)
+    float eta;         // relative index of refraction across the interface [McGuire16 Eq. 8]
+    vec3 viewPos;      // view-space position and normal (refraction offset, [McGuire16 Eq. 8-9])
     vec3 viewNormal;
-    float roughness;             // material roughness (003 thickness x roughness blur)
+    float roughness;             // material roughness ([Eisemann06] thickness x roughness blur)
     vec3 attenuationColor;       // KHR_materials_volume behind the surface
     float attenuationDistance;   // 0 = no absorption
-    // 001 section 6 (inferred AO): the ambient part of radiance (premultiplied by alpha, as
+    // [McGuire17 sec. 6] (inferred AO): the ambient part of radiance (premultiplied by alpha, as
     // radiance), and whether the material's base coverage is binary (baseMIPisBinary).
     vec3 ambient;
     bool binaryCoverage;

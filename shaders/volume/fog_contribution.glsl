@@ -1,9 +1,9 @@
 // The fog's one contribution per pixel, shared by its two emitters into the OIT technique:
 // fog_emit.frag (a full-screen fragment) and fog_emit.comp (one invocation per pixel, issue
 // 14). Radiance L with coverage 1 and transmission T, at the fog's representative depth
-// (001 section 7.2: "a single full-screen quad that models ray-marched OIT fog").
+// ([McGuire17 sec. 7.2]: "a single full-screen quad that models ray-marched OIT fog").
 // Reduced-resolution fog is upsampled with a joint bilateral filter keyed on the opaque depth
-// (000 section 5).
+// [McGuire16 sec. 5].
 #include "../common/bindings.h"
 
 layout(binding = VEIL_TEX_FOG_RADIANCE) uniform sampler2D fogRadiance;

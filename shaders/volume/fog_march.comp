@@ -5,7 +5,7 @@
 // = opaque shadow map x transmittance through the volumes (light_transmittance.comp) x
 // homogeneous fog toward point and spot lights (fog_medium.glsl). Each step is integrated
 // analytically (constant coefficients over the step), accumulated in registers and written
-// once (001 section 7.2); the frame then hands the result to the OIT technique's oitEmit().
+// once [McGuire17 sec. 7.2]; the frame then hands the result to the OIT technique's oitEmit().
 #include "fog_medium.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;

@@ -1,5 +1,5 @@
 // Slice-range bit masks for the 1024 slices (8 RGBA32UI targets x 128 bits) of one
-// voxelization pass (003 Sec. 2: the color channels' bits are the column's cells).
+// voxelization pass ([Eisemann06 sec. 2]: the color channels' bits are the column's cells).
 #ifndef VEIL_VOXELIZE_BITS_GLSL
 #define VEIL_VOXELIZE_BITS_GLSL
 

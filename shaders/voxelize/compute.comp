@@ -1,5 +1,5 @@
 #version 450
-// Compute surface voxelization, one thread per (triangle, tile) (Schwarz & Seidel 2010,
+// Compute surface voxelization, one thread per (triangle, tile) ([Schwarz10],
 // Sec. 3.1; tiles of 4 x 4 columns x 32 slices = one word, so no thread loops long: llvmpipe
 // ends loops after 65535 iterations, and big triangles would starve a warp on GPUs):
 // a cell of the triangle's bounding box is set iff the triangle's plane crosses the cell
@@ -35,7 +35,7 @@ vec3 vertexAt(uint t, int k) {
     return (vec3(tris[i], tris[i + 1u], tris[i + 2u]) - uGridLo) / uVoxel;
 }
 
-// Edge functions of one 2D projection (Schwarz & Seidel Eq. 3-4); `s` orients them by the
+// Edge functions of one 2D projection [Schwarz10 Eq. 3-4]; `s` orients them by the
 // normal's component along the projection axis.
 struct Edges2D {
     vec2 n[3];

@@ -6,7 +6,7 @@
 // triangle's min and max depth over the pixel square. With NV_CONSERVATIVE defined (the
 // driver dilates itself) the triangle is emitted as is.
 // THREE_AXIS: emit only triangles whose dominant normal axis is uAxis (three-axis method;
-// the fragment stage then tests the pixel's inscribed diamond, Schwarz & Seidel 2010's
+// the fragment stage then tests the pixel's inscribed diamond, [Schwarz10]'s
 // 6-separating criterion).
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 4) out;

@@ -1,5 +1,5 @@
 // Slice-map queries shared by every module that reads a voxelization (the C++ twin is
-// src/voxelize/slice_map.{h,cpp}; layouts documented there). 003 Sec. 2: a column of the
+// src/voxelize/slice_map.{h,cpp}; layouts documented there). [Eisemann06 sec. 2]: a column of the
 // grid camera's image holds one bit per slice, 32 slices per word.
 //
 // Expects the SSBOs below bound and these uniforms set (SliceMapGpu::bind does both):

@@ -1,18 +1,18 @@
 #version 450
-// Slice-map voxelization fragment stage (003 Sec. 2; solid: XOR of crossings).
+// Slice-map voxelization fragment stage ([Eisemann06 sec. 2]; solid: XOR of crossings).
 // Defines:
 //   CONSERVATIVE  inputs from conservative.geom: test the pixel square against the triangle
 //                 and set every slice of its depth range over the square (else: the one slice
 //                 of gl_FragCoord.z at the pixel centre)
 //   THREE_AXIS    (with CONSERVATIVE) 6-separating thin voxelization of one dominant-axis
-//                 view (Schwarz & Seidel 2010 Sec. 3.2): the pixel is kept if the triangle
+//                 view [Schwarz10 sec. 3.2]: the pixel is kept if the triangle
 //                 overlaps the pixel's inscribed diamond, and gets the one slice holding the
 //                 triangle's plane at the pixel centre
 //   SOLID         set all slices from the crossing to the far end; XOR logic op accumulates
 //                 parity, so the inside of a closed mesh ends up set
-//   DEPTH_PASS    local slicing's range pass (003 Sec. 2.2): output (min, -max) of the slice
+//   DEPTH_PASS    local slicing's range pass [Eisemann06 sec. 2.2]: output (min, -max) of the slice
 //                 coordinate into one RG32F target with GL_MIN blending (near and far in one
-//                 pass instead of 003's two)
+//                 pass instead of [Eisemann06]'s two)
 //   LOCAL         slices subdivide the column's [near, far] from the range pass
 #include "../common/bindings.h"
 #include "bits.glsl"
@@ -79,7 +79,7 @@ void main() {
     tRange = vec2(sliceCoord(0.5 * zc + 0.5));
 #else
     // Depth range over the square: the triangle's plane, clamped to its vertex depths (a
-    // steep triangle spans many slices in one column; 003's plain raster would leave holes).
+    // steep triangle spans many slices in one column; [Eisemann06]'s plain raster would leave holes).
     float zlo = min(gA.z, min(gB.z, gC.z)), zhi = max(gA.z, max(gB.z, gC.z));
     vec3 n = cross(gB - gA, gC - gA);
     if (abs(n.z) > 1e-6 * length(n)) {
@@ -105,7 +105,7 @@ void main() {
     vec2 f = (tRange - r.x) / (r.y - r.x) * float(uGridSize.z);
     int k0, k1;
 #if defined(SOLID)
-    // 003 / solid voxelization: toggle every slice whose centre lies beyond the crossing.
+    // [Eisemann06] / solid voxelization: toggle every slice whose centre lies beyond the crossing.
     k0 = int(floor(f.x - 0.5)) + 1;
     k1 = uGridSize.z - 1;
 #elif defined(CONSERVATIVE) && !defined(THREE_AXIS)

@@ -103,7 +103,7 @@ void run(const TechniquesArgs& args) {
             if (const std::string range = d.rangeText(); !range.empty())
                 std::cout << "  range " << range;
             std::cout << "\n      " << d.doc;
-            if (!d.citation.empty()) std::cout << "  [" << d.citation << "]";
+            if (!d.citation.empty()) std::cout << "  " << d.citation;
             std::cout << "\n";
         }
     }

@@ -1,5 +1,5 @@
 // Outputs are written to a temporary file beside the target and renamed into place, so a
-// failure never leaves a truncated file behind (DESIGN.md "Principles").
+// failure never leaves a truncated file behind.
 #pragma once
 
 #include <filesystem>

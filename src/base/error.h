@@ -1,6 +1,6 @@
 // Veil's one error type: what failed and, where useful, what to do about it.
 // Every loader, parser and GL helper throws veil::Error; the CLI prints e.what() on one
-// line and exits non-zero (DESIGN.md "Principles").
+// line and exits non-zero.
 #pragma once
 
 #include <fmt/format.h>

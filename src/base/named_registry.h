@@ -1,4 +1,4 @@
-// Techniques of one kind by name (nvpro's renderer registry: STYLE.md), with the properties
+// Techniques of one kind by name (nvpro's renderer registry), with the properties
 // each declares (properties.h). One registry per kind of technique derives from this: OIT
 // (src/oit/technique.h) and shadows (src/shadows/technique.h). `Info` has at least
 // `std::string name` and `PropertySchema properties`.

@@ -1,4 +1,4 @@
-// Typed technique and pass parameters, declared once (DESIGN.md "Passes, properties,
+// Typed technique and pass parameters, declared once (docs/architecture.md "One frame: passes and
 // resources"; the model is Falcor's property maps and Mitsuba's Properties, where a key nobody
 // reads is an error).
 //
@@ -31,7 +31,7 @@ struct PropertyDecl {
     double max = std::numeric_limits<double>::infinity();
     std::vector<std::string> choices; // Enum
     std::string doc;                  // one line
-    std::string citation;             // paper equation, e.g. "002 sec. 3.2"
+    std::string citation;             // paper equation, e.g. "[Munstermann18 sec. 3.2]"
 
     // "[0, 1]", "{a, b}" or "" for unbounded numbers and strings.
     std::string rangeText() const;

@@ -16,7 +16,7 @@ void dispatch(int width, int height) {
 
 const PropertySchema& AmbientOcclusion::schema() {
     static const PropertySchema s = [] {
-        const char* sao = "SAO (McGuire et al. 2012), 001 [32]";
+        const char* sao = "SAO [McGuire12], as in [Mara16]";
         PropertySchema p;
         p.boolean("enabled", false, "screen-space ambient obscurance on opaque surfaces", sao)
             .real("radius", 0.5, 1e-6, 1e6, "world radius r of the sampled neighbourhood", sao)

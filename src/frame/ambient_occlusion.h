@@ -1,8 +1,8 @@
 // Screen-space ambient obscurance of the opaque depth buffer: the frame's AO buffer, read by
 // the opaque shading (its ambient term times AO) and by OIT techniques that infer AO at
-// partial coverage (phenomenological, 001 section 6 / Listing 2).
+// partial coverage (phenomenological, [McGuire17 sec. 6 / Listing 2]).
 //
-// Estimator: Scalable Ambient Obscurance (McGuire, Mara & Luebke, HPG 2012; 001 cites the
+// Estimator: Scalable Ambient Obscurance (McGuire, Mara & Luebke, HPG 2012; [McGuire17] cites the
 // family as [32]), written from its published description (shaders/frame/ao/sao.comp):
 //   A(C) = max(0, 1 - (2 sigma / s) sum_i H(r^2 - |v_i|^2) max(0, v_i.n - beta z_C)
 //                                        / (|v_i|^2 + epsilon))^k

@@ -1,5 +1,5 @@
-// The frame as an ordered list of passes (DESIGN.md "Passes, properties, resources"): the
-// modules' declared passes (pass::Pass, src/pass/pass.h) concatenated, each with a name (its
+// The frame as an ordered list of passes (docs/architecture.md "One frame: passes and resources"):
+// the modules' declared passes (pass::Pass, src/pass/pass.h) concatenated, each with a name (its
 // GPU timer's name too), the named frame resources it reads and writes (`depth`, `hdr`,
 // `shadow.<what>`, `fog.radiance`, `oit.accumulation`, `ldr`, ...), its scope and execute().
 // The list is checked once when it is built: a pass that reads a resource no earlier pass

@@ -130,13 +130,12 @@ public:
     // Programs that exist now (tests: a technique switch releases the old technique's).
     std::size_t liveProgramCount() const { return programs_.liveCount(); }
 
-    // Changes that rebuild only what depends on them (the viewer; DESIGN.md "derived
-    // structures are rebuilt when what they depend on changed"):
-    // Another OIT technique (or other property values): the technique, its transparent and
-    // fog-emission programs and its targets (the old technique's programs are deleted; the
-    // pass list is rebuilt with the new technique's resources). Meshes, volumes, shadow maps
-    // stay. Throws
-    // veil::Error (unknown, unavailable, bad property, shader) and then changes nothing.
+    // Changes that rebuild only what depends on them (the viewer; derived structures are rebuilt
+    // when what they depend on changed): Another OIT technique (or other property values): the
+    // technique, its transparent and fog-emission programs and its targets (the old technique's
+    // programs are deleted; the pass list is rebuilt with the new technique's resources). Meshes,
+    // volumes, shadow maps stay. Throws veil::Error (unknown, unavailable, bad property, shader)
+    // and then changes nothing.
     void setOitTechnique(const std::string& name, const nlohmann::json& properties,
                          const std::string& where = "OIT properties");
     // Another frame size: the frame targets and the technique's; the fog resizes its own.

@@ -1,4 +1,4 @@
-// Move-only RAII owners of GL object names, after Magnum's GL::Buffer (STYLE.md): copy is
+// Move-only RAII owners of GL object names, after Magnum's GL::Buffer: copy is
 // deleted, move is noexcept, NoCreate makes an empty object without touching GL (so members
 // can be declared before a context exists), wrap()/release() hand names in and out for
 // interop. A moved-from object owns nothing; destroying an empty object calls no GL.

@@ -1,9 +1,9 @@
-// Declared fixed-function GL state (DESIGN.md "Principles": a pass sets all the state it needs
-// and relies on none that another pass left behind). Each pass or sub-pass describes its blend
-// (per draw buffer), depth, stencil, cull, logic-op, polygon offset, viewport, multisample and
-// colour-mask state as one PipelineState value; a StateTracker applies it, changing only what
-// differs from what it applied last (Magnum's GL::Renderer state tracker is the model). Every
-// field not stated keeps the default below, so a pass that does not blend says nothing about
+// Declared fixed-function GL state (docs/architecture.md "Declared GL state": a pass sets all the
+// state it needs and relies on none that another pass left behind). Each pass or sub-pass describes
+// its blend (per draw buffer), depth, stencil, cull, logic-op, polygon offset, viewport,
+// multisample and colour-mask state as one PipelineState value; a StateTracker applies it, changing
+// only what differs from what it applied last (Magnum's GL::Renderer state tracker is the model).
+// Every field not stated keeps the default below, so a pass that does not blend says nothing about
 // blending and still gets blending off: no pass depends on another's leftovers.
 //
 // The tracker's cache is only valid while nobody else changes the state: code that issues raw

@@ -1,7 +1,7 @@
 // Shader programs from files in shaders/: `#include "path"` is expanded by the loader (each
 // file once), `#line L N` markers keep line numbers, and compile logs are rewritten from
 // source-string numbers to file names, so an error names the real file and line (nvpro's
-// shaderfilemanager is the model: STYLE.md). Programs are handed out as stable handles by
+// shaderfilemanager is the model). Programs are handed out as stable handles by
 // ProgramManager so a hot reload swaps the GL program underneath its users.
 #pragma once
 

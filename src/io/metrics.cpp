@@ -39,7 +39,7 @@ double mse(const ImageF& a, const ImageF& b) {
     return sum / count(a);
 }
 
-// Narkowicz 2015, "ACES Filmic Tone Mapping Curve" (the same fit as shaders/frame/tonemap).
+// [Narkowicz16] (the same fit as shaders/frame/tonemap).
 double acesFit(double x) {
     return std::clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
 }

@@ -23,8 +23,8 @@ double maxAbs(const ImageF& a, const ImageF& b);
 // RMSE / mean(b): the RMSE relative to the reference's mean RGB value (0 when both are 0,
 // +inf when only the reference is all zero).
 double normalizedRmse(const ImageF& a, const ImageF& reference);
-// Relative MSE, mean over RGB of (a - b)^2 / (b^2 + eps) with b the reference (Rousselle,
-// Knaus and Zwicker 2011, as Mitsuba reports it). eps keeps dark pixels from dominating.
+// Relative MSE, mean over RGB of (a - b)^2 / (b^2 + eps) with b the reference ([Rousselle11], as
+// Mitsuba reports it). eps keeps dark pixels from dominating.
 constexpr double kRelMseEpsilon = 1e-2;
 double relativeMse(const ImageF& a, const ImageF& reference, double eps = kRelMseEpsilon);
 // The p-th percentile (0 < p <= 100) of |a - b| over all RGB values, nearest-rank definition:
@@ -37,7 +37,7 @@ double peak(const ImageF& reference);
 // MSE = 0, NaN when the reference is all zero and MSE > 0.
 double psnr(const ImageF& a, const ImageF& reference);
 
-// Mean structural similarity (Wang, Bovik, Sheikh and Simoncelli 2004, Eq. 13 with the
+// Mean structural similarity ([Wang04], Eq. 13 with the
 // paper's 11 x 11 circular-symmetric Gaussian window of sigma 1.5, K1 = 0.01, K2 = 0.03 and
 // dynamic range L = 1) on images already display-encoded in [0, 1] (use toneMapSrgb first for
 // HDR radiance). Local statistics are Gaussian-weighted; near the border the window is cut to
@@ -48,7 +48,7 @@ constexpr int kSsimWindow = 11;
 constexpr double kSsimSigma = 1.5;
 double ssim(const ImageF& a, const ImageF& b);
 
-// HDR radiance to display values: x * exposure, then the ACES fit of Narkowicz 2015 (aces)
+// HDR radiance to display values: x * exposure, then the ACES fit of [Narkowicz16] (aces)
 // or a clamp to [0, 1], then the sRGB transfer function (IEC 61966-2-1). RGB out.
 enum class ToneMap { Clamp, Aces };
 // The sRGB transfer function (IEC 61966-2-1) of a linear value clamped to [0, 1].

@@ -1,12 +1,12 @@
-// The transparency interface (DESIGN.md): a technique owns its accumulation targets, blend
-// state and resolve, and provides the GLSL file defining
+// The transparency interface (docs/architecture.md): a technique owns its accumulation targets,
+// blend state and resolve, and provides the GLSL file defining
 //     void oitEmit(OitFragment f);   (shaders/oit/fragment.glsl)
 // which surface shaders call per fragment, and the fog once per pixel with what the marcher
 // accumulated: from a compute shader (volume/fog_emit.comp) where the technique writes its
 // targets through OIT_TARGET / OIT_WRITE (perPixelEmit() == Compute), otherwise as a
 // full-screen fragment (volume/fog_emit.frag). `radiance` is premultiplied by coverage
 // alpha; the background behind the contribution is modulated by
-// (1 - alpha + alpha * transmission) (000 Eq. 2).
+// (1 - alpha + alpha * transmission) [McGuire16 Eq. 2].
 #pragma once
 
 #include "base/named_registry.h"

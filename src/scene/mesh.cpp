@@ -15,7 +15,7 @@ namespace {
 
 constexpr float kPi = glm::pi<float>();
 
-// PCG32 (O'Neill 2014, pcg32_random_r): our own generator because std:: distributions
+// PCG32 ([ONeill14], pcg32_random_r): our own generator because std:: distributions
 // produce different sequences across standard libraries, and particle clouds must be
 // identical everywhere for a given seed.
 class Pcg32 {

@@ -1,4 +1,4 @@
-// The PLY pre-check of mesh_file_check.h. The format (Turk 1994, "The PLY polygon file
+// The PLY pre-check of mesh_file_check.h. The format ([Turk94], "The PLY polygon file
 // format"): a text header of `element <name> <count>` lines, each followed by its
 // `property <type> <name>` or `property list <count type> <item type> <name>` lines, then
 // `end_header` and the body, either whitespace-separated ASCII numbers or packed binary values.

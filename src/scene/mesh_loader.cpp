@@ -81,7 +81,7 @@ Material convertMaterial(const aiMaterial& am, bool gltf) {
     }
 
     // KHR_materials_transmission: glTF tints transmitted light by the base color, so
-    // T(lambda) = transmissionFactor * baseColor (000 Eq. 2's per-wavelength transmission).
+    // T(lambda) = transmissionFactor * baseColor ([McGuire16 Eq. 2]'s per-wavelength transmission).
     float transmission = 0.0f;
     if (getFloat(am, AI_MATKEY_TRANSMISSION_FACTOR, transmission)) {
         transmission = std::clamp(std::isfinite(transmission) ? transmission : 0.0f, 0.0f, 1.0f);

@@ -121,16 +121,15 @@ const std::vector<ValueDecl<RenderSettings>>& renderValueDecls() {
                   "multiplies the linear radiance before the tone map")
             .edited(ValueGroup::RenderOutput, ~0u, -1)
             .choice("tonemap", &R::tonemap, {"aces", "clamp"},
-                    "aces: Narkowicz's fit of the ACES filmic curve; clamp: none",
-                    "Narkowicz 2015, ACES Filmic Tone Mapping Curve")
+                    "aces: Narkowicz's fit of the ACES filmic curve; clamp: none", "[Narkowicz16]")
             .edited(ValueGroup::RenderOutput)
             .integer("fog_steps", &R::fogSteps, 1, 4096,
-                     "ray-march steps per ray through the volumes' bounds", "001 sec. 7.2")
+                     "ray-march steps per ray through the volumes' bounds", "[McGuire17 sec. 7.2]")
             .edited(ValueGroup::FogMarcher)
             .integer("fog_resolution", &R::fogResolution, 1, 4,
                      "marching resolution divisor: 1, 2 or 4 (3 is refused), joint-bilateral "
                      "upsampled on depth",
-                     "000 sec. 5 (Upsample)")
+                     "[McGuire16 sec. 5] (Upsample)")
             .refuse(3, "must be 1, 2 or 4")
             .edited(ValueGroup::FogMarcher)
             .boolean("fog_jitter", &R::fogJitter,
@@ -156,13 +155,13 @@ const std::vector<ValueDecl<VolumeRef>>& volumeValueDecls() {
         Decls<V>()
             .real("density_scale", &V::densityScale, kNonNegative, 0.0, 1e4,
                   "extinction coefficient per unit density (sigma_t = scale x density)",
-                  "001 sec. 7.2")
+                  "[McGuire17 sec. 7.2]")
             .edited(ValueGroup::Volume)
             .color("albedo", &V::albedo, "single-scattering albedo sigma_s / sigma_t, in [0, 1]",
                    kUnit)
             .edited(ValueGroup::Volume)
             .real("anisotropy", &V::anisotropy, {-1.0, 1.0, true, true}, -0.99, 0.99,
-                  "Henyey-Greenstein phase function g", "Henyey & Greenstein 1941")
+                  "Henyey-Greenstein phase function g", "[Henyey41]")
             .edited(ValueGroup::Volume)
             .color("emission", &V::emission, "emitted radiance per unit density")
             .edited(ValueGroup::Volume)

@@ -1,5 +1,5 @@
-// The shadow interface (DESIGN.md "Passes, properties, resources"): a shadow technique owns
-// its maps for every view of every shadow-casting light (src/shadows/views.h), renders them in
+// The shadow interface (docs/architecture.md "One frame: passes and resources"): a shadow technique
+// owns its maps for every view of every shadow-casting light (src/shadows/views.h), renders them in
 // its passes, and provides the GLSL file defining
 //     void lightAttenuate(int light, vec3 P, vec3 N, vec3 L, inout vec3 radiance);
 //     void lightAttenuateInMedium(int light, vec3 P, inout vec3 radiance);

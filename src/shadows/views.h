@@ -1,4 +1,5 @@
-// The views of the shadow-casting lights (DESIGN.md "One frame", step 2). Every light with
+// The views of the shadow-casting lights (docs/architecture.md "One frame: passes and resources").
+// Every light with
 // `"shadows": true` gets one view (directional: orthographic along its direction, spot:
 // perspective with its outer cone) or six (point: the faces of a cube around it, each a
 // perspective view of a little over 90 degrees so that filter kernels near a face edge stay

@@ -14,7 +14,7 @@ namespace {
 void tooltip(const PropertyDecl& d) {
     if (!ImGui::IsItemHovered()) return;
     std::string text = d.doc;
-    if (!d.citation.empty()) text += "\n[" + d.citation + "]";
+    if (!d.citation.empty()) text += "\n" + d.citation;
     if (const std::string range = d.rangeText(); !range.empty()) text += "\nrange " + range;
     ImGui::SetTooltip("%s", text.c_str());
 }

@@ -7,7 +7,7 @@
 //
 // Parameters (scene "render" block): fog_steps (steps per ray through the volumes' bounds,
 // default 128), fog_resolution (1, 2 or 4: marching resolution divisor; upsampled with a joint
-// bilateral filter keyed on depth, 000 section 5), fog_jitter (per-pixel random start offset,
+// bilateral filter keyed on depth, [McGuire16 sec. 5]), fog_jitter (per-pixel random start offset,
 // seeded by render.seed), volume_budget_mib / volume_over_budget (coarsen or refuse).
 // Per volume: density_scale (extinction per unit density), albedo, anisotropy g
 // (Henyey-Greenstein), emission. "homogeneous" volumes add global fog of constant density.
@@ -157,7 +157,7 @@ private:
     int primaryLight_ = -1;
     int width_ = 0, height_ = 0;
     // Light the transmittance volumes were computed for: they are recomputed only when the
-    // primary light moves (DESIGN.md: derived structures are rebuilt when the light moved).
+    // primary light moves (derived structures are rebuilt when the light moved).
     glm::vec4 lightKey_{0.0f};
     bool lightValid_ = false;
     struct SlabProgress { // updateLightVolumesSlab(): the next slab while not valid

@@ -1,6 +1,6 @@
 // CPU reference voxelizer in double precision (no GL), the yardstick of the GPU methods.
 //   surface: a cell is set iff its closed box overlaps a triangle, decided exactly by the
-//            separating axis test of Akenine-Moeller (2001): 3 box axes, the triangle normal
+//            separating axis test of [AkenineMoller01]: 3 box axes, the triangle normal
 //            and the 9 edge x axis cross products.
 //   solid:   a cell is set iff the number of triangle crossings of its column's centre line
 //            below the cell centre is odd (closed meshes), i.e. what XOR slice maps compute

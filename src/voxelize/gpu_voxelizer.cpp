@@ -89,7 +89,7 @@ struct GpuVoxelizer::Impl {
         glClearNamedBufferData(buffer.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     }
 
-    // Local slicing's range pass (003 Sec. 2.2): per column min and max slice coordinate.
+    // Local slicing's range pass [Eisemann06 sec. 2.2]: per column min and max slice coordinate.
     void rangePass(const GpuVoxelizer& self, SliceMap& grid, bool conservative, double share);
     // One geometry pass of 1024 slices into 8 RGBA32UI targets, packed into `dst`.
     void slicePass(const GpuVoxelizer& self, const SliceMap& view, int pass, bool conservative,
@@ -210,7 +210,7 @@ void GpuVoxelizer::Impl::slicePass(const GpuVoxelizer& self, const SliceMap& vie
     const GLuint zero[4] = {0, 0, 0, 0};
     for (int t = 0; t < 8; ++t)
         glClearBufferuiv(GL_COLOR, t, zero);
-    // 003 Sec. 2: OR of fragments' bit masks; solid: XOR toggles parity of crossings.
+    // [Eisemann06 sec. 2]: OR of fragments' bit masks; solid: XOR toggles parity of crossings.
     s.logicOp = true;
     s.logicOpMode = solid ? GL_XOR : GL_OR;
     state.apply(s);
@@ -296,7 +296,7 @@ void GpuVoxelizer::voxelize(SliceMap& grid, const VoxelizeOptions& options) {
                         : "conservative: geometry-shader dilation (no "
                           "GL_NV_conservative_raster) + per-pixel depth range";
         else
-            path_ = "raster: one slice per pixel centre (003)";
+            path_ = "raster: one slice per pixel centre [Eisemann06]";
         path_ += fmt::format(", {} geometry pass{}", passes, passes > 1 ? "es" : "");
         if (options.local) path_ += ", local slicing (min/max range pass)";
         if (solid) path_ += ", solid (XOR)";

@@ -1,8 +1,9 @@
-// GPU slice-map voxelizers (003 Sec. 2 slice maps; solid by XOR; Schwarz & Seidel 2010 for
+// GPU slice-map voxelizers ([Eisemann06 sec. 2] slice maps; solid by XOR; [Schwarz10] for
 // the compute method).
 //
 // Methods (parseMethod names):
-//   raster        one slice per covered pixel centre (003 as published): thin surfaces, holes
+//   raster        one slice per covered pixel centre ([Eisemann06] as published): thin surfaces,
+//   holes
 //                 where triangles are steep or thinner than a pixel
 //   conservative  GL_NV_conservative_raster where present, else a geometry-shader dilation
 //                 to the half-pixel-enlarged bounding rectangle with a per-fragment
@@ -14,9 +15,9 @@
 //                 (plane + 2D edge tests), atomicOr into the SSBO
 // Options: solid (XOR of crossings at column centres; raster only: a conservative fragment
 // in a column its triangle does not cross would break the parity),
-// local (003 Sec. 2.2 per-column near/far from a min/max range pass; raster, conservative).
-// Grids with more than 1024 slices take ceil(slices / 1024) geometry passes.
-// Result: the slice map's words in an SSBO (binding VEIL_SSBO_VOX_WORDS, queried by
+// local ([Eisemann06 sec. 2.2] per-column near/far from a min/max range pass; raster,
+// conservative). Grids with more than 1024 slices take ceil(slices / 1024) geometry passes. Result:
+// the slice map's words in an SSBO (binding VEIL_SSBO_VOX_WORDS, queried by
 // shaders/voxelize/slice_map.glsl) and, on download(), in SliceMap::words.
 #pragma once
 

@@ -1,14 +1,15 @@
-// Slice maps (003 Sec. 2): a grid camera's image of w x h columns; each column holds
+// Slice maps [Eisemann06 sec. 2]: a grid camera's image of w x h columns; each column holds
 // `slices` bits, one per cell along the view axis, packed 32 slices per uint32 word.
 //
 // Parameters
 //   width, height  columns (the grid camera's image size)
-//   slices         cells per column (003: "slices"); any count, words per column = ceil(s/32)
-//   viewProj       world -> clip of the grid camera (OpenGL, NDC depth -1..1)
+//   slices         cells per column ([Eisemann06]: "slices"); any count, words per column =
+//   ceil(s/32) viewProj       world -> clip of the grid camera (OpenGL, NDC depth -1..1)
 //   perspective    false: slice coordinate = window depth (linear for ortho);
 //                  true : slice coordinate = linear eye depth (near..far -> 0..1), so slices
-//                  have equal thickness along each ray (003 Sec. 2 "division scheme")
-//   nearDepth/farDepth  local slicing (003 Sec. 2.2): per column range of the slice coordinate
+//                  have equal thickness along each ray ([Eisemann06 sec. 2] "division scheme")
+//   nearDepth/farDepth  local slicing [Eisemann06 sec. 2.2]: per column range of the slice
+//   coordinate
 //                  that the column's slices subdivide; empty = uniform [0,1]
 //   words          column-contiguous: words[(y * width + x) * wordsPerColumn() + w], bit b of
 //                  word w = slice 32 w + b. The GPU keeps the same layout in an SSBO

@@ -1,5 +1,5 @@
 // The frame's screen-space ambient obscurance (src/frame/ambient_occlusion.h) and
-// phenomenological's inferred AO at partial coverage (001 section 6, Listing 2):
+// phenomenological's inferred AO at partial coverage [McGuire17 sec. 6, Listing 2]:
 //  - the GPU estimator against a CPU double-precision evaluation of the same estimator (SAO's
 //    sum over the spiral, on a z pyramid the test builds itself from the depth buffer), and
 //    the bilateral blur against the same blur in double on the GPU's raw AO;
@@ -297,8 +297,8 @@ TEST_F(AmbientOcclusionGLTest, FlatOpenFloorIsUnoccluded) {
     }
 }
 
-// 001 Listing 2 on the CPU in double at the card's left and right edge bands (0 < alpha < 1,
-// gradient along x toward the opaque interior), on the GPU's AO buffer and depth. With black
+// [McGuire17 Listing 2] on the CPU in double at the card's left and right edge bands (0 < alpha <
+// 1, gradient along x toward the opaque interior), on the GPU's AO buffer and depth. With black
 // opaque surfaces, no lights and ambient 1 the edge pixel is alpha * 0.8 * AO_inferred over
 // black, so AO_inferred = hdr(inferred_ao on) / hdr(off). Tolerance: two R16F-accumulated
 // values (2^-11 relative each) and the resolve in float: 3e-3.

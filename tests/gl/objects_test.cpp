@@ -1,4 +1,4 @@
-// Move-only RAII GL objects (Magnum's model, STYLE.md) and texture readback.
+// Move-only RAII GL objects (Magnum's model) and texture readback.
 #include "gl_fixture.h"
 
 #include "base/error.h"

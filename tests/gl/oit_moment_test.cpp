@@ -144,7 +144,7 @@ ImageF momentComposite(const std::vector<Plane>& planes, oit::cpu::MomentSet set
                 weight += alphaEff[i] * T;
             }
             const double coverage = 1.0 - std::exp(-m.b0());
-            const double scale = weight > 1e-12 ? coverage / weight : 1.0; // 002 Eq. 2
+            const double scale = weight > 1e-12 ? coverage / weight : 1.0; // [Munstermann18 Eq. 2]
             for (int c = 0; c < 3; ++c)
                 img.at(px, py, c) =
                     static_cast<float>(std::exp(-b0rgb[c]) * kBackground[c] + scale * sum[c]);
@@ -227,7 +227,8 @@ const VariantCase kCases[] = {
     {"moment-t4", {oit::cpu::MomentBasis::Trigonometric, 4}, 2e-3, 0.02},
 };
 
-// Half-float storage (additive, any driver; 002 section 4.1): the float32 case's technique with
+// Half-float storage (additive, any driver; [Munstermann18 sec. 4.1]): the float32 case's technique
+// with
 // "-half", checked against the exact composite (HalfStorageErrorWithinFloat32) and in the
 // structural tests below with the float32 tolerances.
 const VariantCase kHalfCases[] = {
@@ -287,9 +288,9 @@ TEST_F(OitMomentGLTest, RandomStacksMatchCpuReferenceAndExactComposite) {
 
 TEST_F(OitMomentGLTest, TwoLayersPerPixelNearlyExact) {
     // At most two surfaces per pixel (k <= m/2 for every variant): the reconstruction is exact
-    // up to the biasing (002 Fig. 3) apart from the overestimation: a surface sees beta times
-    // its own absorbance, so the relative weight of the back surface is off by
-    // exp(-beta (a_back - a_front)), which the scalar renormalization (002 Eq. 2) cannot undo.
+    // up to the biasing [Munstermann18 Fig. 3] apart from the overestimation: a surface sees beta
+    // times its own absorbance, so the relative weight of the back surface is off by exp(-beta
+    // (a_back - a_front)), which the scalar renormalization [Munstermann18 Eq. 2] cannot undo.
     // Measured: max 1.46e-2, the same for every variant (all reconstruct two layers exactly).
     const std::vector<Plane> planes = {
         {-3.0, 1.0, -3.0, 1.0, 2.0, 0.6, {1.5, 0.3, 0.1}},
@@ -309,7 +310,7 @@ TEST_F(OitMomentGLTest, TwoLayersPerPixelNearlyExact) {
 
 TEST_F(OitMomentGLTest, OneSurfaceIsExactAndFinite) {
     // One grey and one coloured-transmission plane side by side: with one surface per pixel the
-    // renormalization (002 Eq. 2) and the per-channel b_0 make the composite exact.
+    // renormalization [Munstermann18 Eq. 2] and the per-channel b_0 make the composite exact.
     std::vector<Plane> planes = {
         {-3.0, -0.5, -3.0, 3.0, 4.0, 0.6, {1.5, 0.5, 0.2}},
         {0.5, 3.0, -3.0, 3.0, 2.0, 0.7, {0.1, 0.8, 0.3}, {0.9, 0.2, 0.0}},
@@ -326,7 +327,7 @@ TEST_F(OitMomentGLTest, OneSurfaceIsExactAndFinite) {
 }
 
 TEST_F(OitMomentGLTest, CoincidentSurfacesGiveNoNan) {
-    // Three planes at one depth and two 1e-5 apart: 002 section 8 says such surfaces blur
+    // Three planes at one depth and two 1e-5 apart: [Munstermann18 sec. 8] says such surfaces blur
     // together; the result must stay finite and between the darkest and brightest possible.
     std::vector<Plane> planes = {
         {-4.0, 4.0, -4.0, 4.0, 3.0, 0.5, {1.0, 0.0, 0.0}},
@@ -345,14 +346,14 @@ TEST_F(OitMomentGLTest, CoincidentSurfacesGiveNoNan) {
         }
         const ImageDiff d = compareImages(gpu, exact);
         std::printf("[ moments ] %s coincident: rmse vs exact %.4f\n", v.technique, d.rmse);
-        // Coincident surfaces blur together (002 section 8) and their exact order is
+        // Coincident surfaces blur together [Munstermann18 sec. 8] and their exact order is
         // arbitrary: measured 0.114 for every variant.
         EXPECT_LT(d.rmse, 0.15) << v.technique;
     }
 }
 
-// 16-bit variants (002 section 4.1) need GL_ARB_fragment_shader_interlock: unavailable with a
-// clear error where it is missing (llvmpipe), compared with the exact composite where present.
+// 16-bit variants [Munstermann18 sec. 4.1] need GL_ARB_fragment_shader_interlock: unavailable with
+// a clear error where it is missing (llvmpipe), compared with the exact composite where present.
 TEST_F(OitMomentGLTest, Storage16NeedsInterlock) {
     const std::vector<Plane> planes = randomPlanes(16, 21);
     const ImageF exact = exactComposite(planes);
@@ -381,8 +382,8 @@ TEST_F(OitMomentGLTest, Storage16NeedsInterlock) {
 }
 
 // The 16-bit power-moment transform of storage16.glsl (momentQuantize4 / momentDequantize4)
-// against the CPU's (src/oit/cpu/moments.cpp, from MOMENTS-NOTES.md) on this driver: the
-// functions sit outside the interlocked part (OIT_PASS 0), so a compute shader can call them
+// against the CPU's (src/oit/cpu/moments.cpp, from docs/oit.md#moment-constants) on this driver:
+// the functions sit outside the interlocked part (OIT_PASS 0), so a compute shader can call them
 // where interlock is missing. fp32 through a transform of norm about 5 (forward) and 2.1
 // (inverse): 2e-6 both ways.
 TEST_F(OitMomentGLTest, Storage16TransformMatchesCpu) {
@@ -443,7 +444,7 @@ TEST_F(OitMomentGLTest, Storage16TransformMatchesCpu) {
 // against the exact sorted composite on three random 16-plane scenes, the error must be at
 // most 1.5x that of the float32 variant of the same moment set. The half path
 // differs from float32 only by the rounding of every unnormalized moment to 11 significant
-// bits per addition and the stronger (16-bit) bias that 002 section 4.1 prescribes.
+// bits per addition and the stronger (16-bit) bias that [Munstermann18 sec. 4.1] prescribes.
 TEST_F(OitMomentGLTest, HalfStorageErrorWithinFloat32) {
     std::vector<ImageF> row;
     for (unsigned seed : {21u, 5u, 9u}) {
@@ -472,9 +473,9 @@ TEST_F(OitMomentGLTest, HalfStorageErrorWithinFloat32) {
 }
 
 // moment-p6-half with b_0 in RGBA16F (b0_half, 8 bytes per pixel less): the same scenes and
-// bound as above, plus the 16-bit bias times 1, 3 and 10 (002 section 4.1 allows raising it
-// by up to an order of magnitude). The printed ratios are the measurement; the assertion is
-// the 1.5x (1.75x on seed 9, the bound of b_0 in float32 above) at the default bias.
+// bound as above, plus the 16-bit bias times 1, 3 and 10 ([Munstermann18 sec. 4.1] allows raising
+// it by up to an order of magnitude). The printed ratios are the measurement; the assertion is the
+// issue's 1.5x (1.75x on seed 9, the bound of b_0 in float32 above) at the default bias.
 TEST_F(OitMomentGLTest, HalfB0StorageErrorWithinFloat32) {
     const double bias16 = oit::defaultMomentTechniqueParams("p6-half").reconstruction.bias;
     std::vector<ImageF> row;

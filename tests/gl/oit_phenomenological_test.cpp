@@ -1,8 +1,8 @@
-// OIT `phenomenological` (000 / 001) against values it did not produce: the exact product of
-// transmissions (000 Fig. 2 colored glass bars), the resolve equations evaluated by hand in
-// double precision (000 Eq. 2-5, 001 Eq. 14), Snell's law (000 Eq. 8-9) for the refraction
-// shift, Eq. 7 for the presence and absence of diffusion, and a double-precision sorted
-// composite of planes (000 Eq. 1) for the error of the approximation.
+// OIT `phenomenological` [McGuire16, McGuire17] against values it did not produce: the exact
+// product of transmissions ([McGuire16 Fig. 2] colored glass bars), the resolve equations evaluated
+// by hand in double precision ([McGuire16 Eq. 2-5], [McGuire17 Eq. 14]), Snell's law [McGuire16 Eq.
+// 8-9] for the refraction shift, Eq. 7 for the presence and absence of diffusion, and a
+// double-precision sorted composite of planes [McGuire16 Eq. 1] for the error of the approximation.
 //
 // All scenes: orthographic camera straight down from y = 10 over an 8 x 8 area at 128 x 128
 // pixels (16 pixels per unit; image x = world x, image row = world z), no lights, ambient 0,
@@ -84,7 +84,7 @@ nlohmann::json makeScene(const std::vector<Plane>& planes, const Rgb& background
     return doc;
 }
 
-// 000 Eq. 1 for the planes covering a pixel, sorted back to front (double precision).
+// [McGuire16 Eq. 1] for the planes covering a pixel, sorted back to front (double precision).
 Rgb sortedComposite(std::vector<Plane> planes, const Rgb& background, int x, int y) {
     std::sort(planes.begin(), planes.end(),
               [](const Plane& a, const Plane& b) { return a.height < b.height; });
@@ -173,7 +173,7 @@ protected:
     }
 };
 
-// 000 Fig. 2: two layers of non-reflective colored glass bars. Beta is an exact product, so
+// [McGuire16 Fig. 2]: two layers of non-reflective colored glass bars. Beta is an exact product, so
 // the result must equal sorted two-pass transparency: background * T1 * T2.
 TEST_F(OitPhenomenologicalTest, ColoredGlassBarsEqualSortedTransmission) {
     const Rgb bg{1.0, 0.9, 0.8};
@@ -200,8 +200,8 @@ TEST_F(OitPhenomenologicalTest, ColoredGlassBarsEqualSortedTransmission) {
     EXPECT_NEAR(img.at(x, y, 1), 0.9 * 0.25 * 0.85, 1e-3);
 }
 
-// A single emissive, partially covering, colored-transmission surface: 000 Eq. 3 with
-// U' = A_rgb / A_a (Eq. 4) = E / (1 - mean t), self-modulated by 001 Eq. 14.
+// A single emissive, partially covering, colored-transmission surface: [McGuire16 Eq. 3] with
+// U' = A_rgb / A_a (Eq. 4) = E / (1 - mean t), self-modulated by [McGuire17 Eq. 14].
 TEST_F(OitPhenomenologicalTest, SingleEmissiveSurfaceMatchesResolveEquations) {
     const Rgb bg{0.3, 0.6, 0.9};
     const Rgb E{2.0, 1.0, 0.5}, T{0.2, 0.5, 0.8};
@@ -231,8 +231,8 @@ TEST_F(OitPhenomenologicalTest, SingleEmissiveSurfaceMatchesResolveEquations) {
     }
 }
 
-// 000 Eq. 7: a decollimated surface (c = 0) blurs a background edge; c = 1, diffusion off, or
-// the background pressed against the surface (|z_X - z_B| << k_1) leave it sharp.
+// [McGuire16 Eq. 7]: a decollimated surface (c = 0) blurs a background edge; c = 1, diffusion off,
+// or the background pressed against the surface (|z_X - z_B| << k_1) leave it sharp.
 TEST_F(OitPhenomenologicalTest, DiffusionBlursEdgeOnlyWhenDecollimatedAndDistant) {
     const Rgb bg{0, 0, 0};
     auto scene = [&](double collimation, double glassHeight) {
@@ -262,7 +262,7 @@ TEST_F(OitPhenomenologicalTest, DiffusionBlursEdgeOnlyWhenDecollimatedAndDistant
     EXPECT_NEAR(blurred.at(20, row, 1), 0.0, 1e-3);
 }
 
-// 000 section 5 "Diffuse" (Listing 2): the gather skips taps whose own diffusion radius is
+// [McGuire16 sec. 5 "Diffuse"] (Listing 2): the gather skips taps whose own diffusion radius is
 // smaller than their distance, so a bright object pressed against frosted glass (D ~ 0) stays
 // sharp and does not bleed into the diffused dark floor beside it.
 TEST_F(OitPhenomenologicalTest, DiffusionGatherIsOcclusionAware) {
@@ -285,7 +285,7 @@ TEST_F(OitPhenomenologicalTest, DiffusionGatherIsOcclusionAware) {
     EXPECT_NEAR(img.at(66, row, 1), 0.0, 1e-3);
 }
 
-// 000 Eq. 8-9: a glass plane tilted 20 degrees about z (normal toward -x) refracts the eye
+// [McGuire16 Eq. 8-9]: a glass plane tilted 20 degrees about z (normal toward -x) refracts the eye
 // ray toward +x, so the background appears shifted toward -x by
 //   delta = R.x / |R.z| * Delta z * 16 px,  R = refract((0,-1,0) in view, n, 1 / ior).
 TEST_F(OitPhenomenologicalTest, RefractionShiftsBackgroundAsSnellPredicts) {
@@ -325,7 +325,7 @@ TEST_F(OitPhenomenologicalTest, RefractionShiftsBackgroundAsSnellPredicts) {
     EXPECT_NEAR(e0 - e1, expectedShift, 0.1);
 }
 
-// 001 section 4.3.2 with the weights of emit.glsl (RT2 = sum c w delta, divided by A_a): the
+// [McGuire17 sec. 4.3.2] with the weights of emit.glsl (RT2 = sum c w delta, divided by A_a): the
 // tilted glass of the test above (c_1 = 1 - 0.5 = 0.5, Eq. 5 weight clamped at 30) under a
 // parallel non-refracting pane (ior 1, delta 0; c_2 = 0.5 (1 - 0.6) = 0.2, w_2 from Eq. 5 at
 // its depth) shifts the background by delta_1 c_1 w_1 / (c_1 w_1 + c_2 w_2), about 0.96 of
@@ -351,8 +351,8 @@ TEST_F(OitPhenomenologicalTest, RefractionOffsetsAveragedWithReflectionWeights) 
     const double coef = eta * cosi - std::sqrt(k);
     const double Rx = coef * -std::sin(th), Rz = -eta + coef * cosi;
     const double shift1 = Rx / std::abs(Rz) * 2.0 * kPixelsPerUnit; // the glass alone
-    // 000 Eq. 5 at a plane of height h tilted th about z, at world x (orthographic camera at
-    // y = 10, near 1, far 20).
+    // [McGuire16 Eq. 5] at a plane of height h tilted th about z, at world x (orthographic camera
+    // at y = 10, near 1, far 20).
     auto weight = [&](double c, double h, double x) {
         const double f = ((10.0 - (h + x * std::tan(th))) - 1.0) / 19.0;
         const double tmp = 10.0 * (1.0 - 0.99 * f) * c;
@@ -420,7 +420,7 @@ TEST_F(OitPhenomenologicalTest, MultiLayerRmseAgainstSortedComposite) {
     const nlohmann::json doc = makeScene(planes, bg);
     const ImageF phen = render(doc, "phenomenological", "phen_multilayer");
     const ImageF blend = render(doc, "blend", "phen_multilayer_blend");
-    // The reference itself: blending submitted back to front is exact (000 section 2).
+    // The reference itself: blending submitted back to front is exact [McGuire16 sec. 2].
     std::vector<Plane> backToFront = {planes[0], planes[4], planes[3], planes[2], planes[1]};
     const ImageF sorted = render(makeScene(backToFront, bg), "blend", "phen_multilayer_sorted");
     EXPECT_LE(rmseAgainst(sorted, planes, bg), 1e-3);
@@ -466,7 +466,7 @@ TEST_F(OitPhenomenologicalTest, BadParametersThrowError) {
 
 namespace veil::test {
 
-// 000 section 5 "Upsample": particles accumulated at 1/2 and 1/4 resolution and joint-
+// [McGuire16 sec. 5 "Upsample"]: particles accumulated at 1/2 and 1/4 resolution and joint-
 // bilateral upsampled stay close to the full-resolution result, and an opaque box above the
 // smoke keeps a clean edge (no smoke leaking onto it from the low-resolution blocks).
 TEST_F(OitPhenomenologicalTest, ReducedResolutionParticlesMatchFullResolution) {

@@ -1,5 +1,5 @@
 // The `reference` OIT technique (per-pixel linked lists, sorted resolve) against the worked
-// examples of 004 (section 3.1, Examples 1 and 2) and the CPU double-precision composite
+// examples of [Enderton11] (section 3.1, Examples 1 and 2) and the CPU double-precision composite
 // (src/oit/cpu/composite.h), plus node-pool growth and per-pixel array overflow.
 // Tolerance: 2e-3 absolute per channel; the target is RGBA16F (half precision: relative
 // error 2^-11 ~ 5e-4 for values <= 1) and the GPU composites in fp32.
@@ -58,7 +58,7 @@ protected:
 };
 
 TEST_F(OitReferenceGLTest, Example1ScrambledOrder) {
-    // 004 Example 1: c = (0.45, 0.2475, 0.3025) over a blue background. Submitted back to
+    // [Enderton11 Example 1]: c = (0.45, 0.2475, 0.3025) over a blue background. Submitted back to
     // front (green first): only a sort gets this right from that order under front-to-back
     // semantics; blend gets it right too (checked in OitBlendGLTest), so also submit the
     // other order and demand the same value.
@@ -77,7 +77,7 @@ TEST_F(OitReferenceGLTest, Example1ScrambledOrder) {
 }
 
 TEST_F(OitReferenceGLTest, Example2FourSmokeBlobs) {
-    // 004 Example 2: N = 4 white fragments of alpha 1/4 over 25% grey -> 0.7626953125.
+    // [Enderton11 Example 2]: N = 4 white fragments of alpha 1/4 over 25% grey -> 0.7626953125.
     std::vector<TestPlane> planes;
     for (int i : {2, 0, 3, 1})
         planes.push_back({{1, 1, 1}, 0.25, {0, 0, 0}, double(i)});

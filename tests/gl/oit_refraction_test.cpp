@@ -1,4 +1,4 @@
-// OIT `phenomenological` with volume refraction (003 slice maps; phenomenological.h
+// OIT `phenomenological` with volume refraction ([Eisemann06] slice maps; phenomenological.h
 // volumeRefraction) against analytic values: the per-pixel thickness of spheres and boxes,
 // read back through glTF Beer-Lambert absorption (h = L ln(out / bkg) / ln c), the
 // transmittance bkg * c^(d / L) of a thick absorbing box, the unchanged thin-surface model with
@@ -102,8 +102,8 @@ protected:
     }
 };
 
-// 003 section 3: a sphere of radius r is 2 sqrt(r^2 - e^2) thick at distance e from its centre
-// line, to within one slice (plus the tessellation's sag, < 0.002 here).
+// [Eisemann06 sec. 3]: a sphere of radius r is 2 sqrt(r^2 - e^2) thick at distance e from its
+// centre line, to within one slice (plus the tessellation's sag, < 0.002 here).
 TEST_F(OitRefractionTest, SphereThicknessMatchesChord) {
     const double r = 2.0;
     nlohmann::json doc = absorbingScene();
@@ -188,9 +188,9 @@ TEST_F(OitRefractionTest, BeerLambertThroughThickBox) {
     EXPECT_NEAR(vol.at(4, 4, 2), bkg[2], 1e-3);
 }
 
-// 000 Eq. 9 with Delta z := thickness: a bright bar on the floor seen through a tilted glass
-// slab (ior 1.5, grey transmission 0.5 so it has net coverage) moves more through a 3-unit slab
-// than through a 0.1-unit one of the same material.
+// [McGuire16 Eq. 9] with Delta z := thickness: a bright bar on the floor seen through a tilted
+// glass slab (ior 1.5, grey transmission 0.5 so it has net coverage) moves more through a 3-unit
+// slab than through a 0.1-unit one of the same material.
 TEST_F(OitRefractionTest, ThickSlabShiftsMoreThanThinPane) {
     auto barCentroid = [](const ImageF& img) {
         double sum = 0.0, weighted = 0.0;
@@ -287,13 +287,13 @@ TEST_F(OitRefractionTest, RejectsBadVolumeParameters) {
 // absorption c = (0.2, 0.6, 0.9) per L = 1.5, as a thin shell (`phenomenological`) and as a
 // volume (`phenomenological-volume`), over a striped floor and over a uniform one. Checked:
 //  - thin shell, striped floor: the centre looks through the gap between two stripes (the
-//    0.05 grey background) and two interfaces of transmission 0.9 each (000 Eq. 2 with
+//    0.05 grey background) and two interfaces of transmission 0.9 each ([McGuire16 Eq. 2] with
 //    alpha 1: m = T), so it is 0.05 * 0.9^2 in every channel: the shell ignores the medium;
 //    and the volume image differs from it;
 //  - uniform floor: thin and volume look at the same uniform floor through the same two
 //    interfaces, so vol / thin is the medium's transmittance alone, Beer-Lambert
 //    c^(h / L) with h the straight chord 2 sqrt(r^2 - e^2) that the slice map measures along
-//    the view column (003), within the thickness error of SphereThicknessMatchesChord
+//    the view column [Eisemann06], within the thickness error of SphereThicknessMatchesChord
 //    (one slice plus tessellation sag: kSlice + 0.004), i.e. relative |ln c| (kSlice + 0.004)
 //    / L, plus 1e-3 for RGBA16F; at the centre (e = 0.03) h = 2r; for e up to 0.6 r;
 //  - the limb is lighter than the centre: vol / thin rises with e out to 0.8 r.

@@ -1,8 +1,8 @@
-// Stochastic transparency on the GL (004): the paper's Examples 1 and 2 (exact values and the
-// RMS errors it states for S = 4), determinism per seed, colored transmission, and each
-// variant against an exact sorted composite of the same planes computed here on the CPU in
-// double precision. Every pixel of a full-frame plane stack is an independent trial (the mask
-// hash includes the pixel), so one 64x64 frame gives 4096 samples of the estimator.
+// Stochastic transparency on the GL [Enderton11]: the paper's Examples 1 and 2 (exact values and
+// the RMS errors it states for S = 4), determinism per seed, colored transmission, and each variant
+// against an exact sorted composite of the same planes computed here on the CPU in double
+// precision. Every pixel of a full-frame plane stack is an independent trial (the mask hash
+// includes the pixel), so one 64x64 frame gives 4096 samples of the estimator.
 #include "gl_fixture.h"
 
 #include "oit/cpu/composite.h"
@@ -143,19 +143,19 @@ oit::cpu::StochasticVariant cpuVariant(const std::string& technique) {
     return oit::cpu::StochasticVariant::Basic;
 }
 
-// 004 Example 1: red over green (alpha 0.45 each) over blue.
+// [Enderton11 Example 1]: red over green (alpha 0.45 each) over blue.
 std::vector<Plane> example1() { return {{3, {1, 0, 0}, 0.45}, {2, {0, 1, 0}, 0.45}}; }
-// 004 Example 2: four white planes of alpha 1/4 over 25 percent grey.
+// [Enderton11 Example 2]: four white planes of alpha 1/4 over 25 percent grey.
 std::vector<Plane> example2() {
     return {{4, {1, 1, 1}, 0.25}, {3, {1, 1, 1}, 0.25}, {2, {1, 1, 1}, 0.25}, {1, {1, 1, 1}, 0.25}};
 }
 
-// The per-pixel distribution of the three estimators, written from 004 (not from the shader
-// or src/oit/cpu/stochastic): layer i (front to back, coverage a_i, colour c_i) covers
-// R_i = floor(a_i S + xi) of the S samples, xi uniform, so R_i = floor(a_i S) + 1 with
-// probability frac(a_i S) and floor(a_i S) otherwise, through a mask drawn uniformly from the
-// C(S, R_i) masks of R_i bits, independently per layer (3.1). A sample shows the nearest layer
-// covering it. With A = 1 - prod(1 - a_i) the exact total alpha:
+// The per-pixel distribution of the three estimators, written from [Enderton11] (not from the
+// shader or src/oit/cpu/stochastic): layer i (front to back, coverage a_i, colour c_i) covers R_i =
+// floor(a_i S + xi) of the S samples, xi uniform, so R_i = floor(a_i S) + 1 with probability
+// frac(a_i S) and floor(a_i S) otherwise, through a mask drawn uniformly from the C(S, R_i) masks
+// of R_i bits, independently per layer (3.1). A sample shows the nearest layer covering it. With A
+// = 1 - prod(1 - a_i) the exact total alpha:
 //   basic (3.1):            mean over samples of the colour shown (background if none);
 //   alpha-corrected (3.3):  A * (mean colour of the covered samples) + (1 - A) bg, and
 //                           (1 - A) bg when no sample is covered (4.1 "otherwise 0");
@@ -255,7 +255,7 @@ PixelMoments estimatorMoments(const std::vector<Plane>& front2back,
 // Checks one variant on one example over `seeds` frames: the mean over seeds and pixels
 // against the expected mean of the mask model (S = 4, one pass) or of the simulator (more
 // samples: too many masks to enumerate) (the exact value for the unbiased basic method, the
-// biased E(A), E(D) of 004 section 4 otherwise) and the RMS against the simulator's RMS and
+// biased E(A), E(D) of [Enderton11 sec. 4] otherwise) and the RMS against the simulator's RMS and
 // the value the paper states (where `paper` is given, S = 4 only).
 void checkExample(const std::string& name, const std::vector<Plane>& planes,
                   std::array<double, 3> background, const std::string& technique, int passes,
@@ -275,7 +275,7 @@ void checkExample(const std::string& name, const std::vector<Plane>& planes,
     auto sim = oit::cpu::simulateStochasticPixel(frags, bg, cpuVariant(technique), samples, passes,
                                                  40000, 11);
     if (samples == 4 && passes == 1) {
-        // Small enough to enumerate: the expected mean and RMS from the 004 mask model
+        // Small enough to enumerate: the expected mean and RMS from the [Enderton11] mask model
         // (estimatorMoments), not from the simulator that mirrors the shader's hash.
         const PixelMoments model = estimatorMoments(planes, background, samples, technique);
         for (int k = 0; k < 3; ++k) {
@@ -304,7 +304,8 @@ void checkExample(const std::string& name, const std::vector<Plane>& planes,
         // RMS: within 10 percent of the expected estimator RMS (model or simulator).
         EXPECT_NEAR(s.rms[k], sim.rms[k], 0.1 * sim.rms[k] + 3e-3);
         if (paper) {
-            EXPECT_LE(s.rms[k], paper[k] + 0.01); // 004 3.1-3.4, rounded to hundredths
+            EXPECT_LE(s.rms[k],
+                      paper[k] + 0.01); // [Enderton11 sec. 3.1-3.4], rounded to hundredths
         }
     }
 }
@@ -312,7 +313,7 @@ void checkExample(const std::string& name, const std::vector<Plane>& planes,
 } // namespace
 
 TEST_F(OitStochasticGLTest, Example1AtFourSamplesMatchesPaper) {
-    // 004 3.1: stratified (0.10, 0.17, 0.18); 3.3 alpha-corrected (0.17, 0.14, 0.0);
+    // [Enderton11 sec. 3.1]: stratified (0.10, 0.17, 0.18); 3.3 alpha-corrected (0.17, 0.14, 0.0);
     // 3.4 depth-based with alpha correction (0.14, 0.12, 0.0).
     const double basic[3] = {0.10, 0.17, 0.18}, alpha[3] = {0.17, 0.14, 0.0},
                  depth[3] = {0.14, 0.12, 0.0};
@@ -322,7 +323,7 @@ TEST_F(OitStochasticGLTest, Example1AtFourSamplesMatchesPaper) {
 }
 
 TEST_F(OitStochasticGLTest, Example2AtFourSamplesMatchesPaper) {
-    // 004: basic stratified 0.12; alpha correction and depth-based with correction 0.0.
+    // [Enderton11]: basic stratified 0.12; alpha correction and depth-based with correction 0.0.
     const double basic[3] = {0.12, 0.12, 0.12}, zero[3] = {0, 0, 0};
     checkExample("ex2", example2(), {0.25, 0.25, 0.25}, "stochastic", 1, basic);
     checkExample("ex2", example2(), {0.25, 0.25, 0.25}, "stochastic-alpha", 1, zero);
@@ -331,7 +332,7 @@ TEST_F(OitStochasticGLTest, Example2AtFourSamplesMatchesPaper) {
 
 TEST_F(OitStochasticGLTest, RepeatedPassesGiveSixteenSamples) {
     // llvmpipe has 4x MSAA: 4 passes with one 16-bit stratified mask split across them
-    // (004 footnote 3) give S = 16; the error must follow the 16-sample simulation.
+    // [Enderton11 footnote 3] give S = 16; the error must follow the 16-sample simulation.
     for (const char* t : kVariants)
         checkExample("ex1", example1(), {0, 0, 1}, t, 4, nullptr);
 }
@@ -349,8 +350,8 @@ TEST_F(OitStochasticGLTest, SameSeedIsBitIdenticalDifferentSeedsDiffer) {
 }
 
 TEST_F(OitStochasticGLTest, ColoredTransmissionOfOneLayerIsExactWithCorrection) {
-    // One layer: alpha correction makes A and D exact (004 3.3); the background is dimmed by
-    // the exact per-channel (1 - a + aT) (000 Eq. 2). a_eff = 0.6 (1 - 0.5) = 0.3.
+    // One layer: alpha correction makes A and D exact [Enderton11 sec. 3.3]; the background is
+    // dimmed by the exact per-channel (1 - a + aT) [McGuire16 Eq. 2]. a_eff = 0.6 (1 - 0.5) = 0.3.
     const std::vector<Plane> planes = {{2, {0.2, 0.5, 0.1}, 0.6, {0.9, 0.1, 0.5}}};
     const ImageF ref = sortedComposite(planes, {1, 0.8, 0.6});
     for (const char* t : {"stochastic-alpha", "stochastic-depth"}) {
@@ -396,19 +397,19 @@ TEST_F(OitStochasticGLTest, VariantsAgainstSortedComposite) {
     EXPECT_LT(rmse[2][1], 0.03);
     for (int v = 0; v < 3; ++v)
         EXPECT_LT(rmse[v][1], rmse[v][0]) << kVariants[v];
-    EXPECT_LT(rmse[2][0], rmse[0][0]); // depth-based beats basic (004 Fig. 4)
+    EXPECT_LT(rmse[2][0], rmse[0][0]); // depth-based beats basic [Enderton11 Fig. 4]
 }
 
 TEST_F(OitStochasticGLTest, EstimatorsMatchTheMaskModelStatistically) {
     // Mitsuba-style statistical test of the three variants (4 samples, one pass) against the
-    // exact sorted composite (src/oit/cpu/composite.h) and the 004 mask model above:
+    // exact sorted composite (src/oit/cpu/composite.h) and the [Enderton11] mask model above:
     // overlapping planes make regions of 1..4 layers. Per region (the pixels whose 3 x 3
     // neighbourhood has the same plane set, so no MSAA sample straddles an edge), over 32 seeds:
     //  - mean: within 4 standard errors of the model's mean, which for the basic estimator is
-    //    the exact composite (unbiased, 004 3.1; asserted) and for the corrected ones their
-    //    expected values E(A), E(D) (biased, 004 4.1); the standard error is sqrt(var / n)
-    //    with var from the enumeration (pixels and seeds independent, as the per-pixel,
-    //    per-seed mask hash is meant to make them), plus 2e-3 for RGBA16F;
+    //    the exact composite (unbiased, [Enderton11 sec. 3.1]; asserted) and for the corrected ones
+    //    their expected values E(A), E(D) (biased, [Enderton11 sec. 4.1]); the standard error is
+    //    sqrt(var / n) with var from the enumeration (pixels and seeds independent, as the
+    //    per-pixel, per-seed mask hash is meant to make them), plus 2e-3 for RGBA16F;
     //  - variance: the sample variance within 4 of its standard errors sqrt((mu4 - var^2) / n)
     //    of the model's variance, plus 2e-4 (a hash that correlates masks across layers,
     //    pixels or seeds changes the spread even when the mean survives).
@@ -507,7 +508,7 @@ TEST_F(OitStochasticGLTest, EstimatorsMatchTheMaskModelStatistically) {
 }
 
 TEST_F(OitStochasticGLTest, EightSamplesWhereTheDriverHasThem) {
-    // 004 section 3.5 uses 8x MSAA; llvmpipe has 4, NVIDIA GPUs 8 and more.
+    // [Enderton11 sec. 3.5] uses 8x MSAA; llvmpipe has 4, NVIDIA GPUs 8 and more.
     if (oit::stochasticEffectiveSamples(8) < 8) GTEST_SKIP() << "driver has fewer than 8 samples";
     for (const char* t : kVariants) {
         checkExample("ex1", example1(), {0, 0, 1}, t, 1, nullptr, 8);
@@ -520,8 +521,8 @@ TEST_F(OitStochasticGLTest, OpaqueDepthCopiedOnlyWhereAPassWroteDepth) {
     // and finds depth written since the last copy: pass 0 and every stochastic pass but the
     // first after the total-alpha pass, i.e. P copies per frame for P passes (1 + P before:
     // the total-alpha pass writes no depth). Counted by the technique (stats "depth_copies")
-    // and held to the count derived here from the pass list of 004 3.5; the images of the
-    // opaque-occluder test above (VariantsAgainstSortedComposite, passes 1 and 4) show that the
+    // and held to the count derived here from the pass list of [Enderton11 sec. 3.5]; the images of
+    // the opaque-occluder test above (VariantsAgainstSortedComposite, passes 1 and 4) show that the
     // skipped copies were redundant.
     const std::vector<Plane> planes = {{2, {0.2, 0.5, 0.1}, 0.6},
                                        {1.5, {0.4, 0.4, 0.4}, 1.0, {0, 0, 0}, -1, 0, -1, 1}};

@@ -1,8 +1,9 @@
 // `wboit` and `blend` against the exact `reference` and against analytic values.
-//  - wboit is exact for one layer and for layers of equal color (004 Example 2), and follows
-//    the 000 Eq. 5 weights for layers of different colors (weights recomputed here on the CPU);
+//  - wboit is exact for one layer and for layers of equal color [Enderton11 Example 2], and follows
+//    the [McGuire16 Eq. 5] weights for layers of different colors (weights recomputed here on the
+//    CPU);
 //  - on the glass scene its RMSE vs reference is printed and bounded;
-//  - blend is exact back to front and wrong front to back (004 Example 1).
+//  - blend is exact back to front and wrong front to back [Enderton11 Example 1].
 // Tolerance 2e-3 absolute per channel (RGBA16F targets).
 #include "gl_fixture.h"
 #include "oit_test_scenes.h"
@@ -52,7 +53,7 @@ TEST_F(OitWboitGLTest, SingleLayerIsExact) {
 }
 
 TEST_F(OitWboitGLTest, EqualColorsAreExactExample2) {
-    // 004 Example 2 (4 white layers of alpha 1/4 over 25% grey = 0.7626953125): with one
+    // [Enderton11 Example 2] (4 white layers of alpha 1/4 over 25% grey = 0.7626953125): with one
     // color the weights cancel in A.rgb / A.a and only the revealage product matters.
     std::vector<TestPlane> planes;
     for (int i : {1, 3, 0, 2})
@@ -63,9 +64,9 @@ TEST_F(OitWboitGLTest, EqualColorsAreExactExample2) {
 }
 
 TEST_F(OitWboitGLTest, DifferentColorsFollowEq5Weights) {
-    // 004 Example 1 geometry under wboit: red at view depth 9 over green at depth 10, blue
+    // [Enderton11 Example 1] geometry under wboit: red at view depth 9 over green at depth 10, blue
     // background. Orthographic, near 1, far 20: window z f = (d - 1) / 19.
-    //   w = clamp([10 (1 - 0.99 f) a]^3, 0.01, 30)                  (000 Eq. 5, T = 0)
+    //   w = clamp([10 (1 - 0.99 f) a]^3, 0.01, 30)                  ([McGuire16 Eq. 5], T = 0)
     //   C = bg * (1-a)^2 + (1 - (1-a)^2) (w_r a red + w_g a green) / (a (w_r + w_g))
     const double a = 0.45;
     auto weight = [&](double depth) {
@@ -106,7 +107,7 @@ TEST_F(OitWboitGLTest, GlassSceneRmseVsReference) {
 }
 
 TEST_F(OitWboitGLTest, BlendExactBackToFrontWrongFrontToBack) {
-    // 004 Example 1: red (depth 9) over green (depth 10) over blue background.
+    // [Enderton11 Example 1]: red (depth 9) over green (depth 10) over blue background.
     TestPlane red{{1, 0, 0}, 0.45, {0, 0, 0}, 1.0}, green{{0, 1, 0}, 0.45, {0, 0, 0}, 0.0};
     const ImageF b2f = renderPlanes({green, red}, {0, 0, 1}, "blend");
     EXPECT_NEAR(b2f.at(8, 8, 0), 0.45, kTol);

@@ -15,7 +15,7 @@ namespace veil::test::ray_cast {
 using Rgb = std::array<double, 3>;
 
 // Transmittance of the scene's shadow-casting triangles along the segment P -> P + t d,
-// t in (tMin, tMax): 0 at the first opaque triangle, 1 - alpha + alpha T (000 Eq. 2) for each
+// t in (tMin, tMax): 0 at the first opaque triangle, 1 - alpha + alpha T [McGuire16 Eq. 2] for each
 // transparent one.
 inline Rgb trianglesTransmittance(const scene::Scene& sc, const glm::dvec3& P, const glm::dvec3& d,
                                   double tMax, double tMin = 1e-6) {

@@ -1,7 +1,7 @@
 // The `moment` shadow technique (src/shadows/moment) against a CPU double-precision
 // evaluation of the same method: the casters' absorbance moments at the depths where the
-// floor's shadow ray crosses them, reconstructed by 002 Algorithm 2 with four power moments
-// (src/oit/cpu/moments.h, the OIT's reference implementation, written from the paper and
+// floor's shadow ray crosses them, reconstructed by [Munstermann18 Algorithm 2] with four power
+// moments (src/oit/cpu/moments.h, the OIT's reference implementation, written from the paper and
 // tested on its own) with the technique's bias and beta = 0; colour by the per-channel b0
 // scaled by the mean absorbance's fraction in front (moment.h). What the analytic test
 // (shadow_techniques_test.cpp) attributes to the method's bias is checked here exactly.

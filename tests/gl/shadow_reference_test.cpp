@@ -1,6 +1,6 @@
 // The `reference` shadow technique against a CPU double-precision ray caster written for this
 // test: from a floor point toward the light, every shadow-casting triangle of the scene
-// (Moller-Trumbore in double) multiplies 1 - alpha + alpha T (000 Eq. 2) for a transparent
+// (Moller-Trumbore in double) multiplies 1 - alpha + alpha T [McGuire16 Eq. 2] for a transparent
 // material and 0 for an opaque one, and the density volumes' transmittance comes from the fog's
 // CPU reference (src/volume/cpu_reference.h: OpenVDB trilinear sampling, in double). The GPU's
 // visibility is read as the ratio of the floor's radiance with and without shadows (the same

@@ -1,4 +1,4 @@
-// transmittance-slicemap (003 sec. 3) beyond the shared analytic cases of
+// transmittance-slicemap [Eisemann06 sec. 3] beyond the shared analytic cases of
 // shadow_techniques_test.cpp: coloured shadows of stained glass (channel ratios), local
 // slicing separating layers closer than a uniform slice, the GPU's bitCount-over-masked-words
 // attenuation against a CPU double-precision model (src/voxelize SliceMap::countOccupied), and
@@ -61,7 +61,7 @@ protected:
 } // namespace
 
 // Two panes of stained glass side by side (two classes): each throws its own colour, the
-// channel ratios of the shadow equal the glass's within 2% (003 sec. 3's coloured leaves).
+// channel ratios of the shadow equal the glass's within 2% ([Eisemann06 sec. 3]'s coloured leaves).
 TEST_F(SlicemapShadowTest, StainedGlassShadowKeepsChannelRatios) {
     nlohmann::json doc = ss::base(technique());
     const glm::dvec3 red(0.9, 0.45, 0.15), blue(0.2, 0.4, 0.8);

@@ -1,7 +1,7 @@
-// What is specific to the stochastic shadow techniques (src/shadows/stochastic): the 004
-// estimator is unbiased over seeds, the VSM's blur and Chebyshev bound are the formulas of 000
-// sec. 4.3 (checked against a double-precision CPU evaluation of the same maps), the stained
-// glass colour ratio, and the caustic density of 000 Eq. 10-12. Scenes: tests/gl/
+// What is specific to the stochastic shadow techniques (src/shadows/stochastic): the [Enderton11]
+// estimator is unbiased over seeds, the VSM's blur and Chebyshev bound are the formulas of
+// [McGuire16 sec. 4.3] (checked against a double-precision CPU evaluation of the same maps), the
+// stained glass colour ratio, and the caustic density of [McGuire16 Eq. 10-12]. Scenes: tests/gl/
 // shadow_test_scenes.h (directional light along (s, -s, 0), floor seen from above).
 #include "gl_fixture.h"
 
@@ -49,8 +49,8 @@ std::vector<float> readMoments(const gpu::Texture& t) {
 
 } // namespace
 
-// 004 sec. 3.2: E[svis] = prod (1 - alpha_i). Three layers of coverage 0.3 (exact 0.343), one
-// texel per lookup (filter_radius 0: the raw estimator), 8 seeds x 208 pixels reading distinct
+// [Enderton11 sec. 3.2]: E[svis] = prod (1 - alpha_i). Three layers of coverage 0.3 (exact 0.343),
+// one texel per lookup (filter_radius 0: the raw estimator), 8 seeds x 208 pixels reading distinct
 // texels: the mean must be within 4 standard errors (measured) of the exact value, and the
 // spread must be real noise no larger than the binomial sqrt(p (1 - p) / S).
 TEST_F(StochasticShadowTest, EstimatorMeanMatchesExactOverSeeds) {
@@ -87,9 +87,9 @@ TEST_F(StochasticShadowTest, EstimatorMeanMatchesExactOverSeeds) {
     EXPECT_NEAR(mean, exact, 4.0 * se) << "mean over " << n << " lookups, SE " << se;
 }
 
-// 000 sec. 4.3: moments blurred by a separable tent, read bilinearly, Chebyshev's bound with
-// the light-bleeding linstep. Two planes from the light: coverage 0.5 at height 1.5 (R = 2 of 4
-// samples exactly) and ~1 at height 0.5 (t = 1e-6: all 4 samples), so every texel under both
+// [McGuire16 sec. 4.3]: moments blurred by a separable tent, read bilinearly, Chebyshev's bound
+// with the light-bleeding linstep. Two planes from the light: coverage 0.5 at height 1.5 (R = 2 of
+// 4 samples exactly) and ~1 at height 0.5 (t = 1e-6: all 4 samples), so every texel under both
 // holds the depths {1.5: 1/2, 0.5: 1/2} and no noise. The GPU's blurred moments must equal the
 // CPU's double-precision tent blur of the GPU's raw moments, and the floor's visibility the
 // CPU's bilinear Chebyshev of those; the closed form is p = 0.25 / (0.25 + 1) = 0.2 (VSM light
@@ -197,7 +197,7 @@ TEST_F(StochasticShadowTest, StainedGlassColourRatio) {
     }
 }
 
-// 000 Eq. 10-12 on a grey pane (alpha 1, t = 0.5, ior 1.5) lit at 45 degrees: s = 0.25,
+// [McGuire16 Eq. 10-12] on a grey pane (alpha 1, t = 0.5, ior 1.5) lit at 45 degrees: s = 0.25,
 // g = 2 (1 - 0.7071^8) - 1 = 0.875, rho = (1 + g s^0.2) 0.5 = 0.8316, visibility 0.1684
 // (instead of 0.5 without caustics). Noise: rho S = 3.33, 4 binomial SE over the tent of
 // radius 5 (79 effective texels) = 0.084.

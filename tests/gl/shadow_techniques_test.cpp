@@ -36,8 +36,8 @@ std::ostream& operator<<(std::ostream& os, const TechniqueCase& c) { return os <
 // Tolerances of the stochastic techniques (src/shadows/stochastic), derived from the methods.
 // Per texel the fraction of the S samples left unoccluded estimates the transmittance p with a
 // standard deviation of at most the binomial sqrt(p (1 - p) / S) (stratified R-subsets are
-// negatively associated within a texel, 004 sec. 3.1); texels are hashed independently, so a
-// filter averaging `texels` of them (equal weights: PCF; 1 / sum w^2 effective texels for the
+// negatively associated within a texel, [Enderton11 sec. 3.1]); texels are hashed independently, so
+// a filter averaging `texels` of them (equal weights: PCF; 1 / sum w^2 effective texels for the
 // VSM's tent) divides the variance by that many. The bound is 4 standard errors of the worst
 // channel relative to its expected value, plus 3e-3 of float and half-float rounding.
 double stochasticNoise(const std::vector<double>& expected, int samples, double texels) {
@@ -71,7 +71,7 @@ double tentTexels(int r) {
     return std::pow(sum * sum / sum2, 2.0);
 }
 
-// Chebyshev's one-sided bound (000 sec. 4.3, Donnelly and Lauritzen 2006) for a receiver at
+// Chebyshev's one-sided bound [McGuire16 sec. 4.3] for a receiver at
 // height 0 under planes at `heights` (nearest the light first) of densities `rho`, in double:
 // the samples of a texel take the depth of the first plane that covers them (weight rho_j
 // prod_{i<j} (1 - rho_i)) or the receiver's. The depth along the light is proportional to the
@@ -172,7 +172,8 @@ std::vector<TechniqueCase> cases() {
          2e-3,
          2e-3,
          0.016,
-         "003 sec. 3 slice counts: each pane is one slice (raster method) and the casters are "
+         "[Eisemann06 sec. 3] slice counts: each pane is one slice (raster method) and the casters "
+         "are "
          ">= 0.113 apart along the light, more than a uniform slice (11.36 / 128 = 0.089), so "
          "the counts and T_c^n are exact; left is the RGBA16F HDR target's rounding (2^-11 of "
          "ambient + T lit = 1.0e-3 of T at T = 0.2; measured <= 8.4e-4). Fog: per-slice "
@@ -182,7 +183,7 @@ std::vector<TechniqueCase> cases() {
         {"stochastic", stochastic, stochasticNoise({0.8, 0.5, 0.2}, 4, pcfTexels),
          stochasticNoise({0.48, 0.36, 0.54}, 4, pcfTexels),
          stochasticNoise({std::pow(0.7, 4)}, 4, pcfTexels), -1,
-         "004 stochastic map, S = 4, PCF over 81 texels: 4 binomial standard errors "
+         "[Enderton11] stochastic map, S = 4, PCF over 81 texels: 4 binomial standard errors "
          "sqrt(p (1 - p) / (S 81)) of the worst channel (unbiased: E[R] = rho S); rasterized "
          "casters only, so the fog slab (a density grid) casts nothing; the shaft: fog samples "
          "read one texel (S samples) each, independent over the 128 march steps across the "
@@ -192,7 +193,8 @@ std::vector<TechniqueCase> cases() {
         {"stochastic-vsm", vsm, vsmTolerance({{0.2}, {0.5}, {0.8}}, {1.0}),
          vsmTolerance({{0.2, 0.4}, {0.4, 0.4}, {0.1, 0.4}}, {1.4, 1.0}),
          vsmTolerance({{0.3, 0.3, 0.3, 0.3}}, layerHeights), -1,
-         "000 stochastic VSM, S = 4, tent radius 5: Chebyshev's bound is exact for one plane "
+         "[McGuire16] stochastic VSM, S = 4, tent radius 5: Chebyshev's bound is exact for one "
+         "plane "
          "and deviates from the product for several by what chebyshevPlanes() computes in "
          "double, plus 4 binomial standard errors over the tent's effective texels; the fog "
          "slab casts nothing; fog samples read the opaque map only (fog_reads_vsm off: "

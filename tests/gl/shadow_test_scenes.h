@@ -40,7 +40,7 @@ inline nlohmann::json base(const nlohmann::json& shadows) {
 }
 
 // A horizontal 2x2 pane at height y over the origin with coverage `alpha` and transmission
-// `t` (000 Eq. 2: it lets 1 - alpha + alpha t through). Adds its material under `name`.
+// `t` ([McGuire16 Eq. 2]: it lets 1 - alpha + alpha t through). Adds its material under `name`.
 inline void addPane(nlohmann::json& doc, const std::string& name, double y, double alpha,
                     const nlohmann::json& t) {
     doc["materials"][name] = {

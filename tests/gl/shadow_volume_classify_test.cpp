@@ -1,11 +1,11 @@
-// The `volume` technique's classification (003 Sec. 3.2, shaders/shadows/volume/classify.comp
-// through shadows::runClassify) on synthetic slice maps against a CPU evaluation of the same
-// rules written directly from the paper's definitions (every column of the footprint, every
-// slice at or behind the caster), with casters whose footprints span from one column to the
-// whole 256^2 grid (64 reduce groups) and every combination of the three switches.
-// Tolerance: none. The light views are axis-aligned with power-of-two scales, so every GPU
-// operation before the decisions is exact in float and the clamp depth is one correctly
-// rounded add: the decisions and clamp depths must be equal bit for bit.
+// The `volume` technique's classification ([Eisemann06 sec. 3.2],
+// shaders/shadows/volume/classify.comp through shadows::runClassify) on synthetic slice maps
+// against a CPU evaluation of the same rules written directly from the paper's definitions (every
+// column of the footprint, every slice at or behind the caster), with casters whose footprints span
+// from one column to the whole 256^2 grid (64 reduce groups) and every combination of the three
+// switches. Tolerance: none. The light views are axis-aligned with power-of-two scales, so every
+// GPU operation before the decisions is exact in float and the clamp depth is one correctly rounded
+// add: the decisions and clamp depths must be equal bit for bit.
 #include "gl_fixture.h"
 
 #include "gpu/shader.h"

@@ -187,9 +187,9 @@ TEST_F(ShadowVolumeSilhouetteTest, CountsMatchCpuAdjacency) {
         }
 }
 
-// 003 Sec. 3.2 culling, not just emitting nothing: the triangles that silhouette.comp launches
-// are exactly those of the casters that classify.comp did not cull (the CPU sums them from the
-// scene's meshes), and where GL_ARB_pipeline_statistics_query exists the compute invocations
+// [Eisemann06 sec. 3.2] culling, not just emitting nothing: the triangles that silhouette.comp
+// launches are exactly those of the casters that classify.comp did not cull (the CPU sums them from
+// the scene's meshes), and where GL_ARB_pipeline_statistics_query exists the compute invocations
 // are those launches rounded up to 64-wide workgroups plus compact.comp's two 256-wide ones.
 TEST_F(ShadowVolumeSilhouetteTest, CulledCastersAreNotLaunched) {
     nlohmann::json light = {{"type", "directional"},

@@ -4,8 +4,8 @@
 // pixel, so the tolerance is zero differing pixels; only pixels whose 3x3 neighbourhood holds
 // both CPU answers (the one-pixel band where the shadow edge crosses the pixel, where the
 // float depth's unprojection may land on either side) are skipped. Then the culling and
-// clamping of 003 Sec. 3.2 must leave the stencil's answer bit-exact while the stencil fill
-// drops, and meshes that are not closed must be handled (per-triangle volumes) or refused.
+// clamping of [Eisemann06 sec. 3.2] must leave the stencil's answer bit-exact while the stencil
+// fill drops, and meshes that are not closed must be handled (per-triangle volumes) or refused.
 #include "gl_fixture.h"
 #include "ray_cast_shadows.h"
 
@@ -317,9 +317,9 @@ TEST_F(ShadowVolumeTest, ParticleCasterIsRefusedWithOneLine) {
     }
 }
 
-// 003 Sec. 3.2: a tall box hidden from the light behind a wide slab (caster culling), casters
-// whose shadow falls where the camera sees no receiver (receiver culling), and a camera that
-// sees only the near part of the light's depth range (clamping). Every combination must give
+// [Eisemann06 sec. 3.2]: a tall box hidden from the light behind a wide slab (caster culling),
+// casters whose shadow falls where the camera sees no receiver (receiver culling), and a camera
+// that sees only the near part of the light's depth range (clamping). Every combination must give
 // the unculled visibility bit for bit, and the stencil fill must drop; so must depth-pass
 // counting (`zpass`, on in all of them) against depth-fail for every caster.
 TEST_F(ShadowVolumeTest, CullingAndClampingAreBitExactAndCutFill) {

@@ -1,8 +1,8 @@
-// GL state isolation between passes and techniques (DESIGN.md "Principles": a pass sets all
-// the state it needs and relies on none another left behind). Every technique available here
-// renders one scene (opaque surfaces, glass, particles, fog) in a fresh context; then all of
-// them render again in one context in three orders, with a slice-map voxelization in between.
-// Each image must equal the fresh one bit for bit and no GL error may be pending.
+// GL state isolation between passes and techniques (docs/architecture.md "Declared GL state": a
+// pass sets all the state it needs and relies on none another left behind). Every technique
+// available here renders one scene (opaque surfaces, glass, particles, fog) in a fresh context;
+// then all of them render again in one context in three orders, with a slice-map voxelization in
+// between. Each image must equal the fresh one bit for bit and no GL error may be pending.
 #include "gl/gl_fixture.h"
 
 #include "frame/renderer.h"

@@ -7,7 +7,7 @@
 // over another part of it. With the shadow template's strength s and the OIT template's
 // opacity_scale k:
 //   lit floor       ambient + E f cos                               (E f cos: the lit term)
-//   shadowed floor  ambient + (1 - s) E f cos                        (Williams 1978 with s)
+//   shadowed floor  ambient + (1 - s) E f cos                        ([Williams78] with s)
 //   under the pane  k a E f_pane cos + (1 - k a) (ambient + E f cos)  ([McGuire16 Eq. 2], T = 0)
 #include "gl_fixture.h"
 

@@ -1,4 +1,4 @@
-// DESIGN.md: the viewer and the renderer produce the same image for the same scene, camera
+// The viewer and the renderer produce the same image for the same scene, camera
 // and settings. The viewer runs in a real GLFW window on a virtual X display (Xvfb).
 #include "io/image_io.h"
 #include "support/test_support.h"

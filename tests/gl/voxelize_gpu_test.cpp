@@ -4,8 +4,8 @@
 // overlap (they may add voxels: the extra count is printed and bounded by the reference
 // count). three-axis: IoU >= 0.5 vs the exact overlap (it is a thin 6-separating subset)
 // and hole-free: a flood fill from the grid border through empty cells must not reach the
-// centre of a closed sphere. raster (003 as published: one fragment per covered pixel centre,
-// the slice of its depth): exact, see RasterSetsTheSliceOfEachCoveredPixelCentre.
+// centre of a closed sphere. raster ([Eisemann06] as published: one fragment per covered pixel
+// centre, the slice of its depth): exact, see RasterSetsTheSliceOfEachCoveredPixelCentre.
 #include "gl_fixture.h"
 
 #include "io/image_io.h"
@@ -141,7 +141,7 @@ TEST_F(VoxelizeGpuGLTest, SurfaceMethodsAgainstExactOverlap) {
     }
 }
 
-// 003 section 2 as published (Method::Raster): the rasterizer makes one fragment per pixel
+// [Eisemann06 sec. 2] as published (Method::Raster): the rasterizer makes one fragment per pixel
 // centre a triangle covers, and the fragment sets the one slice holding its depth there. A CPU
 // rasterization of the same triangles in double precision predicts every voxel, except where
 // the GPU's fixed-point vertex snapping (llvmpipe: 8 sub-pixel bits) or float depth can decide

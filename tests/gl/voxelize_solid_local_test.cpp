@@ -80,7 +80,7 @@ TEST_F(VoxelizeSolidLocalGLTest, MoreThan1024SlicesTakeSeveralPasses) {
 
 // Two spheres of radius 0.5, 40 units apart along the view axis (z) and side by side in x:
 // uniform slicing spends 64 slices on 41 units of depth; local slicing spends them on each
-// column's own [near, far] (003 Sec. 2.2).
+// column's own [near, far] [Eisemann06 sec. 2.2].
 TEST_F(VoxelizeSolidLocalGLTest, LocalSlicingResolvesMoreDepth) {
     Triangles tris;
     tris.append(scene::makeSphere(0.5f, 48, 24),

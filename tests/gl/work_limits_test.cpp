@@ -58,7 +58,8 @@ TEST(WorkLimitsTest, ParticleCloudOverTheGeometryBudgetIsRefusedBeforeAllocating
     expectRefused(veilExe() + " render '" + scene.string() + "' -o '" + out.string() + "'", out,
                   {"particles.json", "/objects/0/shape/count", "10752 MiB",
                    "render.geometry_budget_mib = 2048"});
-    // The budget is the property: 10,000 particles (1.6 MiB) fail under 1 MiB, pass under 2.
+    // The budget is the property: 10,[McGuire16] particles (1.6 MiB) fail under 1 MiB, pass
+    // under 2.
     const std::string small = " --width 32 --height 18 --set objects.0.shape.count=10000 ";
     expectRefused(veilExe() + " render '" + scene.string() + "'" + small +
                       "--set render.geometry_budget_mib=1 -o '" + out.string() + "'",

@@ -35,9 +35,9 @@ struct Case {
 void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
 
 // Mean over k x k pixel blocks: the stochastic estimators' per-pixel noise has zero mean
-// (basic, 004 3.1) or nearly so, and averages out over a block (its RMSE / k for independent
-// pixels), while a technique's systematic error and the error of leaving transparency out are
-// spatially coherent and stay.
+// (basic, [Enderton11 sec. 3.1]) or nearly so, and averages out over a block (its RMSE / k for
+// independent pixels), while a technique's systematic error and the error of leaving transparency
+// out are spatially coherent and stay.
 ImageF blockMean(const ImageF& img, int k) {
     ImageF out(img.width / k, img.height / k, 3);
     for (int y = 0; y < out.height; ++y)
@@ -80,7 +80,7 @@ protected:
         halfTransparency_ = rh.readHdr();
         // Modulation only: transparent surfaces that reflect and emit nothing (black metal:
         // F0 = base colour = 0) and do not refract (ior 1), so they only multiply what lies
-        // behind by m = 1 - a + a T per channel (000 Eq. 2), a product in any order.
+        // behind by m = 1 - a + a T per channel [McGuire16 Eq. 2], a product in any order.
         modulationScene_ = std::make_unique<scene::Scene>(*scene_);
         for (scene::Material& m : modulationScene_->materials)
             if (m.isTransparent()) {
@@ -152,14 +152,14 @@ TEST_P(OitGoldenTest, MatchesGoldenAndGoldenIsCloseToReference) {
 
 // The frame with modulation only (modulationScene_): where the transparent surfaces add no
 // radiance, the exact result is the opaque image times prod m_i per channel, which is order
-// independent (000 Eq. 2), so every technique that applies the exact per-channel product to
+// independent [McGuire16 Eq. 2], so every technique that applies the exact per-channel product to
 // the background must reproduce `reference` up to RGBA16F rounding (2^-11 relative per
 // rounding; four allowed: 2^-9 relative, plus 1e-4) in all but 0.05% of the channels (3 to
 // 10 isolated channels of 27648 measured, worst at (63, 23) for the moments and
 // phenomenological and (74, 43) for blend: not investigated): blend (a product of its
 // blends), the moments (exp(-b_0,rgb) with b_0,rgb = sum -ln m, emit.glsl), phenomenological
-// (beta, 000 Listing 1). Mutation tried: the moment resolve with exp(-0.5 b_0,rgb) puts 4292
-// channels over the bound. Not exact by construction, so not checked: wboit and basic
+// (beta, [McGuire16 Listing 1]). Mutation tried: the moment resolve with exp(-0.5 b_0,rgb) puts
+// 4292 channels over the bound. Not exact by construction, so not checked: wboit and basic
 // stochastic (coloured transmission enters only through the grey coverage a (1 - avg T)).
 // stochastic-alpha and stochastic-depth should be exact (their total-alpha pass multiplies
 // the exact per-channel m, emit.glsl kind 0) but are not: about 1040 channels are off, most
@@ -200,15 +200,15 @@ TEST_P(OitGoldenTest, ModulationOnlyFrameIsExact) {
 
 // Bounds (fractions of the no-transparency error, not multiples of measured errors): the
 // techniques that composite in the right order up to reconstruction or noise (blend, whose
-// unsorted order is nearly back to front on this view; the moments, 002; alpha-corrected and
-// depth-based stochastic, 004 3.3-3.5) must get at least 65% of the transparency's
-// contribution right (0.35); the ones whose colour is an approximation by construction
-// (weighted blended: a depth-weighted average instead of an ordered composite, 000 Eq. 6;
-// basic stochastic: coloured transmission only through its grey average, 004 3.1 and
-// emit.glsl) at least 30% (0.7). Both fail an image with no transparency (1.0) and one with
-// every other transparent object removed (0.905). Measured on llvmpipe: blend 0.154, wboit
-// 0.525, phenomenological 0.470, moments 0.125, stochastic 0.494 / alpha 0.184 / depth 0.149.
-// Mutations tried (golden regenerated from the mutated shader, so only this check can see
+// unsorted order is nearly back to front on this view; the moments, [Munstermann18];
+// alpha-corrected and depth-based stochastic, [Enderton11 sec. 3.3-3.5]) must get at least 65% of
+// the transparency's contribution right (0.35); the ones whose colour is an approximation by
+// construction (weighted blended: a depth-weighted average instead of an ordered composite,
+// [McGuire16 Eq. 6]; basic stochastic: coloured transmission only through its grey average,
+// [Enderton11 sec. 3.1] and emit.glsl) at least 30% (0.7). Both fail an image with no transparency
+// (1.0) and one with every other transparent object removed (0.905). Measured on llvmpipe: blend
+// 0.154, wboit 0.525, phenomenological 0.470, moments 0.125, stochastic 0.494 / alpha 0.184 / depth
+// 0.149. Mutations tried (golden regenerated from the mutated shader, so only this check can see
 // it): moment resolve with the background absorbance halved (exp(-0.5 b_0)) scores 0.453 and
 // fails; wboit with half its revealage (r = 0.5 + 0.5 r) scores 0.642 and passes: the 0.7
 // class cannot tell a weighted-blended image from one with half its coverage.

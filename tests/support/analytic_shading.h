@@ -1,5 +1,5 @@
 // Analytic shading references for GL tests, in double precision, written out from the
-// formulas (Walter et al. 2007 GGX, height-correlated Smith, Schlick), independently of
+// formulas ([Walter07] GGX, height-correlated Smith, Schlick), independently of
 // shaders/common/brdf.glsl: what a lit surface point must receive.
 #pragma once
 

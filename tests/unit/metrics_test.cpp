@@ -85,7 +85,7 @@ TEST(MetricsTest, SsimOfAnImageWithItselfIsOne) {
 
 TEST(MetricsTest, SsimOfConstantImagesMatchesTheFormula) {
     // No variance anywhere: SSIM = (2 mu_a mu_b + C1) C2 / ((mu_a^2 + mu_b^2 + C1) C2) per
-    // pixel (Wang et al. 2004, Eq. 13), with C1 = (0.01 L)^2, L = 1.
+    // pixel ([Wang04], Eq. 13), with C1 = (0.01 L)^2, L = 1.
     const double ma = 0.6, mb = 0.4, c1 = 1e-4;
     const double expected = (2 * ma * mb + c1) / (ma * ma + mb * mb + c1);
     EXPECT_NEAR(metrics::ssim(filled(20, 20, float(ma)), filled(20, 20, float(mb))), expected,

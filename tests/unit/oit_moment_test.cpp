@@ -1,4 +1,4 @@
-// CPU reference of moment-based OIT (002) against things it did not produce: known roots,
+// CPU reference of moment-based OIT [Munstermann18] against things it did not produce: known roots,
 // exact transmittance of layer stacks, the structural properties of a transmittance (range,
 // monotonicity), and the quantization transform's inverse.
 #include "base/error.h"
@@ -60,11 +60,10 @@ double toHalf(double v) {
 }
 double unorm16(double v) { return std::round(std::clamp(v, 0.0, 1.0) * 65535.0) / 65535.0; }
 
-// The 16-bit accumulation of storage16.glsl, done here from MOMENTS-NOTES.md and 002 4.1
-// (not from the shader): per fragment, b_0 += -ln(1 - alpha) and is stored in half
-// precision, and the normalized power moments n = b_1..4 / b_0 are rebuilt as
-// (n_old b0_old + b_new) / (b0_old + b0_new) and stored through the quantization transform in
-// UNORM16.
+// The 16-bit accumulation of storage16.glsl, done here from docs/oit.md#moment-constants and
+// [Munstermann18 sec. 4.1] (not from the shader): per fragment, b_0 += -ln(1 - alpha) and is stored
+// in half precision, and the normalized power moments n = b_1..4 / b_0 are rebuilt as (n_old b0_old
+// + b_new) / (b0_old + b0_new) and stored through the quantization transform in UNORM16.
 Moments accumulate16Power4(const std::vector<Layer>& layers, double wrappingZone) {
     double b0 = 0.0;
     std::array<double, 4> q = quantizePower4({0, 0, 0, 0});
@@ -129,8 +128,8 @@ std::vector<double> unorm16StepBound(int count) {
     return bound;
 }
 
-// Emulations of the two 16-bit storages of the GPU, written from 002 section 4.1 and
-// MOMENTS-NOTES.md (not from the shaders), for power moments:
+// Emulations of the two 16-bit storages of the GPU, written from [Munstermann18 sec. 4.1] and
+// docs/oit.md#moment-constants (not from the shaders), for power moments:
 //   quantized (storage16.glsl): per fragment n = (n_old b0_old + b_new) / (b0_old + b0_new),
 //     stored through quantizePower in UNORM16, b_0 in half;
 //   half (emit.glsl into RGBA16F): every unnormalized moment and b_0 a half float, each
@@ -281,8 +280,8 @@ TEST(OitMomentReference, DepthWarpAndSphere) {
     EXPECT_THROW(defaultMomentParams({MomentBasis::Power, 5}), veil::Error);
 }
 
-// 002 section 4.1 / 5.1: with k <= m/2 surfaces (power) or k <= m (trigonometric) the moment
-// vector lies on the boundary of the moment space and the representation is unique, so the
+// [Munstermann18 sec. 4.1 / 5.1]: with k <= m/2 surfaces (power) or k <= m (trigonometric) the
+// moment vector lies on the boundary of the moment space and the representation is unique, so the
 // reconstruction is exact at depths between surfaces; at a surface's own depth it includes
 // beta times that surface's absorbance (the overestimation). The bias breaks exactness: we
 // assert it with a negligible bias (1e-9) and, with the paper's float32 biases, a looser bound.
@@ -322,7 +321,8 @@ TEST(OitMomentReference, ExactForFewSurfaces) {
         }
         EXPECT_LT(worstTiny, 1e-3) << set.name();
         EXPECT_LT(worstSelf, 1e-3) << set.name();
-        // 002 Fig. 3: the float32 biases visibly degrade power moments, more with more moments.
+        // [Munstermann18 Fig. 3]: the float32 biases visibly degrade power moments, more with more
+        // moments.
         const double paperBound = set.basis == MomentBasis::Trigonometric ? 5e-3
                                   : set.count == 4                        ? 1e-2
                                   : set.count == 6                        ? 5e-2
@@ -359,8 +359,8 @@ TEST(OitMomentReference, RangeAndMonotoneOnRandomStacks) {
             }
         }
         // Power moments: (1 - beta) lower + beta upper bound, both monotone: asserted to
-        // rounding. Algorithm 2 gives no proper bounds (002 section 5.1) and its wrapping zone
-        // (section 5.2) lets surfaces near z = 1 leak into depths near z = -1, so T may rise a
+        // rounding. Algorithm 2 gives no proper bounds [Munstermann18 sec. 5.1] and its wrapping
+        // zone (section 5.2) lets surfaces near z = 1 leak into depths near z = -1, so T may rise a
         // little; measured up to ~0.085 on these stacks, asserted below 0.1.
         EXPECT_LT(worstRise, set.basis == MomentBasis::Power ? 1e-9 : 0.1) << set.name();
         std::printf("[ moments ] %s largest increase of T over depth: %.2e\n", set.name().c_str(),
@@ -404,8 +404,8 @@ TEST(OitMomentReference, NoNanForOneSurfaceAndCoincidentDepths) {
 }
 
 TEST(OitMomentReference, Power4QuantizationRoundTrip) {
-    // MOMENTS-NOTES.md: q = b Q + offset maps valid normalized moment vectors into [0, 1]^4;
-    // stored in UNORM16 each q_i is off by at most h / 2, h = 1 / 65535. The transform is
+    // docs/oit.md#moment-constants: q = b Q + offset maps valid normalized moment vectors into [0,
+    // 1]^4; stored in UNORM16 each q_i is off by at most h / 2, h = 1 / 65535. The transform is
     // affine, so the moments come back off by at most sum_i |Q^-1_ji| h / 2 in component j
     // (Q^-1 read off dequantizePower4 at the unit vectors).
     std::array<double, 4> bound{};
@@ -454,8 +454,8 @@ TEST(OitMomentReference, Power4QuantizationRoundTrip) {
 }
 
 TEST(OitMomentReference, Storage16ReconstructionWithinMomentBounds) {
-    // 002 section 3.2: for given (biased) moments the true absorbance lies between the lower
-    // bound L (overestimation beta = 0) and the upper bound U (beta = 1); the reconstruction
+    // [Munstermann18 sec. 3.2]: for given (biased) moments the true absorbance lies between the
+    // lower bound L (overestimation beta = 0) and the upper bound U (beta = 1); the reconstruction
     // is (1 - beta) L + beta U, so the method's own error is up to max(beta, 1 - beta)(U - L).
     // The 16-bit path (half b_0, UNORM16 normalized moments rewritten per fragment) with the
     // 16-bit bias (6e-5 toward (0, 0.628, 0, 0.628)) must reconstruct inside the bounds that
@@ -465,8 +465,9 @@ TEST(OitMomentReference, Storage16ReconstructionWithinMomentBounds) {
     // <= 1), so they lie in the box exact +- n_layers * step, and [L, U] is taken over the
     // box's 16 corners; b_0 is off by up to 2^-11 relative per fragment (absorbance scales
     // with b_0): n_layers 2^-11 b_0, plus 1e-3.
-    // The stronger bias itself moves the reconstruction away from float32's: 002 section 4.1
-    // and MOMENTS-NOTES.md accept that (blur of close surfaces); printed, not bounded.
+    // The stronger bias itself moves the reconstruction away from float32's: [Munstermann18
+    // sec. 4.1] and docs/oit.md#moment-constants accept that (blur of close surfaces); printed, not
+    // bounded.
     const MomentSet set{MomentBasis::Power, 4};
     const MomentParams p32 = defaultMomentParams(set, false), p16 = defaultMomentParams(set, true);
     std::array<double, 4> step{}; // half a UNORM16 step through Q^-1, per normalized moment
@@ -520,9 +521,9 @@ TEST(OitMomentReference, Storage16ReconstructionWithinMomentBounds) {
 }
 
 TEST(OitMomentReference, TrigonometricNormalizedMomentsFitSnorm16) {
-    // 002 section 5.3: the 16-bit path stores b_k / b_0 directly in SNORM16 (storage16.glsl,
-    // no transform), which holds [-1, 1]: each normalized trigonometric moment is a convex
-    // combination of points on the unit circle, so its real and imaginary parts must fit.
+    // [Munstermann18 sec. 5.3]: the 16-bit path stores b_k / b_0 directly in SNORM16
+    // (storage16.glsl, no transform), which holds [-1, 1]: each normalized trigonometric moment is
+    // a convex combination of points on the unit circle, so its real and imaginary parts must fit.
     std::mt19937 rng(4);
     std::uniform_real_distribution<double> uz(-1.0, 1.0), ua(0.05, 0.9);
     const MomentSet set{MomentBasis::Trigonometric, 4};
@@ -540,8 +541,8 @@ TEST(OitMomentReference, TrigonometricNormalizedMomentsFitSnorm16) {
 }
 
 TEST(OitMomentReference, Power6And8QuantizationRoundTrip) {
-    // MOMENTS-NOTES.md transforms for 6 and 8 power moments (and 4, through the same entry):
-    // (1) valid normalized moment vectors land in [0, 1]^m (this is what decides where the
+    // docs/oit.md#moment-constants transforms for 6 and 8 power moments (and 4, through the same
+    // entry): (1) valid normalized moment vectors land in [0, 1]^m (this is what decides where the
     // offsets go: added before the transform they map valid vectors to [-0.25, 1.3] for 6 and
     // [-1.9, 0.74] for 8 moments); (2) the published inverse undoes the transform to the
     // precision it is printed with (11 digits for 6 moments: |Q Q^-1 - I| <= 7e-11, times
@@ -585,10 +586,10 @@ TEST(OitMomentReference, Storage16ErrorWithinFloat32OnRandomStacks) {
     // the transmittance in front of every layer is compared with the exact one: float32 =
     // exact double moments with the float32 bias (the GPU float32 path rounds far less than
     // the bias), quantized and half = the emulations above with their own default biases
-    // (the technique's: 16-bit column of MOMENTS-NOTES.md, half x kHalfBiasFactor, which this
-    // test passes in). The mean absolute error of each storage over all layers must be at
-    // most 1.5x float32's, plus 2e-3 for the quantization noise itself (UNORM16 through Q^-1
-    // and half b_0, measured well below).
+    // (the technique's: 16-bit column of docs/oit.md#moment-constants, half x kHalfBiasFactor,
+    // which this test passes in). The mean absolute error of each storage over all layers must be
+    // at most 1.5x float32's, plus 2e-3 for the quantization noise itself (UNORM16 through Q^-1 and
+    // half b_0, measured well below).
     constexpr double kHalfBiasFactor = 1.0; // src/oit/moment/moment.cpp
     for (const MomentSet& set : kSets) {
         const int count = set.count;

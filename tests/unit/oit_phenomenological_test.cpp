@@ -1,7 +1,7 @@
 // The CPU model of OIT `phenomenological` (src/oit/cpu/phenomenological.h) against closed
-// forms: non-reflective colored glass gives exactly background * prod(1 - a + a t) (000
-// Eq. 2, the Fig. 2 claim); one grey layer gives the exact over operator; the result does
-// not depend on submission order; self-modulation only changes colored overlaps.
+// forms: non-reflective colored glass gives exactly background * prod(1 - a + a t) ([McGuire16 Eq.
+// 2], the Fig. 2 claim); one grey layer gives the exact over operator; the result does not depend
+// on submission order; self-modulation only changes colored overlaps.
 #include "oit/cpu/phenomenological.h"
 
 #include <gtest/gtest.h>
@@ -63,7 +63,7 @@ TEST(OitPhenomenologicalModelTest, SelfModulationTintsColoredOverlapsOnly) {
     oit::cpu::PhenomenologicalOptions off;
     off.selfModulation = false;
     expectNear(phenomenologicalResolve(grey, bg), phenomenologicalResolve(grey, bg, off), 1e-12);
-    // 001 Eq. 14: channels where beta is below its maximum are darkened (green, blue here).
+    // [McGuire17 Eq. 14]: channels where beta is below its maximum are darkened (green, blue here).
     const glm::dvec3 on = phenomenologicalResolve(red, bg),
                      plain = phenomenologicalResolve(red, bg, off);
     EXPECT_NEAR(on.r, plain.r, 1e-12);

@@ -1,4 +1,4 @@
-// CPU exact compositing (src/oit/cpu/composite.h) against the worked examples of 004
+// CPU exact compositing (src/oit/cpu/composite.h) against the worked examples of [Enderton11]
 // (Enderton et al., Stochastic Transparency, section 3.1), in double precision.
 #include "base/error.h"
 #include "oit/cpu/composite.h"
@@ -17,9 +17,9 @@ using oit::cpu::Fragment;
 using oit::cpu::makeFragment;
 
 TEST(OitCpuCompositeTest, Example1RedOverGreenOverBlueBackground) {
-    // 004 Example 1: red (alpha 0.45) in front of green (alpha 0.45), pure blue background:
-    // c = a0 c0 + (1-a0) a1 c1 + (1-a0)(1-a1) cb = (0.45, 0.2475, 0.3025).
-    // Submitted back to front to show the sort does its job.
+    // [Enderton11 Example 1]: red (alpha 0.45) in front of green (alpha 0.45), pure blue
+    // background: c = a0 c0 + (1-a0) a1 c1 + (1-a0)(1-a1) cb = (0.45, 0.2475, 0.3025). Submitted
+    // back to front to show the sort does its job.
     const std::vector<Fragment> frags = {makeFragment(2.0, {0, 1, 0}, 0.45),
                                          makeFragment(1.0, {1, 0, 0}, 0.45)};
     const glm::dvec3 c = compositeSorted(frags, {0, 0, 1});
@@ -40,7 +40,7 @@ TEST(OitCpuCompositeTest, Example1NeedsABlueBackgroundNotABlueLayer) {
 }
 
 TEST(OitCpuCompositeTest, Example2FourWhiteSmokeBlobs) {
-    // 004 Example 2: N = 4 white fragments of alpha 1/N over a 25% grey background:
+    // [Enderton11 Example 2]: N = 4 white fragments of alpha 1/N over a 25% grey background:
     // c = (1-a)^N cb + sum_{i<N} (1-a)^i a cf = 0.75^4 * 0.25 + (1 - 0.75^4) = 0.7626953125.
     const int n = 4;
     std::vector<Fragment> frags;

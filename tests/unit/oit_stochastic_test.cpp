@@ -1,6 +1,6 @@
-// Stochastic transparency, CPU side (no GL): the S-choose-R mask table (004 section 3.1,
+// Stochastic transparency, CPU side (no GL): the S-choose-R mask table ([Enderton11 sec. 3.1],
 // section 5), the per-fragment hash that picks masks, and the double-precision pixel
-// simulator checked against the RMS errors 004 states for its Examples 1 and 2 at S = 4.
+// simulator checked against the RMS errors [Enderton11] states for its Examples 1 and 2 at S = 4.
 #include "base/error.h"
 #include "oit/cpu/stochastic.h"
 
@@ -84,7 +84,7 @@ TEST(OitStochasticMaskTable, RejectsBadBitCounts) {
 }
 
 TEST(OitStochasticMaskTable, HashUsesMasksOfARowUniformly) {
-    // 004 section 5: the seed indexes the table. For N = 4, R = 2 (6 masks), count which
+    // [Enderton11 sec. 5]: the seed indexes the table. For N = 4, R = 2 (6 masks), count which
     // mask 60000 fragments at different pixels pick: chi-square with 5 degrees of freedom.
     const StochasticMaskTable t = buildStochasticMaskTable(4);
     const int trials = 60000;
@@ -104,7 +104,8 @@ TEST(OitStochasticMaskTable, HashUsesMasksOfARowUniformly) {
 }
 
 TEST(OitStochasticMaskTable, CoverageCountIsStratifiedAndUnbiased) {
-    // 004 section 3.1: R = floor(alpha S + xi) takes only floor/ceil of alpha S, mean alpha S.
+    // [Enderton11 sec. 3.1]: R = floor(alpha S + xi) takes only floor/ceil of alpha S, mean alpha
+    // S.
     for (float alpha : {0.0f, 0.1f, 0.45f, 0.5f, 0.93f, 1.0f}) {
         double sum = 0.0;
         const int trials = 40000;
@@ -129,8 +130,8 @@ TEST(OitStochasticMaskTable, DifferentSeedsAndGroupsGiveDifferentHashes) {
     EXPECT_EQ(a, stochasticFragmentHash(3, 4, z + 3u, 1, 0));      // same surface, rounding noise
 }
 
-// 004 Examples 1 and 2 (section 3.1) at S = 4 through the simulator: the RMS errors the paper
-// states, rounded to hundredths. The simulator reproduces the paper's numbers for the basic
+// [Enderton11 Examples 1 and 2] (section 3.1) at S = 4 through the simulator: the RMS errors the
+// paper states, rounded to hundredths. The simulator reproduces the paper's numbers for the basic
 // method and Example 2 and lands below them elsewhere (see the GL test for the values).
 const double kBlue[3] = {0, 0, 1};
 const double kGrey[3] = {0.25, 0.25, 0.25};
@@ -152,7 +153,7 @@ TEST(OitStochasticSimulation, Example1RmsMatchesPaperAtFourSamples) {
     const int n = 40000;
     const auto basic =
         simulateStochasticPixel(example1(), kBlue, StochasticVariant::Basic, 4, 1, n, 1);
-    // 004 3.1: sigma_stratified = (0.10, 0.17, 0.18)
+    // [Enderton11 sec. 3.1]: sigma_stratified = (0.10, 0.17, 0.18)
     EXPECT_NEAR(basic.rms[0], 0.10, 0.01);
     EXPECT_LE(basic.rms[1], 0.17 + 0.01);
     EXPECT_LE(basic.rms[2], 0.18 + 0.01);
@@ -160,13 +161,13 @@ TEST(OitStochasticSimulation, Example1RmsMatchesPaperAtFourSamples) {
         EXPECT_NEAR(basic.mean[k], basic.exact[k], 0.005); // unbiased
     const auto alpha =
         simulateStochasticPixel(example1(), kBlue, StochasticVariant::AlphaCorrected, 4, 1, n, 1);
-    // 004 3.3: (0.17, 0.14, 0.0); blue exact because the background uses total alpha
+    // [Enderton11 sec. 3.3]: (0.17, 0.14, 0.0); blue exact because the background uses total alpha
     EXPECT_LE(alpha.rms[0], 0.17 + 0.01);
     EXPECT_LE(alpha.rms[1], 0.14 + 0.01);
     EXPECT_LT(alpha.rms[2], 1e-12);
     const auto depth =
         simulateStochasticPixel(example1(), kBlue, StochasticVariant::DepthBased, 4, 1, n, 1);
-    // 004 3.4: corrected depth-based (0.14, 0.12, 0.0)
+    // [Enderton11 sec. 3.4]: corrected depth-based (0.14, 0.12, 0.0)
     EXPECT_LE(depth.rms[0], 0.14 + 0.01);
     EXPECT_LE(depth.rms[1], 0.12 + 0.01);
     EXPECT_LT(depth.rms[2], 1e-12);
@@ -176,17 +177,18 @@ TEST(OitStochasticSimulation, Example2RmsMatchesPaperAtFourSamples) {
     const int n = 40000;
     const auto basic =
         simulateStochasticPixel(example2(), kGrey, StochasticVariant::Basic, 4, 1, n, 2);
-    EXPECT_NEAR(basic.rms[0], 0.12, 0.01); // 004 3.1: sigma_stratified = 0.12
+    EXPECT_NEAR(basic.rms[0], 0.12, 0.01); // [Enderton11 sec. 3.1]: sigma_stratified = 0.12
     const auto alpha =
         simulateStochasticPixel(example2(), kGrey, StochasticVariant::AlphaCorrected, 4, 1, n, 2);
-    EXPECT_LT(alpha.rms[0], 1e-12); // 004 3.3: 0.12 -> 0.0 (all fragments the same colour)
+    EXPECT_LT(alpha.rms[0],
+              1e-12); // [Enderton11 sec. 3.3]: 0.12 -> 0.0 (all fragments the same colour)
     const auto depth =
         simulateStochasticPixel(example2(), kGrey, StochasticVariant::DepthBased, 4, 1, n, 2);
-    EXPECT_LT(depth.rms[0], 1e-12); // 004 3.4: 0.12 -> 0.08 -> 0
+    EXPECT_LT(depth.rms[0], 1e-12); // [Enderton11 sec. 3.4]: 0.12 -> 0.08 -> 0
 }
 
 TEST(OitStochasticSimulation, MoreSamplesReduceErrorAndBias) {
-    // 004 section 4: basic is unbiased, A and D are consistent (bias shrinks with samples).
+    // [Enderton11 sec. 4]: basic is unbiased, A and D are consistent (bias shrinks with samples).
     const int n = 20000;
     for (auto v : {StochasticVariant::Basic, StochasticVariant::AlphaCorrected,
                    StochasticVariant::DepthBased}) {

@@ -17,8 +17,8 @@ namespace {
 PropertySchema schema() {
     PropertySchema s;
     s.boolean("on", true, "a switch")
-        .integer("count", 8, 1, 64, "a count", "004 3.1")
-        .real("bias", 5e-6, 0.0, 0.999, "a bias", "002 sec. 5.3")
+        .integer("count", 8, 1, 64, "a count", "[Enderton11 sec. 3.1]")
+        .real("bias", 5e-6, 0.0, 0.999, "a bias", "[Munstermann18 sec. 5.3]")
         .color("tint", {1, 0.5f, 0}, "a colour")
         .choice("mode", "a", {"a", "b"}, "a choice");
     return s;
@@ -116,7 +116,7 @@ TEST(PropertiesTest, EveryOitTechniqueDeclaresValidDefaults) {
     EXPECT_TRUE(registry.resolve("phenomenological", json(), "t").getBool("diffusion"));
     EXPECT_TRUE(
         registry.resolve("phenomenological-volume", json(), "t").getBool("volume_refraction"));
-    // MOMENTS-NOTES.md biases per set.
+    // docs/oit.md#moment-constants biases per set.
     EXPECT_DOUBLE_EQ(registry.resolve("moment-p6", json(), "t").getDouble("bias"), 5e-6);
     EXPECT_DOUBLE_EQ(registry.resolve("moment-t3-16", json(), "t").getDouble("bias"), 6.5e-4);
     EXPECT_FALSE(registry.find("moment-p4")->properties.find("wrapping_zone"));

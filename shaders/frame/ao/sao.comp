@@ -1,6 +1,6 @@
 #version 450 core
 // AO step 3: the obscurance estimator of Scalable Ambient Obscurance (McGuire, Mara &
-// Luebke, HPG 2012; 001 reference [32] family), per pixel C with camera-space position P_C and
+// Luebke, HPG 2012; [Mara16] family), per pixel C with camera-space position P_C and
 // normal n_C reconstructed from the z pyramid:
 //   A(C) = max(0, 1 - (2 sigma / s) sum_i H(r^2 - v_i.v_i) max(0, v_i.n_C - beta z_C)
 //                                        / (v_i.v_i + epsilon))^k,      v_i = Q_i - P_C,

@@ -2,7 +2,7 @@
 // function surfaces and the fog call, with the same contract for every technique:
 //   radiance      reflected/emitted radiance already multiplied by coverage alpha
 //   alpha         coverage
-//   transmission  T in [0,1]^3 (000 Eq. 2: the background is modulated by 1 - a + a T)
+//   transmission  T in [0,1]^3 ([McGuire16 Eq. 2]: the background is modulated by 1 - a + a T)
 //   viewDepth     distance along the view axis
 // This one blends unsorted with dual-source modulation, scaling coverage by a property.
 

@@ -2,7 +2,7 @@
 // baseline every other technique is compared against. Dual-source blending lets the
 // background be modulated per channel:  dst = src0 + src1 * dst,  with
 //   src0 = premultiplied reflected radiance (alpha * L_r)
-//   src1 = 1 - alpha + alpha * T   (000 Eq. 2: the surface's factor of beta)
+//   src1 = 1 - alpha + alpha * T   ([McGuire16 Eq. 2]: the surface's factor of beta)
 // which is exact when surfaces arrive back to front and wrong otherwise.
 
 // Per-pixel contributions from compute (OIT_COMPUTE, shaders/oit/fragment.glsl): the same

@@ -1,22 +1,22 @@
-// OIT technique `moment-*` (002: moment-based order-independent transparency), float32 or
+// OIT technique `moment-*` ([Munstermann18]: moment-based order-independent transparency), float32 or
 // half-float storage with additive blending only. Needs MOMENT_COUNT, MOMENT_POWER or
 // MOMENT_TRIG, MOMENT_STORED (floats after b_0: m for power, 2m for trigonometric), OIT_PASS,
 // and the image formats of the targets (MOMENT_FORMAT0..2, MOMENT_ACCUM_FORMAT: used where
 // the targets are written as images from compute, OIT_COMPUTE).
 //
-// Pass 0 (002 section 3.1): accumulate absorbance moments (16-bit variants: storage16.glsl).
+// Pass 0 [Munstermann18 sec. 3.1]: accumulate absorbance moments (16-bit variants: storage16.glsl).
 //   target 0 RGBA32F: (b_0, b_0 red, b_0 green, b_0 blue)
 //   target 1 RGBA32F / RGBA16F: moments 1..4 (power b_1..b_4; trig re b_1, im b_1, re b_2,
 //            im b_2)
 //   target 2 RGBA32F / RGBA16F or RG16F where 6 are stored: moments 5..8 (only when
 //            MOMENT_STORED > 4)
-// Pass 1 (002 section 3.2): reconstruct T in front of the fragment and accumulate
+// Pass 1 [Munstermann18 sec. 3.2]: reconstruct T in front of the fragment and accumulate
 //   target RGBA32F / RGBA16F: (radiance * T, alpha_eff * T)  (alpha = renormalization
 //   weight, Eq. 2)
 //
 // Colored transmission: the moments are scalar. A surface modulates what is behind it by
-// f = 1 - alpha + alpha * transmission (000 Eq. 2) per channel; the moments use the net
-// coverage alpha_eff = 1 - mean(f) (like 000 Listing 1's netCoverage), and b_0 is also
+// f = 1 - alpha + alpha * transmission [McGuire16 Eq. 2] per channel; the moments use the net
+// coverage alpha_eff = 1 - mean(f) (like [McGuire16 Listing 1]'s netCoverage), and b_0 is also
 // accumulated per channel from -ln f so that the background behind everything is modulated by
 // the exact colored transmittance exp(-b_0,rgb) in the resolve. Surfaces in front of others
 // occlude them by the scalar reconstruction only.
@@ -97,7 +97,7 @@ layout(binding = VEIL_TEX_OIT0 + 2) uniform sampler2D momentTex2;
 #endif
 OIT_TARGET(0, MOMENT_ACCUM_FORMAT, oitOutAccum);
 
-// Transmittance in front of view depth `viewDepth` at pixel p (002 section 3.2).
+// Transmittance in front of view depth `viewDepth` at pixel p [Munstermann18 sec. 3.2].
 float momentTransmittance(ivec2 p, float viewDepth) {
     float b[MOMENT_STORED + 1];
     vec4 t0 = texelFetch(momentTex0, p, 0), t1 = texelFetch(momentTex1, p, 0);

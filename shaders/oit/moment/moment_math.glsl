@@ -1,4 +1,4 @@
-// Moment-based reconstruction of the absorbance in front of a depth (002 Algorithms 1 and 2),
+// Moment-based reconstruction of the absorbance in front of a depth [Munstermann18 Algorithms 1 and 2],
 // single precision; GLSL port of src/oit/cpu/moments.cpp (the double reference it is tested
 // against) without the reference's Newton polishing.
 // Needs: common/camera.glsl included before, MOMENT_COUNT (m) and one of MOMENT_POWER /
@@ -9,30 +9,30 @@
 #error "moment_math.glsl needs MOMENT_COUNT"
 #endif
 
-uniform float momentOverestimation; // beta, 002 section 3.2
-uniform float momentBias;           // alpha of the biasing (MOMENTS-NOTES.md)
+uniform float momentOverestimation; // beta, [Munstermann18 sec. 3.2]
+uniform float momentBias;           // alpha of the biasing (docs/oit.md#moment-constants)
 // power: b*_1..b*_m, a define (MOMENT_BIAS_VECTOR float[8](...)) set by the technique
 const float momentBiasVector[8] = MOMENT_BIAS_VECTOR;
-uniform float momentWrappingZone; // theta, 002 Eq. 5
-uniform vec2 momentDepthRange;    // [zMin, zMax] of the log warp (002 section 3.3);
+uniform float momentWrappingZone; // theta, [Munstermann18 Eq. 5]
+uniform vec2 momentDepthRange;    // [zMin, zMax] of the log warp [Munstermann18 sec. 3.3];
                                   // x <= 0: the camera's near/far (common/camera.glsl)
 
 const float MOMENT_PI = 3.14159265358979;
 
-// 002 section 3.3: logarithmic depth warp to [-1, 1].
+// [Munstermann18 sec. 3.3]: logarithmic depth warp to [-1, 1].
 float momentWarp(float viewDepth) {
     vec2 range = momentDepthRange.x > 0.0 ? momentDepthRange : camera.viewport.zw;
     float lo = log(range.x), hi = log(range.y);
     return clamp((log(max(viewDepth, 1e-30)) - lo) / (hi - lo) * 2.0 - 1.0, -1.0, 1.0);
 }
 
-// 002 Eq. 5
+// [Munstermann18 Eq. 5]
 vec2 momentCircle(float z) {
     float phi = (2.0 * MOMENT_PI - momentWrappingZone) * 0.5 * (z + 1.0);
     return vec2(cos(phi), sin(phi));
 }
 
-// Absorbance of one surface (002 section 3.1), finite for alpha = 1.
+// Absorbance of one surface [Munstermann18 sec. 3.1], finite for alpha = 1.
 float momentSurfaceAbsorbance(float alpha) { return -log(1.0 - clamp(alpha, 0.0, 0.9999999)); }
 
 #ifdef MOMENT_POWER
@@ -52,7 +52,7 @@ vec2 momentDepressedRoots(float cbar, float dbar) {
     return vec2(2.0 * m * cos(phi), 2.0 * m * cos(phi + 2.0 * MOMENT_PI / 3.0));
 }
 
-// Blinn's cubic (Blinn 2007), see moment_solvers.cpp: c0 + c1 x + c2 x^2 + c3 x^3.
+// Blinn's cubic [Blinn07], see moment_solvers.cpp: c0 + c1 x + c2 x^2 + c3 x^3.
 vec3 momentSolveCubic(float c0, float c1, float c2, float c3) {
     float A = c3, B = c2 / 3.0, C = c1 / 3.0, D = c0;
     float d1 = A * C - B * B, d2 = A * D - B * C, d3 = B * D - C * C;
@@ -67,7 +67,7 @@ vec3 momentSolveCubic(float c0, float c1, float c2, float c3) {
     return vec3(lt / ls, ss != 0.0 ? st / ss : 0.0, ms != 0.0 ? mt / ms : -lt / ls);
 }
 
-// Neumark's quartic (002 section 4.2): resolvent root of smallest magnitude (Blinn), then the
+// Neumark's quartic [Munstermann18 sec. 4.2]: resolvent root of smallest magnitude (Blinn), then the
 // better of Herbison-Evans' two factorizations into quadratics.
 vec4 momentSolveQuartic(float q0, float q1, float q2, float q3, float q4) {
     float a = q3 / q4, b = q2 / q4, c = q1 / q4, d = q0 / q4;
@@ -108,7 +108,7 @@ vec4 momentSolveQuartic(float q0, float q1, float q2, float q3, float q4) {
     return vec4(r1, r2);
 }
 
-// 002 Algorithm 1 on b / b_0 (biased), returning the normalized absorbance in [0, 1].
+// [Munstermann18 Algorithm 1] on b / b_0 (biased), returning the normalized absorbance in [0, 1].
 float momentAbsorbanceNormalized(float b[MOMENT_COUNT + 1], float zf) {
     float nb[MOMENT_COUNT + 1];
     nb[0] = 1.0;
@@ -196,7 +196,7 @@ float momentAbsorbanceNormalized(float b[MOMENT_COUNT + 1], float zf) {
 
 // A(z_f, b, beta) in [0, b_0]; a failed solve (NaN/Inf) falls back to beta * b_0.
 float momentAbsorbance(float b[MOMENT_STORED + 1], float zf) {
-    if (!(b[0] > 1e-7)) return 0.0; // 002 section 3.2: early return for b_0 = 0
+    if (!(b[0] > 1e-7)) return 0.0; // [Munstermann18 sec. 3.2]: early return for b_0 = 0
     float a = momentAbsorbanceNormalized(b, zf);
     if (isnan(a) || isinf(a)) a = momentOverestimation;
     return b[0] * clamp(a, 0.0, 1.0);

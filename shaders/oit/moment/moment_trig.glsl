@@ -1,4 +1,4 @@
-// 002 Algorithm 2 (trigonometric moments, Toeplitz system, complex roots), included by
+// [Munstermann18 Algorithm 2] (trigonometric moments, Toeplitz system, complex roots), included by
 // moment_math.glsl when MOMENT_TRIG is defined. Complex numbers are vec2 (re, im).
 #ifdef MOMENT_TRIG
 const int MOMENT_N = MOMENT_COUNT + 1;
@@ -17,7 +17,7 @@ vec2 ccbrt(vec2 z) { // principal cube root
     return pow(r, 1.0 / 3.0) * vec2(cos(phi), sin(phi));
 }
 
-// Roots of c0 + c1 x + c2 x^2: the one of greater magnitude first (002 section 5.3).
+// Roots of c0 + c1 x + c2 x^2: the one of greater magnitude first [Munstermann18 sec. 5.3].
 void cSolveQuadratic(vec2 c0, vec2 c1, vec2 c2, out vec2 r0, out vec2 r1) {
     vec2 s = csqrt(cmul(c1, c1) - 4.0 * cmul(c2, c0));
     if (dot(c1, s) < 0.0) s = -s;
@@ -84,14 +84,14 @@ void cSolveQuartic(vec2 q0, vec2 q1, vec2 q2, vec2 q3, vec2 q4, out vec2 r[4]) {
     cSolveQuadratic(first ? h1 : h2, first ? g1 : g2, vec2(1.0, 0.0), r[2], r[3]);
 }
 
-// 002 section 5.2: piecewise linear stand-in for the angle.
+// [Munstermann18 sec. 5.2]: piecewise linear stand-in for the angle.
 float momentPsi(vec2 x) {
     if (x.y >= 0.0) return x.x >= 0.0 ? -x.x + x.y : 2.0 - x.x - x.y;
     return x.x < 0.0 ? 4.0 + x.x - x.y : 6.0 + x.x + x.y;
 }
 
-// b = (b_0, re b_1, im b_1, ..., re b_m, im b_m): 002 Algorithm 2 on b / b_0 with the
-// biasing b_j *= 1 - alpha (002 section 5.3); returns the normalized absorbance.
+// b = (b_0, re b_1, im b_1, ..., re b_m, im b_m): [Munstermann18 Algorithm 2] on b / b_0 with the
+// biasing b_j *= 1 - alpha [Munstermann18 sec. 5.3]; returns the normalized absorbance.
 float momentAbsorbanceNormalized(float b[2 * MOMENT_COUNT + 1], float zf) {
     vec2 nb[MOMENT_N];
     nb[0] = vec2(1.0, 0.0);
@@ -137,7 +137,7 @@ float momentAbsorbanceNormalized(float b[2 * MOMENT_COUNT + 1], float zf) {
 #endif
     for (int l = 1; l < MOMENT_N; ++l)
         x[l] = r[l - 1];
-    // 002 Eq. 6
+    // [Munstermann18 Eq. 6]
     float psi0 = momentPsi(x0), psiEnd = momentPsi(momentCircle(1.0));
     vec2 c[MOMENT_N];
     c[0] = vec2(momentOverestimation, 0.0);

@@ -1,5 +1,5 @@
 #version 450 core
-// Resolve of `moment-*` (002 section 3.4, Eq. 2): renormalized compositing over the opaque
+// Resolve of `moment-*` [Munstermann18 sec. 3.4, Eq. 2]: renormalized compositing over the opaque
 // image,  L = T_rgb * L_opaque + (1 - exp(-b_0)) / sum(w) * sum(radiance * T),
 // with T_rgb = exp(-b_0,rgb) the colored total transmittance (see emit.glsl). Where the weights
 // vanish (no absorbing surface: purely emissive or fully transmitting ones) the sum is added

@@ -1,8 +1,8 @@
 // 16-bit storage for `moment-p4-16`, `moment-p6-16`, `moment-p8-16`, `moment-t3-16`,
-// `moment-t4-16` (002 section 4.1): b_0 (and the per-channel b_0) in RGBA16F, the normalized
+// `moment-t4-16` [Munstermann18 sec. 4.1]: b_0 (and the per-channel b_0) in RGBA16F, the normalized
 // moments b_k / b_0 in 16 bits each, power moments through the quantization transforms of
-// MOMENTS-NOTES.md (UNORM16: p4 one RGBA16; p6 RGBA16 (odd 1-3, even 1) + RG16 (even 2-3); p8
-// RGBA16 odd + RGBA16 even), trigonometric ones directly (SNORM16, 002 section 5.3: no
+// docs/oit.md#moment-constants (UNORM16: p4 one RGBA16; p6 RGBA16 (odd 1-3, even 1) + RG16 (even 2-3); p8
+// RGBA16 odd + RGBA16 even), trigonometric ones directly (SNORM16, [Munstermann18 sec. 5.3]: no
 // transform needed). Accumulation is a
 // read-modify-write under GL_ARB_fragment_shader_interlock (the technique adds the #extension
 // line through its defines, right after #version).
@@ -74,7 +74,7 @@ float momentPendingB[9];
 vec3 momentPendingRgb;
 #endif
 
-// 002 section 4.1: multiply the stored normalized vector by b_0, add, divide by the new b_0.
+// [Munstermann18 sec. 4.1]: multiply the stored normalized vector by b_0, add, divide by the new b_0.
 void momentAccumulate16(ivec2 p, float b[9], vec3 absorbanceRgb) {
     vec4 s0 = imageLoad(momentImg0, p);
     vec4 t1 = imageLoad(momentImg1, p), t2 = vec4(0.0);

@@ -1,13 +1,13 @@
-// OIT technique `phenomenological` (McGuire & Mara, 000 / 001): one unordered pass writes
-// each transparent fragment's contribution into three blended targets (000 Table 2, with
+// OIT technique `phenomenological` [McGuire16, McGuire17]: one unordered pass writes
+// each transparent fragment's contribution into three blended targets ([McGuire16 Table 2], with
 // the formats changed as noted in src/oit/phenomenological/phenomenological.h):
-//   RT0  (A_rgb, A_a)            additive            000 Eq. 4 numerator / denominator
-//   RT1  (beta_rgb, D^2 / Dmax^2)  rgb: dst *= 1 - src  000 Eq. 2; a: additive (Eq. 7)
-//   RT2  sum c_i w_i delta_i / 64    additive          000 Eq. 8-9 (001 Eq. 9-10), averaged
+//   RT0  (A_rgb, A_a)            additive            [McGuire16 Eq. 4] numerator / denominator
+//   RT1  (beta_rgb, D^2 / Dmax^2)  rgb: dst *= 1 - src  [McGuire16 Eq. 2]; a: additive (Eq. 7)
+//   RT2  sum c_i w_i delta_i / 64    additive          [McGuire16 Eq. 8-9] [McGuire17 Eq. 9-10], averaged
 //        (RG16F; only with refraction, define PHEN_REFRACTION)
 // where c_i = alpha_i (1 - mean t_i) is the net coverage (Listing 1 `netCoverage`) and w_i the
 // Eq. 5 depth weight: the resolve divides RT2 by A_a = sum c_i w_i, so the layers' offsets are
-// averaged with the weights of their reflected light (Eq. 4). 001 section 4.3.2 asks for an
+// averaged with the weights of their reflected light (Eq. 4). [McGuire17 sec. 4.3.2] asks for an
 // average "weighted by coverage and opacity" without fixing the weights, and its listing sums
 // c_i delta_i unnormalized; weighting by c_i w_i instead of c_i needs no weight-sum channel
 // (RT2 is two channels, 4 bytes, instead of RGBA16F), and is the same for a single layer and
@@ -25,7 +25,7 @@
 //
 // Volume refraction (PhenomenologicalParams::volumeRefraction, defines PHEN_VOLUME): a first
 // geometry pass (PHEN_THICKNESS) writes each transparent fragment as one bit of its view-depth
-// slice into a front-face and a back-face slice map (003 section 3; 512 slices uniform in view
+// slice into a front-face and a back-face slice map ([Eisemann06 sec. 3]; 512 slices uniform in view
 // depth between the camera's near and far planes, 4 RGBA32UI targets each, OR logic op);
 // thickness.comp walks them into a thickness per pixel, which the accumulation pass uses for
 // the refraction offset (Delta z := thickness), Beer-Lambert absorption at front faces and a
@@ -56,12 +56,12 @@ uniform float phenVolumeBlur;       // k_r of the thickness x roughness diffusio
 // A copy of the opaque depth (the original is attached for the depth test).
 layout(binding = VEIL_PHEN_TEX_DEPTH) uniform sampler2D phenOpaqueDepth;
 
-uniform vec2 phenWeightRange;        // 000 Eq. 5 clamp, (0.01, 30)
-uniform float phenK0;                // 000 Eq. 7 k_0
-uniform float phenK1;                // 000 Eq. 7 k_1
-uniform float phenPixelsPerUnit;     // 000 Eq. 7 W / (2 tan(theta/2)); <= 0: from projection
-uniform float phenMaxDiffusionPixels; // 000 Listing 2; D^2 is stored divided by its square
-uniform float phenRefractionDepth;   // 000 Eq. 9 Delta z
+uniform vec2 phenWeightRange;        // [McGuire16 Eq. 5] clamp, (0.01, 30)
+uniform float phenK0;                // [McGuire16 Eq. 7] k_0
+uniform float phenK1;                // [McGuire16 Eq. 7] k_1
+uniform float phenPixelsPerUnit;     // [McGuire16 Eq. 7] W / (2 tan(theta/2)); <= 0: from projection
+uniform float phenMaxDiffusionPixels; // [McGuire16 Listing 2]; D^2 is stored divided by its square
+uniform float phenRefractionDepth;   // [McGuire16 Eq. 9] Delta z
 uniform bool phenDiffusion;
 uniform bool phenRefraction;
 
@@ -93,8 +93,8 @@ struct PhenOutput {
     vec2 delta;
 };
 
-// 000 Listing 1 (computeOutput). radiance = alpha * L_r. t = transmission. c = collimation.
-// eta = relative refractive index eta_before / eta_after (000 Eq. 8; 1 / ior entering a
+// [McGuire16 Listing 1] (computeOutput). radiance = alpha * L_r. t = transmission. c = collimation.
+// eta = relative refractive index eta_before / eta_after ([McGuire16 Eq. 8]; 1 / ior entering a
 // medium of index ior from air, ior leaving it).
 // X, n: camera-space position and unit normal facing the viewer. zB: view distance of the
 // opaque background behind the fragment.
@@ -105,15 +105,15 @@ PhenOutput phenComputeOutput(vec3 radiance, float alpha, vec3 t, float viewDepth
                              float extraD) {
     PhenOutput o;
     float netCoverage = alpha * (1.0 - dot(t, vec3(1.0 / 3.0)));
-    // 000 Eq. 5: w = clamp([10 (1 - 0.99 f) alpha (1 - mean t)]^3, 0.01, 30)
+    // [McGuire16 Eq. 5]: w = clamp([10 (1 - 0.99 f) alpha (1 - mean t)]^3, 0.01, 30)
     float tmp = (1.0 - 0.99 * phenWindowDepth(viewDepth)) * netCoverage * 10.0;
     float w = clamp(tmp * tmp * tmp, phenWeightRange.x, phenWeightRange.y);
-    o.A = vec4(radiance, netCoverage) * w; // 000 Eq. 4
-    // 000 Eq. 2 factor 1 - alpha + alpha t, blended as dst * (1 - src). (Listing 1 also scales
+    o.A = vec4(radiance, netCoverage) * w; // [McGuire16 Eq. 4]
+    // [McGuire16 Eq. 2] factor 1 - alpha + alpha t, blended as dst * (1 - src). (Listing 1 also scales
     // this by 1/3, which would break Eq. 2; not done.)
     vec3 betaSrc = alpha * (vec3(1.0) - t);
 
-    // 000 Eq. 7, one term of the sum, in pixels: k_0 (1 - c) alpha' (1 - 1 / (1 + dz / k_1))
+    // [McGuire16 Eq. 7], one term of the sum, in pixels: k_0 (1 - c) alpha' (1 - 1 / (1 + dz / k_1))
     // times pixels per unit at this depth (W / (2 tan(theta/2)) / |z| for a perspective camera,
     // constant for an orthographic one). Listing 1 weights by net coverage, as here.
     float D2 = 0.0;
@@ -125,14 +125,14 @@ PhenOutput phenComputeOutput(vec3 radiance, float alpha, vec3 t, float viewDepth
         float D = netCoverage * (phenK0 * (1.0 - c) * (dz / (phenK1 + dz)) + extraD) * ppu /
                   abs(clipW);
         D2 = D * D / (phenMaxDiffusionPixels * phenMaxDiffusionPixels);
-        // 000 appendix: round non-zero values up so they survive the target's precision.
+        // [McGuire16] appendix: round non-zero values up so they survive the target's precision.
         if (D2 > 0.0) D2 = max(D2, 4.0 / 65535.0);
     }
     o.betaD = vec4(betaSrc, D2);
 
-    // 000 Eq. 8-9: refract the eye ray at X and intersect a plane Delta z behind X; the
+    // [McGuire16 Eq. 8-9]: refract the eye ray at X and intersect a plane Delta z behind X; the
     // offset is the projected point minus X's pixel. GLSL refract() is Snell's law for the
-    // ray direction (000 Eq. 8 as printed has a typo: it does not give a unit vector at
+    // ray direction ([McGuire16 Eq. 8] as printed has a typo: it does not give a unit vector at
     // normal incidence). k < 0 (total internal reflection): no transmitted transport, no
     // offset.
     vec2 delta = vec2(0.0);
@@ -144,14 +144,14 @@ PhenOutput phenComputeOutput(vec3 radiance, float alpha, vec3 t, float viewDepth
             delta = phenProjectToPixels(B) - phenProjectToPixels(X);
         }
     }
-    // 001 section 4.3.2: the offsets of all layers are averaged, weighted by c w (the header);
+    // [McGuire17 sec. 4.3.2]: the offsets of all layers are averaged, weighted by c w (the header);
     // / 64 keeps the float16 sum finite up to 64x A_a's range.
     o.delta = delta * (netCoverage * w / 64.0);
     return o;
 }
 
 #ifndef OIT_COMPUTE
-// Reduced-resolution particles (000 section 3 and 5 "Upsample"): with two geometry passes,
+// Reduced-resolution particles [McGuire16 sec. 3 and 5 "Upsample"]: with two geometry passes,
 // pass 0 (full resolution) skips billboard meshes and pass 1 (1/2 or 1/4 resolution) draws only
 // them, testing depth by hand against a downsampled key (the farthest opaque depth of the
 // block, bound as phenOpaqueDepth) since the low-resolution targets have no depth buffer.
@@ -170,7 +170,7 @@ float phenBackgroundDepth() {
 }
 
 #if defined(PHEN_THICKNESS)
-// Slice-map pass (003 section 2-3): one bit at the fragment's view-depth slice, in the front or
+// Slice-map pass [Eisemann06 sec. 2-3]: one bit at the fragment's view-depth slice, in the front or
 // back map by gl_FrontFacing (closed meshes wound counter-clockwise outward). Every output is
 // written (zeros elsewhere): the targets are OR-ed (glLogicOp). Fog and particles have no
 // surfaces bounding a volume: nothing in the slice maps.
@@ -220,7 +220,7 @@ void oitEmit(OitFragment f) {
     }
 #ifndef OIT_COMPUTE
     vec3 radiance = f.radiance;
-    // 001 section 6: the ambient part of the reflected light times the inferred AO.
+    // [McGuire17 sec. 6]: the ambient part of the reflected light times the inferred AO.
     if (phenInferredAO && !f.particle)
         radiance -= (1.0 - phenInferAmbientVisibility(f.alpha, f.binaryCoverage, f.viewDepth)) *
                     f.ambient;
@@ -239,7 +239,7 @@ void oitEmit(OitFragment f) {
     float h = hn.x;
     // The n front faces along the ray share the path: h / n each (exact for one material).
     float hFront = h / max(hn.y, 1.0);
-    // (a) 000 Eq. 9 with Delta z := h: the ray travels h inside the medium.
+    // (a) [McGuire16 Eq. 9] with Delta z := h: the ray travels h inside the medium.
     if (eta != 1.0 && !billboard) refractionDepth = h;
     if (gl_FrontFacing && h > 0.0) {
         // (b) Beer-Lambert once per pixel, at the faces entering a medium (back faces keep
@@ -250,7 +250,7 @@ void oitEmit(OitFragment f) {
         else if (phenThicknessRef > 0.0)
             t = pow(t, vec3(hFront / phenThicknessRef));
         // (c) rough interfaces blur in proportion to the path behind them: sigma = k_r r h / n
-        // (world units), added to 000 Eq. 7's k_0 (1 - c) term before the pixel scale.
+        // (world units), added to [McGuire16 Eq. 7]'s k_0 (1 - c) term before the pixel scale.
         extraD = phenVolumeBlur * f.roughness * hFront;
     }
 #endif

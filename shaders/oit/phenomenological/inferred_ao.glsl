@@ -1,4 +1,4 @@
-// OIT `phenomenological`: inferred ambient occlusion at partial coverage (001 section 6,
+// OIT `phenomenological`: inferred ambient occlusion at partial coverage ([McGuire17 sec. 6],
 // Listing 2). Transparent fragments never reach the depth buffer, so the frame's screen-space
 // AO (VEIL_TEX_AO, src/frame/ambient_occlusion.h) has no value for them; at the filtered edge
 // (0 < alpha < 1) of a binary-coverage material (baseMIPisBinary: no transmission, binary base

@@ -1,9 +1,9 @@
 #version 450 core
-// OIT `phenomenological`, resolve stage (000 section 5 / 001 section 5; 000 Listing 2 /
-// 001 Listing 3), as a compute shader over a copy of the opaque image:
-//   refract  sample the background at the pixel + delta (000 section 5 "Refract")
-//   diffuse  occlusion-aware gather with the disk filter (000 section 5 "Diffuse", Listing 2)
-//   combine  U' with self-modulation (000 Eq. 13 / 001 Eq. 14), then 000 Eq. 3.
+// OIT `phenomenological`, resolve stage ([McGuire16 sec. 5] / [McGuire17 sec. 5]; [McGuire16 Listing 2] /
+// [McGuire17 Listing 3]), as a compute shader over a copy of the opaque image:
+//   refract  sample the background at the pixel + delta [McGuire16 sec. 5 "Refract"]
+//   diffuse  occlusion-aware gather with the disk filter [McGuire16 sec. 5 "Diffuse", Listing 2]
+//   combine  U' with self-modulation ([McGuire16 Eq. 13] / [McGuire17 Eq. 14]), then [McGuire16 Eq. 3].
 #include "../../common/bindings.h"
 #include "../../common/math.glsl"
 #include "../../common/region.glsl"
@@ -32,19 +32,19 @@ void main() {
     if (minComponent(B) >= 1.0) return; // no transparency: the opaque image stays
 
     float dmax2 = phenMaxDiffusionPixels * phenMaxDiffusionPixels;
-    float D2 = BD.a * dmax2; // diffusion variance in pixels^2 (000 Eq. 7 squared)
+    float D2 = BD.a * dmax2; // diffusion variance in pixels^2 ([McGuire16 Eq. 7] squared)
     vec4 A = texelFetch(phenA, p, 0);
-    // 000 Listing 2: suppress under- and overflow of the float16 sums.
+    // [McGuire16 Listing 2]: suppress under- and overflow of the float16 sums.
     if (isinf(A.a)) A.a = maxComponent(A.rgb);
     if (isinf(maxComponent(A.rgb))) A = vec4(isinf(A.a) ? 1.0 : A.a);
     if (any(isnan(A))) A = vec4(0.0);
 
-    // 000 Eq. 13 / 001 Eq. 14 (epsilons of 001 Listing 3).
+    // [McGuire16 Eq. 13] / [McGuire17 Eq. 14] (epsilons of [McGuire17 Listing 3]).
     if (phenSelfModulation) A.rgb *= vec3(0.5) + max(B, vec3(1e-3)) / max(2e-3, 2.0 * maxComponent(B));
 
     vec2 delta = vec2(0.0);
     if (phenRefraction) {
-        // 001 section 4.3.2: the layers' pixel offsets averaged with the weights c w of their
+        // [McGuire17 sec. 4.3.2]: the layers' pixel offsets averaged with the weights c w of their
         // reflected light (emit.glsl): RT2 holds sum c w delta / 64, A_a sum c w.
         vec2 d = texelFetch(phenDelta, p, 0).xy;
         float Aa = texelFetch(phenA, p, 0).a;
@@ -53,7 +53,7 @@ void main() {
 
     vec3 bkg = vec3(0.0);
     if (phenDiffusion && D2 > 0.0) {
-        // 000 section 5 "Diffuse": gather from taps q with |q| <= min(D[p], D[p + q]) so that a
+        // [McGuire16 sec. 5 "Diffuse"]: gather from taps q with |q| <= min(D[p], D[p + q]) so that a
         // background less diffused than the distance (e.g. pressed against the glass) does
         // not bleed. (The text prints the inequality the other way round; Listing 2 and this
         // code keep taps inside both radii.)
@@ -79,7 +79,7 @@ void main() {
         // No diffusion: bilinear sample at the fractional refracted position.
         bkg = textureLod(phenBackground, (vec2(p) + 0.5 + delta) / vec2(size), 0.0).rgb;
     }
-    // 000 Eq. 3 with U' = A_rgb / A_a (Eq. 4), self-modulated.
+    // [McGuire16 Eq. 3] with U' = A_rgb / A_a (Eq. 4), self-modulated.
     vec3 result = bkg * B + (vec3(1.0) - B) * A.rgb / max(A.a, 1e-5);
     // Keep the float16 target finite (a legitimately huge U would otherwise store +inf).
     imageStore(hdrOut, p, vec4(min(result, vec3(65504.0)), 1.0));

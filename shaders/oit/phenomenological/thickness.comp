@@ -1,14 +1,14 @@
 #version 450 core
 // OIT `phenomenological` with volume refraction: thickness of the transparent media along each
 // pixel's eye ray from the front-face and back-face slice maps of the PHEN_THICKNESS pass
-// (003 section 3, "volume computation"; 512 slices of length (far - near) / 512 uniform in view
+// ([Eisemann06 sec. 3], "volume computation"; 512 slices of length (far - near) / 512 uniform in view
 // depth). The walk goes from near to far one slice at a time (empty words at once):
 //   front only   enter the medium; the entry slice counts 1/2
 //   back only    leave it; the exit slice counts 1/2 (a back face while outside: ignored)
-//   both         ambiguous slice (003 Fig. 9): counts as a whole slice inside; the state after it
+//   both         ambiguous slice [Eisemann06 Fig. 9]: counts as a whole slice inside; the state after it
 //                is unknown until the next unambiguous slice: a back face there means the empty
 //                slices in between were inside (added), a front face that they were outside
-//                (dropped); between two ambiguous slices they are added (003: "in practice we
+//                (dropped); between two ambiguous slices they are added ([Eisemann06]: "in practice we
 //                decide to include them")
 // A medium still open after the last slice (a lone camera-facing plane, or a mesh cut by the
 // opaque depth or the far plane) counts 0: planes are thin surfaces.

@@ -1,11 +1,11 @@
 #version 450 core
-// OIT `phenomenological`, 000 section 5 "Upsample": joint-bilateral upsampling of the
+// OIT `phenomenological`, [McGuire16 sec. 5 "Upsample"]: joint-bilateral upsampling of the
 // low-resolution particle accumulation "as if the buffers were simply colors", keyed on depth,
 // composited into the full-resolution buffers with the accumulation's own operators
 // (A, D^2, delta sums add; beta multiplies: the paper's RT1 blend (ZERO, SRC_COLOR)).
 // Filter: a tent over the 4 x 4 nearest low-resolution texels (radius 1.75 texels: 7 full-
 // resolution pixels at 1/4 resolution, the paper's 7 x 7 tent) times a depth weight
-// 1 / (1 + (|dz| / 0.02 z)^2) (001 Listing 2 uses a hyperbolic one; this falls off faster
+// 1 / (1 + (|dz| / 0.02 z)^2) ([McGuire17 Listing 2] uses a hyperbolic one; this falls off faster
 // across silhouettes), normalized. The upsampled contribution is then scaled
 // by a confidence, the best depth weight among the taps, so a pixel whose depth matches none
 // of the keys (a near opaque edge amid far blocks) receives nothing instead of a leak, while a

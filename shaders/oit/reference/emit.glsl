@@ -3,7 +3,7 @@
 // node counter); shaders/oit/reference/resolve.comp sorts each list by depth and composites
 // front to back. Each node stores
 //   radiance   = alpha * L_r (premultiplied), depth = view depth,
-//   modulation = 1 - alpha + alpha * T (000 Eq. 2, per channel).
+//   modulation = 1 - alpha + alpha * T ([McGuire16 Eq. 2], per channel).
 // The counter keeps counting past the pool's capacity; the host reads it back and, when it
 // exceeds the pool, grows the pool and re-renders (reference.h).
 //

@@ -1,7 +1,7 @@
 #version 450 core
 // OIT `reference` resolve: per pixel, gather the linked list into a local array of the
 // OIT_REF_MAX_FRAGMENTS nearest fragments (insertion sort by view depth while gathering),
-// then composite front to back over the opaque image (004 Eq. 2 with colored modulation):
+// then composite front to back over the opaque image ([Enderton11 Eq. 2] with colored modulation):
 //     C = sum_i (prod_{j<i} m_j) c_i + (prod_j m_j) * background.
 // Fragments beyond the nearest OIT_REF_MAX_FRAGMENTS are counted in oitRefDropped, and the
 // deepest list of the frame in oitRefMaxLength (what max_fragments_per_pixel must reach).

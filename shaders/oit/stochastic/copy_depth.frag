@@ -1,7 +1,7 @@
 #version 450 core
 // Copies the single-sample opaque depth (pass::Context::depth) into every sample of the
 // technique's multisampled depth buffer (depth func ALWAYS, writes on), so the stochastic
-// passes z-test per sample against the opaque geometry (004 3.5 step 1). Runs per pixel: the
+// passes z-test per sample against the opaque geometry [Enderton11 sec. 3.5 step 1]. Runs per pixel: the
 // opaque depth is one value per pixel, and full coverage writes it to all samples.
 #include "../../common/bindings.h"
 

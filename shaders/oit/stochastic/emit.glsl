@@ -1,20 +1,20 @@
-// OIT techniques `stochastic`, `stochastic-alpha`, `stochastic-depth` (004, Enderton et al.
+// OIT techniques `stochastic`, `stochastic-alpha`, `stochastic-depth` ([Enderton11], Enderton et al.
 // 2011): oitEmit() for one geometry pass, chosen by STOCH_KIND (set per pass by
 // src/oit/stochastic/stochastic.cpp):
-//   STOCH_KIND 0  total alpha (004 3.3 / 3.5 step 2): multiplicative blend into an MSAA
+//   STOCH_KIND 0  total alpha [Enderton11 sec. 3.3 / 3.5 step 2]: multiplicative blend into an MSAA
 //                 RGBA16F target, rgb *= 1 - a + a*T (exact per-channel background
-//                 modulation, 000 Eq. 2), a *= 1 - a_eff (004 Eq. 5).
-//   STOCH_KIND 1  stochastic color (004 3.1, 3.5 basic step 3): gl_SampleMask from the
+//                 modulation, [McGuire16 Eq. 2]), a *= 1 - a_eff [Enderton11 Eq. 5].
+//   STOCH_KIND 1  stochastic color ([Enderton11 sec. 3.1, 3.5] basic step 3): gl_SampleMask from the
 //                 S-choose-R table, z-test with depth writes, stores (c_eff, 1) per sample.
-//   STOCH_KIND 2  stochastic depth (004 3.5 depth-based step 3): same mask, depth only.
-//   STOCH_KIND 3  accumulation (004 3.5 step 4): additive (a_eff c_eff, a_eff) = (radiance,
-//                 a_eff) into the samples where z_fragment <= z_buffer (004 Eq. 4/6).
+//   STOCH_KIND 2  stochastic depth ([Enderton11 sec. 3.5] depth-based step 3): same mask, depth only.
+//   STOCH_KIND 3  accumulation [Enderton11 sec. 3.5 step 4]: additive (a_eff c_eff, a_eff) = (radiance,
+//                 a_eff) into the samples where z_fragment <= z_buffer [Enderton11 Eq. 4/6].
 //
-// Colored transmission T: the stochastic coverage (and the correction alpha, 004 Eq. 5) use
+// Colored transmission T: the stochastic coverage (and the correction alpha, [Enderton11 Eq. 5]) use
 // the net coverage a_eff = a * (1 - avg(T)), the part of the background a surface removes
 // on average; the colour it stands for is c_eff = radiance / a_eff, so a_eff * c_eff is the
 // emitted radiance. Alpha-corrected and depth-based variants modulate the background by the
-// exact per-channel product of (1 - a + a*T) (kind 0), as 000 Listing 1 does. The basic
+// exact per-channel product of (1 - a + a*T) (kind 0), as [McGuire16 Listing 1] does. The basic
 // variant has no total-alpha pass: its background weight is the fraction of empty samples,
 // i.e. T enters only through its average (grey). A surface with a_eff = 0 (T = 1) never
 // covers a sample: the basic and alpha-corrected variants drop its radiance, the depth-based
@@ -36,7 +36,7 @@
 layout(location = 0) out vec4 oitOut;
 
 #if STOCH_KIND == 1 || STOCH_KIND == 2
-// 004 section 5: S-choose-R masks from a precomputed table (src/oit/cpu/stochastic.cpp).
+// [Enderton11 sec. 5]: S-choose-R masks from a precomputed table (src/oit/cpu/stochastic.cpp).
 layout(std430, binding = VEIL_SSBO_STOCH_MASKS) readonly buffer StochMasks {
     uint stochOffset[33];
     uint stochCount[33];
@@ -55,10 +55,10 @@ uint stochHash(uint v) {
     return (word >> 22u) ^ word;
 }
 
-// 004 section 6: pixel and depth in the seed so every surface of a pixel gets an independent
+// [Enderton11 sec. 6]: pixel and depth in the seed so every surface of a pixel gets an independent
 // mask ("seeding by fragment z is effective for still images"). Not the primitive id: the two
 // triangles of one flat surface meeting inside a pixel would draw independent masks, and
-// alpha correction then loses the pixel whenever their coverages miss both masks (004 4.1,
+// alpha correction then loses the pixel whenever their coverages miss both masks ([Enderton11 sec. 4.1],
 // the "otherwise 0" case). The depth is rounded to 15 mantissa bits so both triangles of a
 // flat surface agree despite interpolation rounding.
 uint stochFragmentHash() {
@@ -71,7 +71,7 @@ uint stochFragmentHash() {
 // Sample mask of this pass; 0 when the fragment covers no sample.
 uint stochSampleMask(float alphaEff) {
     uint h = stochFragmentHash();
-    // 004 section 3.1: R = floor(alpha * N + xi), stratified coverage count.
+    // [Enderton11 sec. 3.1]: R = floor(alpha * N + xi), stratified coverage count.
     float xi = float(stochHash(h) >> 8u) * (1.0 / 16777216.0);
     int r = min(int(floor(clamp(alphaEff, 0.0, 1.0) * float(stochBits) + xi)), stochBits);
     uint mask = stochMask[stochOffset[r] + stochHash(stochHash(h)) % stochCount[r]];

@@ -1,7 +1,7 @@
 #version 450 core
 // Basic and alpha-corrected variants, after each stochastic colour pass: adds the box-filtered
-// (004 section 4.1, operator F) sample average (F(B), F(B1)) of the winner-take-all MSAA buffer
-// to a single-sample RGBA32F sum over the repeated passes (004 section 5: "average together
+// ([Enderton11 sec. 4.1], operator F) sample average (F(B), F(B1)) of the winner-take-all MSAA buffer
+// to a single-sample RGBA32F sum over the repeated passes ([Enderton11 sec. 5]: "average together
 // multiple passes with different random seeds"; footnote 4: average B and B1 separately).
 #include "../../common/bindings.h"
 #include "../../common/region.glsl"

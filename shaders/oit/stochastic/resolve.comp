@@ -1,11 +1,11 @@
 #version 450 core
-// Composite of the stochastic techniques over the opaque HDR image (004 3.5 step 5 / basic
+// Composite of the stochastic techniques over the opaque HDR image ([Enderton11 sec. 3.5 step 5] / basic
 // step 4), per pixel with a box filter F over the S samples (and the repeated passes):
-//   basic (VARIANT 0):  C = F(B) + F(empty) * background                     (004 3.1)
-//   alpha (VARIANT 1):  C = bg * prod(1 - a + aT) + alpha_C F(B) / F(B1)      (004 4.1, A)
-//   depth (VARIANT 2):  C = bg * prod(1 - a + aT) + alpha_C F(U) / F(U1)      (004 4.2, D)
-// with alpha_C = 1 - F(prod(1 - a_eff)) (004 Eq. 5) from the total-alpha target; the
-// background is dimmed per sample and then filtered (004 3.5), which for a single-sample
+//   basic (VARIANT 0):  C = F(B) + F(empty) * background                     [Enderton11 sec. 3.1]
+//   alpha (VARIANT 1):  C = bg * prod(1 - a + aT) + alpha_C F(B) / F(B1)      ([Enderton11 sec. 4.1], A)
+//   depth (VARIANT 2):  C = bg * prod(1 - a + aT) + alpha_C F(U) / F(U1)      ([Enderton11 sec. 4.2], D)
+// with alpha_C = 1 - F(prod(1 - a_eff)) [Enderton11 Eq. 5] from the total-alpha target; the
+// background is dimmed per sample and then filtered [Enderton11 sec. 3.5], which for a single-sample
 // opaque image is the filtered product.
 #include "../../common/bindings.h"
 #include "../../common/region.glsl"
@@ -41,7 +41,7 @@ void main() {
             c = vec4(0.0);
             for (int s = 0; s < samples; ++s) c += texelFetch(accumulation, p, s);
         }
-        // 004 section 4.1/4.2: the "otherwise 0" case of A and D.
+        // [Enderton11 sec. 4.1/4.2]: the "otherwise 0" case of A and D.
         vec3 corrected = c.a > 0.0 ? alphaC * c.rgb / c.a : vec3(0.0);
         result = bg.rgb * t.rgb + corrected;
     }

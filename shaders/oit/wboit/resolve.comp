@@ -1,7 +1,7 @@
 #version 450 core
-// OIT `wboit` resolve (000 Listing 2 without refraction, diffusion and self-modulation):
-//     result = background * r + (1 - r) * A.rgb / max(A.a, 1e-5)          (000 Eq. 3, 4)
-// with the under-/overflow guards of 000 Listing 2 on the RGBA16F accumulation.
+// OIT `wboit` resolve ([McGuire16 Listing 2] without refraction, diffusion and self-modulation):
+//     result = background * r + (1 - r) * A.rgb / max(A.a, 1e-5)          [McGuire16 Eq. 3, 4]
+// with the under-/overflow guards of [McGuire16 Listing 2] on the RGBA16F accumulation.
 #include "../../common/bindings.h"
 #include "../../common/math.glsl"
 #include "../../common/region.glsl"
@@ -16,9 +16,9 @@ void main() {
     ivec2 p;
     if (!regionPixel(size, p)) return;
     float r = texelFetch(revealageTex, p, 0).r;
-    if (r >= 1.0) return; // no transparency (000 Listing 2)
+    if (r >= 1.0) return; // no transparency [McGuire16 Listing 2]
     vec4 A = texelFetch(accumTex, p, 0);
-    // 000 Listing 2: suppress under- and overflow.
+    // [McGuire16 Listing 2]: suppress under- and overflow.
     if (isinf(A.a)) A.a = maxComponent(A.rgb);
     if (isinf(maxComponent(A.rgb))) A = vec4(isinf(A.a) ? 1.0 : A.a);
     vec4 background = imageLoad(hdrImage, p);

@@ -7,7 +7,7 @@
 // Leave the radiance untouched where the light is unoccluded, and include
 // visibility_values.glsl at the end for the value forms lightVisibility*().
 //
-// This one scales the opaque casters' shadow (Williams 1978 depth maps with PCF,
+// This one scales the opaque casters' shadow ([Williams78] depth maps with PCF,
 // common/opaque_depth.glsl) by a property:
 // params[0]: x = bias (world units along the light axis), y = PCF radius r;
 // params[1]: x = strength, the fraction of the light an opaque caster blocks.

@@ -1,5 +1,5 @@
 #version 450 core
-// One direction of the separable Gaussian filter of the moment maps (002 section 6: "filters
+// One direction of the separable Gaussian filter of the moment maps ([Munstermann18 sec. 6]: "filters
 // both moment shadow maps with a 9x9 Gaussian"), radius r taps each side, sigma = r / 2, on
 // every layer. Moments filter linearly (they are integrals of the depth distribution), which is
 // what makes the map filterable; clamped at the map's edges.

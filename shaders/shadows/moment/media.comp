@@ -4,7 +4,7 @@
 // light"): one invocation per texel and view; the texel's ray from the view's near to its far
 // plane is clipped to the volumes' bounds and marched in `steps` midpoint steps; each step of
 // extinction sigma and length dt adds absorbance sigma dt at its depth, exactly as a surface of
-// that absorbance would (002 section 3.1). Extinction is grey, so the media keep their own
+// that absorbance would [Munstermann18 sec. 3.1]. Extinction is grey, so the media keep their own
 // scalar b0 (the absorbance map's alpha) and moments (the media moment map): mixed into the
 // surfaces' mean-absorbance moments, the grey fog would dilute a pane's colour in the shaft
 // under it (src/shadows/moment/moment.h, "Colour").

@@ -1,5 +1,5 @@
 #version 450 core
-// 16-bit storage of the filtered moment maps (MOMENTS-NOTES.md; 002 section 6 discarded
+// 16-bit storage of the filtered moment maps (docs/oit.md#moment-constants; [Munstermann18 sec. 6] discarded
 // 16-bit shadow moments because linear filtering of the normalized moments b_k / b0 breaks
 // where b0 vanishes, and notes that "specialized compute shaders should make it practical"):
 // the float32 maps are filtered first, then this pass stores the b0 (surfaces per channel,

@@ -1,17 +1,17 @@
-// Four-moment reconstruction of the absorbance in front of a depth (002 Algorithm 2 with m =
-// 4, i.e. the Hamburger 4MSM of Peters & Klein 2015 applied to absorbance, 002 section 6),
+// Four-moment reconstruction of the absorbance in front of a depth ([Munstermann18 Algorithm 2] with m =
+// 4, i.e. the Hamburger 4MSM of [Peters15] applied to absorbance, [Munstermann18 sec. 6]),
 // written for the shadow maps with its own names (the OIT moment technique's include may be
 // in the same program with another moment count).
 //
 // Given the moments b = (b0, b1..b4) of the absorbance distribution over depth z in [-1, 1]
 // and a receiver depth zf: bias the normalized moments toward the moments of a uniform-ish
-// point set (MOMENTS-NOTES.md: (0, 0.375, 0, 0.375) for float32 storage in the 2017 [-1,1]
+// point set (docs/oit.md#moment-constants: (0, 0.375, 0, 0.375) for float32 storage in the 2017 [-1,1]
 // form; "bias about 6e-5 toward (0, 0.628, 0, 0.628) for 16-bit optimized storage"), solve
 // the 3x3 Hankel system H q = (1, zf, zf^2) (Cholesky), take the roots x1, x2 of
 // q0 + q1 x + q2 x^2, and build the three-point distribution at (zf, x1, x2) with the first
 // three moments: weight w_i = (b2 - b1 (x_j + x_k) + x_j x_k) / ((x_i - x_j)(x_i - x_k)).
 // The absorbance in front of zf is b0 (sum of the weights of the points before zf +
-// beta x w(zf)); beta = 0 for shadows (002 section 7.2), a property here.
+// beta x w(zf)); beta = 0 for shadows [Munstermann18 sec. 7.2], a property here.
 
 // Fraction in [0, 1] of the absorbance in front of zf; `n` = (b1..b4) / b0, biased by the
 // caller.
@@ -36,7 +36,7 @@ float shadowMomentFraction(vec4 n, float zf, float beta) {
     float w2 = (b2 - b1 * (zf + x1) + zf * x1) / ((x2 - zf) * (x2 - x1));
     float front = beta * w0 + (x1 < zf ? w1 : 0.0) + (x2 < zf ? w2 : 0.0);
     // A degenerate solve (NaN/Inf: one surface, the Hankel matrix of rank one, when the bias is
-    // too small for float32: MOMENTS-NOTES.md) falls back to the single-surface answer: all of
+    // too small for float32: docs/oit.md#moment-constants) falls back to the single-surface answer: all of
     // the absorbance is at the mean depth b1. (Falling back to beta, as the OIT does, would
     // light the shadow of a lone pane.)
     if (isnan(front) || isinf(front)) return zf > b1 ? 1.0 : beta;

@@ -1,8 +1,8 @@
 // "veil:light_visibility" of the `moment` shadow technique (src/shadows/moment/moment.h):
 // opaque casters through the Williams map with PCF (opaque_depth.glsl), transparent casters
-// and density volumes through the absorbance moment maps (002 section 6), multiplied: "we
+// and density volumes through the absorbance moment maps [Munstermann18 sec. 6], multiplied: "we
 // assume that the latter transmittance is constant within the filter region. Under this
-// assumption, the appropriate combination operator is simple multiplication" (002 section 6).
+// assumption, the appropriate combination operator is simple multiplication" [Munstermann18 sec. 6].
 //
 // params[1]: x = moment bias alpha, y = overestimation beta, z = 1 for 16-bit storage, w =
 // receiver depth offset toward the light (world units: a transparent receiver does not shadow
@@ -18,7 +18,7 @@ layout(binding = VEIL_TEX_SHADOW3) uniform sampler2DArray momentMediaMap;   // m
 // The filtered moments at uv: b0 = (surfaces r, g, b, media), surface and media moments.
 // 16-bit storage: the four texels of the bilinear footprint with the normalization undone
 // per texel before the interpolation (quantize.comp), so only unnormalized moments are
-// filtered, as 002 section 6 requires.
+// filtered, as [Munstermann18 sec. 6] requires.
 void momentFetch(int v, vec2 uv, out vec4 b0, out vec4 bs, out vec4 bm) {
     if (shadows.params[1].z < 0.5) {
         b0 = texture(momentAbsorbanceMap, vec3(uv, float(v)));
@@ -49,8 +49,8 @@ void momentFetch(int v, vec2 uv, out vec4 b0, out vec4 bs, out vec4 bm) {
 
 // Fraction of one moment set's absorbance (total `total`, moments `b`) in front of zf.
 float momentFront(float total, vec4 b, float zf) {
-    if (!(total > 1e-7)) return 0.0; // 002 section 3.2: nothing absorbs here
-    // Bias toward the power-4 vector of MOMENTS-NOTES.md (float32 or 16-bit storage).
+    if (!(total > 1e-7)) return 0.0; // [Munstermann18 sec. 3.2]: nothing absorbs here
+    // Bias toward the power-4 vector of docs/oit.md#moment-constants (float32 or 16-bit storage).
     vec4 biasVector = shadows.params[1].z > 0.5 ? vec4(0.0, 0.628, 0.0, 0.628)
                                                  : vec4(0.0, 0.375, 0.0, 0.375);
     return shadowMomentFraction(mix(b / total, biasVector, shadows.params[1].x), zf,

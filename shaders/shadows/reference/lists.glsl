@@ -4,7 +4,7 @@
 // no sorting (unlike the OIT reference, which composites radiance): the transmittance in front
 // of depth z is the product over the texel's nodes with depth < z.
 struct ShadowNode {
-    vec4 transmittanceDepth; // rgb = 1 - alpha + alpha T (000 Eq. 2), a = normalized depth
+    vec4 transmittanceDepth; // rgb = 1 - alpha + alpha T [McGuire16 Eq. 2], a = normalized depth
     uint next;
 };
 const uint kShadowListEnd = 0xFFFFFFFFu;

@@ -1,5 +1,5 @@
 #version 450 core
-// `stochastic-vsm`: one 1D pass of the separable tent filter over the moments (000 sec. 4.3:
+// `stochastic-vsm`: one 1D pass of the separable tent filter over the moments ([McGuire16 sec. 4.3]:
 // "filter them with a 15x15 tent kernel (in two 1D passes)"): weights r + 1 - |i| for |i| <= r,
 // normalized; texels outside the map clamp to the edge. Every layer (view, channel) at once.
 #include "../../common/bindings.h"

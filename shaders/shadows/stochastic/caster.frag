@@ -1,19 +1,19 @@
 #version 450 core
 // Transparent casters into a stochastic shadow map (src/shadows/stochastic): the fragment
-// covers R = floor(rho S + xi) of the S MSAA samples (004 sec. 3.1 stratified count, sec. 3.6
+// covers R = floor(rho S + xi) of the S MSAA samples ([Enderton11 sec. 3.1] stratified count, sec. 3.6
 // "rendering an MSAA z-buffer and discarding a stochastic set of samples"), a uniformly
 // random R-subset chosen by gl_SampleMask, and writes its linear depth (views.glsl); the depth
 // test keeps the nearest surface per sample. A sample stays at the clear depth (or an opaque
 // caster's) with probability 1 - rho, so the fraction of samples behind a receiver estimates
-// prod(1 - rho_i) (004 Eq. 3, 4).
+// prod(1 - rho_i) [Enderton11 Eq. 3, 4].
 //
 // rho per channel: the fraction of the light a surface removes, alpha (1 - t) = 1 -
-// surfaceTransmittance(alpha) (000 Eq. 2; the colored stochastic shadow maps write the map of
-// wavelength lambda with probability rho(lambda), 000 sec. 4.3); stochChannel < 0: one grey
-// map of the channels' mean. With `caustics` rho is scaled by 000 Eq. 10-12.
+// surfaceTransmittance(alpha) ([McGuire16 Eq. 2]; the colored stochastic shadow maps write the map of
+// wavelength lambda with probability rho(lambda), [McGuire16 sec. 4.3]); stochChannel < 0: one grey
+// map of the channels' mean. With `caustics` rho is scaled by [McGuire16 Eq. 10-12].
 //
 // Random numbers: a PCG-style hash of the frame seed, the view, the texel and the fragment's
-// depth (004 sec. 6: seeding by z gives every surface of a texel its own mask; the depth is
+// depth ([Enderton11 sec. 6]: seeding by z gives every surface of a texel its own mask; the depth is
 // rounded so the two triangles of one flat surface agree). The channel is not hashed: the
 // three channels share xi and the sample order, so their masks nest (a grey surface gives
 // three identical masks: no colour noise from independent channels).
@@ -24,7 +24,7 @@ uniform int shadowView;
 uniform uint stochSeed;
 uniform int stochSamples;   // S, at most 32
 uniform int stochChannel;   // 0..2, or -1 for the grey map
-uniform bool caustics;      // 000 Eq. 10-12
+uniform bool caustics;      // [McGuire16 Eq. 10-12]
 uniform bool lightOrthographic;
 uniform vec3 lightPosition; // spot and point lights
 uniform vec3 lightDirection; // direction the light travels (directional)
@@ -35,7 +35,7 @@ uint stochHash(uint v) {
     return (word >> 22u) ^ word;
 }
 
-// 000 Eq. 10-12 with the paper's eta = eta_before / eta_after = 1 / ior for light entering
+// [McGuire16 Eq. 10-12] with the paper's eta = eta_before / eta_after = 1 / ior for light entering
 // the material from air: s = clamp((ior - 1) / 2), g = 2 clamp(1 - |n.w|^(128 s^2)) - 1, rho
 // scaled by 1 + g s^0.2 (less shadow at normal incidence, more at grazing).
 float causticScale(vec3 P) {
@@ -62,7 +62,7 @@ void main() {
 
     int S = stochSamples;
     float xi = float(stochHash(h) >> 8u) * (1.0 / 16777216.0);
-    int R = min(int(floor(rho * float(S) + xi)), S); // 004 sec. 3.1: E[R] = rho S
+    int R = min(int(floor(rho * float(S) + xi)), S); // [Enderton11 sec. 3.1]: E[R] = rho S
     if (R <= 0) discard;
     uint mask;
     if (R >= S) {

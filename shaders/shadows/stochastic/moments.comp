@@ -1,7 +1,7 @@
 #version 450 core
 // `stochastic-vsm`: one view's stochastic MSAA map (L layers, one per channel) to the first
-// two moments per texel, E[z] and E[z^2] over its S samples (000 sec. 4.3: "convert the shadow
-// maps to Variance Shadow Maps"; the box filter of the samples, 004 sec. 4.1).
+// two moments per texel, E[z] and E[z^2] over its S samples ([McGuire16 sec. 4.3]: "convert the shadow
+// maps to Variance Shadow Maps"; the box filter of the samples, [Enderton11 sec. 4.1]).
 #include "../../common/bindings.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;

@@ -2,7 +2,7 @@
 // the opaque casters' Williams map (opaque_depth.glsl) times the stochastic map's estimate
 // of the transparent casters' transmittance, per channel.
 //
-// 004 sec. 3.2 Eq. 4: svis(z) = count(z <= z_i) / S, by percentage-closer filtering: the
+// [Enderton11 sec. 3.2, Eq. 4]: svis(z) = count(z <= z_i) / S, by percentage-closer filtering: the
 // samples of the (2r+1)^2 texels around P whose depth is at or behind the receiver's (minus
 // the slope-scaled bias of the opaque map) are unoccluded. Volume samples read the one texel
 // under P (S samples): the fog marcher averages many of them per pixel.

@@ -1,9 +1,9 @@
 // "veil:light_visibility" of the `stochastic-vsm` shadow technique (src/shadows/stochastic):
 // the opaque casters' Williams map (opaque_depth.glsl) times the variance shadow map of the
-// caustic colored stochastic shadow map (000 sec. 4.3), per channel: one bilinear tap of the
+// caustic colored stochastic shadow map [McGuire16 sec. 4.3], per channel: one bilinear tap of the
 // blurred moments (E[z], E[z^2]) and Chebyshev's one-sided bound
 //     p = sigma^2 / (sigma^2 + (z - mu)^2)  for z > mu, else 1
-// (Donnelly and Lauritzen 2006), with the light-bleeding reduction linstep(amount, 1, p).
+// [Donnelly06], with the light-bleeding reduction linstep(amount, 1, p).
 // The map holds the opaque casters too, so for a receiver behind one transparent plane of
 // density rho the texel's samples are {plane: rho, receiver: 1 - rho} and p = 1 - rho exactly.
 // No depth bias: the variance floor sigma_min = bias / depth scale (the opaque map's world

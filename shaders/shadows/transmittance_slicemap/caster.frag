@@ -1,17 +1,17 @@
 #version 450 core
 // `transmittance-slicemap` (src/shadows/transmittance_slicemap): the semi-transparent casters
-// into one light view's slice map (003 sec. 2 and 3), drawn by the frame's caster draw with
+// into one light view's slice map [Eisemann06 sec. 2 and 3], drawn by the frame's caster draw with
 // frame/mesh.vert and the view's matrix. The slice coordinate is the view's normalized linear
 // depth (views.glsl: ortho = window depth, perspective = linear eye depth, the convention of
 // src/voxelize/slice_map.h with perspective = true), so slices have equal thickness along
 // every light ray.
 // Defines:
-//   DEPTH_PASS    local slicing's range pass (003 sec. 2.2, as voxelize.frag): (t, -t) into an
+//   DEPTH_PASS    local slicing's range pass ([Eisemann06 sec. 2.2], as voxelize.frag): (t, -t) into an
 //                 RG32F layer with GL_MIN blending = per-column near and far of the casters
 //   LOCAL         slices subdivide the column's [near, far] from the range pass
 //   CONSERVATIVE  "conservative" method, depth part only: every slice of the surface's depth
 //                 range over the texel (from the depth derivatives) instead of the one slice at
-//                 the texel centre ("raster", 003 as published)
+//                 the texel centre ("raster", [Eisemann06] as published)
 // Otherwise: one fragment's bit mask (voxelize/bits.glsl writeRange) in the 8 RGBA32UI
 // targets of geometry pass uPass (slices 1024 p .. 1024 p + 1023), OR-ed by the logic op,
 // for the fragments whose material falls in class uClass.

@@ -3,7 +3,7 @@
 // column-contiguous layout of src/voxelize/slice_map.h (32 slices per word, bit b of word w
 // = slice 32 w + b), packed one after another in one SSBO:
 //     word index = ((view * classes + class) * columns + column) * wordsPerColumn + w.
-// 003 sec. 3: the attenuation at a receiver is prod_c T_c^(n_c), n_c = the set slices of
+// [Eisemann06 sec. 3]: the attenuation at a receiver is prod_c T_c^(n_c), n_c = the set slices of
 // class c in front of the receiver's slice, counted with bitCount over masked words (the
 // same masks as SliceMap::countOccupied and slice_map.glsl's smCountOccupied).
 #ifndef VEIL_SHADOWS_SLICEMAP_SLICES_GLSL

@@ -1,5 +1,5 @@
 // "veil:light_visibility" of `transmittance-slicemap` (src/shadows/transmittance_slicemap):
-// 003 sec. 3 transmittance shadow maps. Per light view, one slice map of the semi-transparent
+// [Eisemann06 sec. 3] transmittance shadow maps. Per light view, one slice map of the semi-transparent
 // casters per material class c (slices.glsl); a receiver at slice s of its column gets
 //     prod_c T_c^(n_c),   n_c = set slices of class c in 0 .. s - 1
 // times the opaque casters' PCF map (opaque_depth.glsl). The receiver's own slice is never

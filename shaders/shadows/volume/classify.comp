@@ -1,5 +1,5 @@
 #version 450 core
-// 003 Sec. 3.2 per caster and light, from the caster's world bounds projected into the light's
+// [Eisemann06 sec. 3.2] per caster and light, from the caster's world bounds projected into the light's
 // grid (its footprint, widened by one column):
 //   caster culling  : every column of the footprint has an opaque occluder nearer than the
 //                     caster's nearest depth -> the caster is in the shadow of others, and so is

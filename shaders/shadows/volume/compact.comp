@@ -1,6 +1,6 @@
 #version 450 core
 // Shadow volumes (src/shadows/volume), per light: the casters that classify.comp did not cull
-// (003 Sec. 3.2) into a compact work list with the prefix sum of their triangles, and the
+// [Eisemann06 sec. 3.2] into a compact work list with the prefix sum of their triangles, and the
 // indirect dispatch of silhouette.comp over exactly those triangles: a culled caster's
 // triangles are never launched. One workgroup; each invocation owns a run of casters.
 // With `finish` (after silhouette.comp): the first point of the depth-pass draw.

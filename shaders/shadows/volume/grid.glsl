@@ -1,4 +1,4 @@
-// The light-space grid of the `volume` technique's culling and clamping (003 Sec. 3.2): for
+// The light-space grid of the `volume` technique's culling and clamping [Eisemann06 sec. 3.2]: for
 // each light slot with one view (directional, spot), `uGrid` x `uGrid` columns over the view's
 // map and `uSlices` slices of its normalized linear depth (views.glsl), 32 slices per word,
 // column-contiguous like src/voxelize/slice_map.h.

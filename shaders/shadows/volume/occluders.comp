@@ -1,5 +1,5 @@
 #version 450 core
-// 003 Sec. 3.2 "caster culling" input: the farthest opaque-map depth (normalized linear, as
+// [Eisemann06 sec. 3.2] "caster culling" input: the farthest opaque-map depth (normalized linear, as
 // stored by DepthMaps) over each grid column's texels, widened by one texel on every side, so
 // that a caster whose nearest depth is beyond it is hidden from the light by other casters.
 #include "grid.glsl"

@@ -1,5 +1,5 @@
 #version 450 core
-// 003 Sec. 3.2 "clamping": the receivers the camera sees (its depth pre-pass) voxelized into
+// [Eisemann06 sec. 3.2] "clamping": the receivers the camera sees (its depth pre-pass) voxelized into
 // each light's slice map, one bit per (column, slice). A receiver outside a light's grid sets
 // the slot's `unbounded` flag: that light is then neither clamped nor receiver-culled.
 #include "grid.glsl"

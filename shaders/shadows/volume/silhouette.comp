@@ -1,10 +1,10 @@
 #version 450 core
 // Stencil shadow volumes (src/shadows/volume), one light per dispatch, one invocation per
-// triangle of the casters that survived culling (compact.comp's work list, 003 Sec. 3.2). Each
+// triangle of the casters that survived culling (compact.comp's work list, [Eisemann06 sec. 3.2]). Each
 // appends its volume's triangles to triangles[] (drawn by volume.vert with glDrawArraysIndirect):
 //   closed 2-manifold casters: for a triangle facing the light, the front cap (the triangle),
 //     the back cap (the triangle extruded) and one side quad per silhouette edge (the
-//     neighbour across the edge does not face the light). Clamped (003 Sec. 3.2) volumes end
+//     neighbour across the edge does not face the light). Clamped [Eisemann06 sec. 3.2] volumes end
 //     on a plane of constant depth of the light's view, and there the back cap is a fan from
 //     one point F of that plane over the extruded silhouette edges (F, e(b), e(a)) instead of
 //     every light-facing triangle extruded: both are chains on the plane bounded by the
@@ -15,7 +15,7 @@
 //     soup. The side on an edge shared with a neighbour of the same facing is left out (the
 //     neighbour's is the same quad wound the other way). Open and non-manifold edges have the
 //     triangle itself as "neighbour" in the adjacency (reversed: the other facing): a side.
-// Depth-fail counting (Carmack's reverse; Everitt & Kilgard 2002): back faces behind the
+// Depth-fail counting (Carmack's reverse; [Everitt02]): back faces behind the
 // receiver increment, front faces behind it decrement; right with the eye inside a volume.
 // With `zpass`, a caster whose volume cannot hold the eye (the segment from the eye toward
 // the light misses its bounds) is counted depth-pass instead (front faces in front of the
@@ -82,7 +82,7 @@ float facing(int ia, int ib, int ic) {
 
 vec4 extrude(vec3 p) {
     if (clampDepth > 0.0) {
-        // 003 Sec. 3.2 clamping: the plane at normalized depth clampDepth of the light's view.
+        // [Eisemann06 sec. 3.2] clamping: the plane at normalized depth clampDepth of the light's view.
         float D = shadows.views[lightView].depthRange.x +
                   clampDepth * shadows.views[lightView].depthRange.z;
         float d = -(shadows.views[lightView].worldToView * vec4(p, 1.0)).z;

@@ -52,7 +52,7 @@ private:
 void registerTemplate(Registry& registry) {
     PropertySchema schema;
     schema.real("opacity_scale", 1.0, 0.0, 1.0, "multiplies every fragment's coverage alpha",
-                "000 Eq. 2 (alpha)");
+                "[McGuire16 Eq. 2] (alpha)");
     registry.add({"template", "copy me: unsorted dual-source blending with one property", nullptr,
                   [](gpu::ProgramManager&, const Properties& p) {
                       return std::make_unique<TemplateTechnique>(p.getFloat("opacity_scale"));

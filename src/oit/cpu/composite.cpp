@@ -23,14 +23,14 @@ Fragment makeFragment(double depth, const glm::dvec3& radiance, double alpha,
     Fragment f;
     f.depth = depth;
     f.premultipliedRadiance = alpha * radiance;
-    f.modulation = glm::dvec3(1.0 - alpha) + alpha * transmission; // 000 Eq. 2
+    f.modulation = glm::dvec3(1.0 - alpha) + alpha * transmission; // [McGuire16 Eq. 2]
     return f;
 }
 
 glm::dvec3 compositeInOrder(const std::vector<Fragment>& fragments, const glm::dvec3& background) {
     glm::dvec3 color(0.0), throughput(1.0);
     for (const Fragment& f : fragments) {
-        color += throughput * f.premultipliedRadiance; // 004 Eq. 2
+        color += throughput * f.premultipliedRadiance; // [Enderton11 Eq. 2]
         throughput *= f.modulation;
     }
     return color + throughput * background;

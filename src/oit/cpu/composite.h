@@ -2,8 +2,8 @@
 // ultimately compared against (no GL).
 //
 // A fragment contributes its premultiplied radiance alpha * L_r and modulates everything
-// behind it per channel by m = 1 - alpha + alpha * T (000 Eq. 1 and 2). Sorted front to back
-// (004 Eq. 2, generalised to colored transmission):
+// behind it per channel by m = 1 - alpha + alpha * T [McGuire16 Eq. 1 and 2]. Sorted front to back
+// ([Enderton11 Eq. 2], generalised to colored transmission):
 //     C = sum_i (prod_{j<i} m_j) * c_i + (prod_j m_j) * background.
 #pragma once
 
@@ -16,7 +16,7 @@ namespace veil::oit::cpu {
 struct Fragment {
     double depth = 0.0;                    // distance along the view axis (smaller = nearer)
     glm::dvec3 premultipliedRadiance{0.0}; // alpha * L_r
-    glm::dvec3 modulation{1.0};            // 1 - alpha + alpha * T (000 Eq. 2)
+    glm::dvec3 modulation{1.0};            // 1 - alpha + alpha * T [McGuire16 Eq. 2]
 };
 
 // A surface of coverage `alpha`, reflected/emitted radiance `radiance` (not premultiplied)
@@ -33,7 +33,7 @@ glm::dvec3 compositeSorted(const std::vector<Fragment>& fragments, const glm::dv
 // fragments arrive in reverse of this order.
 glm::dvec3 compositeInOrder(const std::vector<Fragment>& fragments, const glm::dvec3& background);
 
-// Net modulation of the background, prod_i m_i (000 Eq. 2: order independent).
+// Net modulation of the background, prod_i m_i ([McGuire16 Eq. 2]: order independent).
 glm::dvec3 netModulation(const std::vector<Fragment>& fragments);
 
 } // namespace veil::oit::cpu

@@ -34,7 +34,7 @@ void newtonPolish(const std::array<T, N>& c, std::array<T, R>& roots, int steps 
 }
 
 // The two roots (largest, smallest) of the depressed cubic t^3 + 3 cbar t + dbar = 0 with
-// three real roots (002 via Blinn 2007): t_k = 2 sqrt(-cbar) cos(phi + 2 pi k / 3).
+// three real roots ([Munstermann18] via [Blinn07]): t_k = 2 sqrt(-cbar) cos(phi + 2 pi k / 3).
 struct TrigRoots {
     double largest, smallest, middle;
 };
@@ -84,8 +84,8 @@ namespace {
 // Neumark's factorization of x^4 + a x^3 + b x^2 + c x + d into (x^2 + G x + H)(x^2 + g x + h)
 // for a given root y = G g of the resolvent cubic
 //   y^3 - 2 b y^2 + (b^2 + a c - 4 d) y + (c^2 - a b c + a^2 d) = 0.
-// There are two ways to get the factors, dividing by G - g or by H - h; as Herbison-Evans
-// (1995) we use both and keep the one that reproduces the coefficients best.
+// There are two ways to get the factors, dividing by G - g or by H - h; as [HerbisonEvans95] we use
+// both and keep the one that reproduces the coefficients best.
 template <typename T>
 void neumarkFactors(T a, T b, T c, T d, T y, T& G, T& g, T& H, T& h) {
     auto sqrtT = [](T v) {
@@ -137,7 +137,7 @@ std::array<double, 4> solveQuarticNeumark(const std::array<double, 5>& q, bool p
     const double a = q[3] / q[4], b = q[2] / q[4], c = q[1] / q[4], d = q[0] / q[4];
     const std::array<double, 3> ys =
         solveCubicBlinn({c * c - a * b * c + a * a * d, b * b + a * c - 4.0 * d, -2.0 * b, 1.0});
-    // 002 section 4.2: the resolvent root of smallest magnitude.
+    // [Munstermann18 sec. 4.2]: the resolvent root of smallest magnitude.
     double y = ys[0];
     for (double v : ys)
         if (std::abs(v) < std::abs(y)) y = v;
@@ -152,7 +152,7 @@ std::array<double, 4> solveQuarticNeumark(const std::array<double, 5>& q, bool p
 
 std::array<Complex, 2> solveQuadraticComplex(const std::array<Complex, 3>& c) {
     Complex s = std::sqrt(c[1] * c[1] - 4.0 * c[2] * c[0]);
-    // 002 section 5.3: avoid cancellation by taking the root of greater magnitude first.
+    // [Munstermann18 sec. 5.3]: avoid cancellation by taking the root of greater magnitude first.
     if (std::real(std::conj(c[1]) * s) < 0.0) s = -s;
     const Complex t = -0.5 * (c[1] + s);
     if (t == Complex(0.0)) return {Complex(0.0), Complex(0.0)};
@@ -187,7 +187,7 @@ std::array<Complex, 4> solveQuarticComplex(const std::array<Complex, 5>& q, bool
     const Complex a = q[3] / q[4], b = q[2] / q[4], c = q[1] / q[4], d = q[0] / q[4];
     const std::array<Complex, 3> ys = solveCubicComplex(
         {c * c - a * b * c + a * a * d, b * b + a * c - 4.0 * d, -2.0 * b, Complex(1.0)}, true);
-    // 002 section 5.3: a resolvent root that is not the one of least magnitude.
+    // [Munstermann18 sec. 5.3]: a resolvent root that is not the one of least magnitude.
     Complex y = ys[0];
     for (const Complex& v : ys)
         if (std::abs(v) > std::abs(y)) y = v;

@@ -1,14 +1,15 @@
-// Polynomial root solvers for moment-based reconstructions (002 sections 4 and 5.3), double
+// Polynomial root solvers for moment-based reconstructions [Munstermann18 secs. 4 and 5.3], double
 // precision. Coefficients are given lowest degree first: c[0] + c[1] x + ... + c[n] x^n.
 //
-//   power moments (real roots):  m = 4 -> quadratic, m = 6 -> Blinn's cubic (Blinn 2007),
-//                                m = 8 -> Neumark's quartic (Neumark 1965) whose resolvent
+//   power moments (real roots):  m = 4 -> quadratic, m = 6 -> Blinn's cubic [Blinn07],
+//                                m = 8 -> Neumark's quartic [Neumark65] whose resolvent
 //                                cubic is solved by Blinn's cubic, root of smallest magnitude,
-//                                with Herbison-Evans' adaptive factorization (002 section 4.2)
+//                                with Herbison-Evans' adaptive factorization [Munstermann18
+//                                sec. 4.2]
 //   trigonometric (complex roots on the unit circle): the same formulas in complex arithmetic,
 //                                avoiding cancellation in the quadratic by taking the root of
 //                                greater magnitude, and Neumark with a resolvent root that is
-//                                not of least magnitude (002 section 5.3)
+//                                not of least magnitude [Munstermann18 sec. 5.3]
 // The solvers assume the root structure the reconstruction guarantees (all roots real for
 // power moments); where rounding breaks it (negative discriminants) they clamp to the nearest
 // valid case instead of returning NaN. `polish` adds Newton steps on the original polynomial
@@ -25,7 +26,7 @@ using Complex = std::complex<double>;
 // Real roots of c0 + c1 x + c2 x^2 (c2 != 0); a negative discriminant is clamped to zero.
 std::array<double, 2> solveQuadratic(const std::array<double, 3>& c);
 
-// Blinn's cubic (Blinn 2007, "How to solve a cubic equation, part 5"): the three real roots
+// Blinn's cubic ([Blinn07], "How to solve a cubic equation, part 5"): the three real roots
 // of c0 + c1 x + c2 x^2 + c3 x^3, the largest and smallest in magnitude each from the form
 // that avoids cancellation, the middle one from the quadratic they span. When rounding makes
 // the discriminant negative, it is clamped (a double root is returned).

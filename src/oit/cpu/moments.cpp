@@ -15,7 +15,8 @@ std::string MomentSet::name() const {
 
 MomentParams defaultMomentParams(MomentSet set, bool storage16) {
     MomentParams p;
-    // MOMENTS-NOTES.md table "Overall bias", verified by tests/unit/oit_moment_test.cpp.
+    // docs/oit.md#moment-constants table "Overall bias", verified by
+    // tests/unit/oit_moment_test.cpp.
     if (set.basis == MomentBasis::Power) {
         VEIL_CHECK(set.count == 4 || set.count == 6 || set.count == 8,
                    "power moments: count must be 4, 6 or 8 (got {})", set.count);
@@ -61,12 +62,12 @@ DepthRange depthRangeFromSphere(double centreDepth, double radius, double nearPl
 }
 
 std::complex<double> trigCircle(double z, double wrappingZone) {
-    // 002 Eq. 5
+    // [Munstermann18 Eq. 5]
     return std::polar(1.0, (2.0 * std::numbers::pi - wrappingZone) * 0.5 * (z + 1.0));
 }
 
 void accumulate(Moments& m, double z, double alpha, double wrappingZone) {
-    const double a = -std::log1p(-std::clamp(alpha, 0.0, 1.0 - 1e-7)); // 002 section 3.1
+    const double a = -std::log1p(-std::clamp(alpha, 0.0, 1.0 - 1e-7)); // [Munstermann18 sec. 3.1]
     m.b[0] += a;
     if (m.set.basis == MomentBasis::Power) {
         double zk = 1.0;
@@ -90,7 +91,7 @@ double exactAbsorbance(const std::vector<Layer>& layers, double zf) {
 namespace {
 
 // Solves the Hermitian positive definite system M q = r by an LDL^H decomposition (the
-// Cholesky decomposition of 002 Algorithms 1 and 2 without square roots).
+// Cholesky decomposition of [Munstermann18 Algorithms 1 and 2] without square roots).
 template <typename T>
 T conjT(T v) {
     if constexpr (std::is_same_v<T, double>)
@@ -127,7 +128,8 @@ std::vector<T> solveLdl(std::vector<T> M, std::vector<T> r, int n) {
 }
 
 // Newton divided differences for the polynomial p with p(x_l) = v_l, expanded into monomial
-// coefficients u (002 Algorithms 1 and 2: "divided differences to solve a Vandermonde system").
+// coefficients u ([Munstermann18 Algorithms 1 and 2]: "divided differences to solve a Vandermonde
+// system").
 template <typename T>
 std::vector<T> interpolate(const std::vector<T>& x, std::vector<T> c) {
     const std::size_t n = x.size();
@@ -145,7 +147,7 @@ std::vector<T> interpolate(const std::vector<T>& x, std::vector<T> c) {
     return u;
 }
 
-// 002 section 5.2: piecewise linear stand-in for the angle of x on the unit circle.
+// [Munstermann18 sec. 5.2]: piecewise linear stand-in for the angle of x on the unit circle.
 double psi(std::complex<double> x) {
     const double re = x.real(), im = x.imag();
     if (im >= 0.0) return re >= 0.0 ? -re + im : 2.0 - re - im;
@@ -160,7 +162,7 @@ double powerAbsorbance(const Moments& m, double zf, const MomentParams& p) {
     b[0] = 1.0;
     for (int j = 1; j <= M; ++j)
         b[j] = (1.0 - p.bias) * m.b[j].real() / m.b0() + p.bias * p.biasVector[j - 1];
-    // 002 Alg. 1: Hankel system for the kernel polynomial through z_0 = zf.
+    // [Munstermann18 Algorithm 1]: Hankel system for the kernel polynomial through z_0 = zf.
     std::vector<double> H(static_cast<std::size_t>(n * n)), rhs(n);
     double zk = 1.0;
     for (int i = 0; i < n; ++i, zk *= zf) {
@@ -197,8 +199,8 @@ double trigAbsorbance(const Moments& m, double zf, const MomentParams& p) {
     std::vector<C> b(n);
     b[0] = 1.0;
     for (int j = 1; j <= M; ++j)
-        b[j] = (1.0 - p.bias) * m.b[j] / m.b0(); // 002 section 5.3
-    // 002 Alg. 2: Hermitian Toeplitz system; right-hand side (1, x0, ..., x0^m).
+        b[j] = (1.0 - p.bias) * m.b[j] / m.b0(); // [Munstermann18 sec. 5.3]
+    // [Munstermann18 Algorithm 2]: Hermitian Toeplitz system; right-hand side (1, x0, ..., x0^m).
     const C x0 = trigCircle(zf, p.wrappingZone);
     std::vector<C> T(static_cast<std::size_t>(n * n)), rhs(n);
     C xk = 1.0;
@@ -224,7 +226,7 @@ double trigAbsorbance(const Moments& m, double zf, const MomentParams& p) {
             true);
         nodes.insert(nodes.end(), r.begin(), r.end());
     }
-    // 002 Eq. 6 with the wrapping zone.
+    // [Munstermann18 Eq. 6] with the wrapping zone.
     const double psi0 = psi(x0), psiEnd = psi(trigCircle(1.0, p.wrappingZone));
     std::vector<C> v(n);
     v[0] = p.overestimation;
@@ -243,11 +245,11 @@ double trigAbsorbance(const Moments& m, double zf, const MomentParams& p) {
 
 double absorbance(const Moments& m, double zf, const MomentParams& p) {
     const double b0 = m.b0();
-    if (!(b0 > 1e-12)) return 0.0; // 002 section 3.2: no opacity, early return
+    if (!(b0 > 1e-12)) return 0.0; // [Munstermann18 sec. 3.2]: no opacity, early return
     double a =
         m.set.basis == MomentBasis::Power ? powerAbsorbance(m, zf, p) : trigAbsorbance(m, zf, p);
     // The normalized absorbance is a CDF value in [0, 1]; a failed solve falls back to the
-    // overestimation weight (MOMENTS-NOTES.md: NaN fallback of a public port).
+    // overestimation weight (docs/oit.md#moment-constants: NaN fallback of a public port).
     if (!std::isfinite(a)) a = p.overestimation;
     return b0 * std::clamp(a, 0.0, 1.0);
 }
@@ -273,7 +275,8 @@ std::array<double, 4> dequantizePower4(const std::array<double, 4>& q) {
 
 namespace {
 
-// MOMENTS-NOTES.md, "16-bit quantization transforms for 6 and 8 power moments" (row-major).
+// docs/oit.md#moment-constants, "16-bit quantization transforms for 6 and 8 power moments"
+// (row-major).
 constexpr double kQ6Odd[9] = {2.5,   -1.87499864450, 1.26583039016,
                               -10.0, 4.20757543111,  -1.47644882902,
                               8.0,   -1.83257678661, 0.71061660238};

@@ -134,7 +134,7 @@ StochasticStats simulateStochasticPixel(const std::vector<StochasticFragment>& f
     double transmit = 1.0;
     for (const auto& f : fragments)
         transmit *= 1.0 - f.alpha;
-    const double alphaTotal = 1.0 - transmit; // 004 Eq. 5
+    const double alphaTotal = 1.0 - transmit; // [Enderton11 Eq. 5]
 
     StochasticStats stats;
     std::vector<int> winner(static_cast<std::size_t>(total));
@@ -167,7 +167,7 @@ StochasticStats simulateStochasticPixel(const std::vector<StochasticFragment>& f
                 for (int k = 0; k < 3; ++k)
                     b[k] += fragments[static_cast<std::size_t>(w)].color[k];
             }
-            // 004 Eq. 4/6: fragments at or in front of the winner see this sample.
+            // [Enderton11 Eq. 4/6]: fragments at or in front of the winner see this sample.
             for (int i = 0; i < n && i <= w; ++i) {
                 const auto& f = fragments[static_cast<std::size_t>(i)];
                 u1 += f.alpha;
@@ -178,13 +178,13 @@ StochasticStats simulateStochasticPixel(const std::vector<StochasticFragment>& f
         for (int k = 0; k < 3; ++k) {
             double v = 0.0;
             switch (variant) {
-            case StochasticVariant::Basic: // 004 section 3.1
+            case StochasticVariant::Basic: // [Enderton11 sec. 3.1]
                 v = (b[k] + empty * background[k]) / total;
                 break;
-            case StochasticVariant::AlphaCorrected: // 004 section 4.1, A
+            case StochasticVariant::AlphaCorrected: // [Enderton11 sec. 4.1], A
                 v = (b1 > 0 ? alphaTotal * b[k] / b1 : 0.0) + transmit * background[k];
                 break;
-            case StochasticVariant::DepthBased: // 004 section 4.2, D
+            case StochasticVariant::DepthBased: // [Enderton11 sec. 4.2], D
                 v = (u1 > 0 ? alphaTotal * u[k] / u1 : 0.0) + transmit * background[k];
                 break;
             }

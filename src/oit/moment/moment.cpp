@@ -1,25 +1,26 @@
-// Moment-based order-independent transparency (002, Muenstermann, Krumpen, Klein, Peters 2018).
+// Moment-based order-independent transparency [Munstermann18].
 //
 // Parameters (MomentTechniqueParams; defaults from defaultMomentTechniqueParams; properties
 // overestimation, bias, wrapping_zone, z_min, z_max declared in registerMoment):
-//   overestimation  beta = 0.25           002 section 3.2, v_0 of Algorithms 1 and 2
+//   overestimation  beta = 0.25           [Munstermann18 sec. 3.2], v_0 of Algorithms 1 and 2
 //   bias            float32 per set:      p4 5e-7, p6 5e-6, p8 5e-5, t3 8e-7, t4 1.5e-6
 //                   16-bit per set:       p4 6e-5, p6 6e-4, p8 2.5e-3, t3 6.5e-4, t4 8.5e-4
 //                   half per set:         the 16-bit ones times kHalfBiasFactor
-//                                         (MOMENTS-NOTES.md; 002 sections 4.1, 5.3)
+//                                         (docs/oit.md#moment-constants; [Munstermann18
+//                                         secs. 4.1, 5.3])
 //   biasVector      power: p4 (0, .375, 0, .375), p6 (0, .48, 0, .451, 0, .45),
 //                   p8 (0, .75, 0, .6767, 0, .63, 0, .6003); 16-bit and half: the 16-bit
-//                   vectors of MOMENTS-NOTES.md, e.g. p4 (0, .628, 0, .628)
+//                   vectors of docs/oit.md#moment-constants, e.g. p4 (0, .628, 0, .628)
 //                   (b' = (1 - bias) b + bias b*); trigonometric: b_j *= (1 - bias), j >= 1
-//                   (002 section 5.3)
-//   wrappingZone    theta = pi / 10       002 Eq. 5 and 6 (trigonometric only)
-//   zMin, zMax      log-depth warp range  002 section 3.3; default (0) = camera near/far
+//                   [Munstermann18 sec. 5.3]
+//   wrappingZone    theta = pi / 10       [Munstermann18 Eq. 5 and 6] (trigonometric only)
+//   zMin, zMax      log-depth warp range  [Munstermann18 sec. 3.3]; default (0) = camera near/far
 //
 // Passes: geometry pass 0 accumulates b_0 and the moments (emit.glsl: additive blending into
 // float32 or half-float targets; storage16.glsl: read-modify-write of 16-bit images under
 // GL_ARB_fragment_shader_interlock), geometry pass 1 reconstructs T in front of each fragment
 // (Algorithm 1 or 2) and accumulates radiance * T and alpha * T additively, the resolve
-// (compute) renormalizes (002 Eq. 2).
+// (compute) renormalizes [Munstermann18 Eq. 2].
 #include "oit/moment/moment.h"
 
 #include "base/error.h"
@@ -33,10 +34,10 @@ namespace veil::oit {
 
 namespace {
 
-// Storage of the moments (002 section 4.1):
+// Storage of the moments [Munstermann18 sec. 4.1]:
 //   Float32    RGBA32F targets, additive blending only
 //   Quantized  b_0 in RGBA16F, normalized moments in 16 bits through the quantization
-//              transforms (MOMENTS-NOTES.md), a read-modify-write under
+//              transforms (docs/oit.md#moment-constants), a read-modify-write under
 //              GL_ARB_fragment_shader_interlock (storage16.glsl)
 //   Half       unnormalized moments in RGBA16F / RG16F and b_0 (with the per-channel b_0) in
 //              RGBA32F (b_0 in half doubled t4's error, tests/gl/oit_moment_test.cpp), or
@@ -45,10 +46,11 @@ namespace {
 //              the accumulation of pass 1 in RGBA16F, additive blending only, so
 //              drivers without interlock get half the bandwidth too; rounding errors then
 //              accumulate with the fragment count, which the paper counters with a stronger
-//              bias, "not ... increased by more than one order of magnitude" (002 section 4.1)
+//              bias, "not ... increased by more than one order of magnitude" [Munstermann18
+//              sec. 4.1]
 enum class Storage { Float32, Quantized, Half };
-// Half storage: the 16-bit column of MOMENTS-NOTES.md (bias and bias vector) times this
-// factor (002 section 4.1 allows up to 10). Measured in tests/gl/oit_moment_test.cpp
+// Half storage: the 16-bit column of docs/oit.md#moment-constants (bias and bias vector) times this
+// factor ([Munstermann18 sec. 4.1] allows up to 10). Measured in tests/gl/oit_moment_test.cpp
 // (HalfStorageErrorWithinFloat32): 5 made every power set worse (p6 2.06x float32's error on
 // one scene instead of 1.68x), so the 16-bit values are kept.
 constexpr double kHalfBiasFactor = 1.0;
@@ -184,7 +186,8 @@ public:
                          const gpu::Program& program) override {
         gpu::PipelineState state = accumulationState(targets);
         if (pass != 0 || !quantized())
-            state.blendAll(gpu::BlendState::func(GL_ONE, GL_ONE)); // 002: additive passes
+            state.blendAll(
+                gpu::BlendState::func(GL_ONE, GL_ONE)); // [Munstermann18]: additive passes
         targets.state->apply(state);
         const float zero[4] = {0, 0, 0, 0};
         if (pass == 0) {
@@ -244,9 +247,9 @@ public:
         return bytes;
     }
 
-    // Geometry pass 0 (002 Algorithm 1/2 inputs): moments0 holds b_0, moments1..2 the power
-    // or trigonometric moments (momentFormat); pass 1: accum = sum of radiance * T (rgb) and
-    // alpha * T (a), renormalized by the resolve (002 Eq. 2).
+    // Geometry pass 0 ([Munstermann18 Algorithm 1/2] inputs): moments0 holds b_0, moments1..2 the
+    // power or trigonometric moments (momentFormat); pass 1: accum = sum of radiance * T (rgb) and
+    // alpha * T (a), renormalized by the resolve [Munstermann18 Eq. 2].
     std::vector<Resource> resources() const override {
         std::vector<Resource> r;
         for (int i = 0; i < momentTargets(); ++i)
@@ -357,46 +360,49 @@ void registerMoment(Registry& registry) {
         schema
             .real("overestimation", defaults.reconstruction.overestimation, 0.0, 1.0,
                   "beta: weight of the upper bound in the reconstructed absorbance",
-                  "002 sec. 3.2, v_0 of Alg. 1/2")
+                  "[Munstermann18 sec. 3.2], v_0 of Alg. 1/2")
             .real("bias", defaults.reconstruction.bias, 0.0, 0.999,
                   "moment biasing alpha against rounding (per set and storage)",
-                  "002 sec. 4.1, 5.3; MOMENTS-NOTES.md");
+                  "[Munstermann18 sec. 4.1, 5.3]; docs/oit.md#moment-constants");
         if (trig)
             schema.real("wrapping_zone", defaults.reconstruction.wrappingZone, 1e-3, 3.14159,
-                        "theta of the wrapping zone of the trigonometric bound", "002 Eq. 5, 6");
+                        "theta of the wrapping zone of the trigonometric bound",
+                        "[Munstermann18 Eq. 5, 6]");
         schema
             .real("z_min", 0.0, 0.0, 1e30,
-                  "near end of the log-depth warp (0 = the camera's near plane)", "002 sec. 3.3")
+                  "near end of the log-depth warp (0 = the camera's near plane)",
+                  "[Munstermann18 sec. 3.3]")
             .real("z_max", 0.0, 0.0, 1e30,
-                  "far end of the log-depth warp (0 = the camera's far plane)", "002 sec. 3.3");
+                  "far end of the log-depth warp (0 = the camera's far plane)",
+                  "[Munstermann18 sec. 3.3]");
         const bool half = v.storage == Storage::Half;
         if (half)
             schema.boolean("b0_half", defaults.b0Half,
                            "b_0 and its per-channel values in RGBA16F instead of RGBA32F",
-                           "002 sec. 4.1");
+                           "[Munstermann18 sec. 4.1]");
         std::function<bool(const gpu::ContextInfo&)> available;
         if (v.storage == Storage::Quantized)
             available = [](const gpu::ContextInfo& c) { return c.fragmentShaderInterlock; };
-        registry.add({std::string("moment-") + v.name,
-                      fmt::format("moment-based OIT (002), {} {} moments, {} storage", v.count,
-                                  v.basis == cpu::MomentBasis::Power ? "power" : "trigonometric",
-                                  v.storage == Storage::Quantized
-                                      ? "16-bit (needs fragment shader interlock)"
-                                  : v.storage == Storage::Half ? "half-float, additive"
-                                                               : "float32"),
-                      available,
-                      [variant, trig, half](gpu::ProgramManager& programs, const Properties& p) {
-                          MomentTechniqueParams params = defaultMomentTechniqueParams(variant);
-                          params.reconstruction.overestimation = p.getDouble("overestimation");
-                          params.reconstruction.bias = p.getDouble("bias");
-                          if (trig)
-                              params.reconstruction.wrappingZone = p.getDouble("wrapping_zone");
-                          params.zMin = p.getDouble("z_min");
-                          params.zMax = p.getDouble("z_max");
-                          if (half) params.b0Half = p.getBool("b0_half");
-                          return createMomentTechnique(programs, variant, params);
-                      },
-                      std::move(schema)});
+        registry.add(
+            {std::string("moment-") + v.name,
+             fmt::format("moment-based OIT [Munstermann18], {} {} moments, {} storage", v.count,
+                         v.basis == cpu::MomentBasis::Power ? "power" : "trigonometric",
+                         v.storage == Storage::Quantized
+                             ? "16-bit (needs fragment shader interlock)"
+                         : v.storage == Storage::Half ? "half-float, additive"
+                                                      : "float32"),
+             available,
+             [variant, trig, half](gpu::ProgramManager& programs, const Properties& p) {
+                 MomentTechniqueParams params = defaultMomentTechniqueParams(variant);
+                 params.reconstruction.overestimation = p.getDouble("overestimation");
+                 params.reconstruction.bias = p.getDouble("bias");
+                 if (trig) params.reconstruction.wrappingZone = p.getDouble("wrapping_zone");
+                 params.zMin = p.getDouble("z_min");
+                 params.zMax = p.getDouble("z_max");
+                 if (half) params.b0Half = p.getBool("b0_half");
+                 return createMomentTechnique(programs, variant, params);
+             },
+             std::move(schema)});
     }
 }
 

@@ -1,5 +1,5 @@
 // `moment-p4`, `moment-p6`, `moment-p8`, `moment-t3`, `moment-t4`: moment-based
-// order-independent transparency (002, Muenstermann et al. 2018) with float32 storage and
+// order-independent transparency [Munstermann18] with float32 storage and
 // additive blending only; `moment-p4-16`, `moment-p6-16`, `moment-p8-16`, `moment-t3-16`,
 // `moment-t4-16`: 16-bit quantized storage with a read-modify-write under
 // GL_ARB_fragment_shader_interlock (unavailable without it); `moment-p4-half` ... `moment-t4-half`:
@@ -15,15 +15,16 @@
 
 namespace veil::oit {
 
-// Technique parameters (defaults: 002 and MOMENT-NOTES.md, see moment.cpp).
+// Technique parameters (defaults: [Munstermann18] and docs/oit.md#moment-constants, see
+// moment.cpp).
 struct MomentTechniqueParams {
     cpu::MomentParams reconstruction; // overestimation, bias, bias vector, wrapping zone
-    // Log-depth warp range (002 section 3.3). zMin <= 0 means the camera's near/far planes;
+    // Log-depth warp range [Munstermann18 sec. 3.3]. zMin <= 0 means the camera's near/far planes;
     // an application with a bounding sphere of its transparent geometry passes
     // cpu::depthRangeFromSphere(...) here.
     double zMin = 0.0, zMax = 0.0;
     // Half storage only: b_0 and the per-channel b_0 (target 0) in RGBA16F instead of RGBA32F
-    // (8 instead of 16 bytes per pixel; 002 section 4.1 stores b_0 in 16 bits too).
+    // (8 instead of 16 bytes per pixel; [Munstermann18 sec. 4.1] stores b_0 in 16 bits too).
     bool b0Half = false;
 };
 

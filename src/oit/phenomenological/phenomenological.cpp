@@ -106,7 +106,7 @@ public:
     std::string name() const override { return "phenomenological"; }
     std::filesystem::path emitInclude() const override { return "oit/phenomenological/emit.glsl"; }
     // Reduced-resolution particles: pass 0 draws all but billboards at full resolution,
-    // pass 1 only billboards at 1/particleDownsample (000 section 3).
+    // pass 1 only billboards at 1/particleDownsample [McGuire16 sec. 3].
     // Volume refraction adds the slice-map pass in front of them.
     int geometryPasses() const override { return (lowRes() ? 2 : 1) + (volume() ? 1 : 0); }
     std::vector<std::string> defines(int pass) const override {
@@ -174,7 +174,8 @@ public:
         pass = innerPass(pass);
         const gpu::Framebuffer* fbo = &framebuffer_;
         gpu::PipelineState state = accumulationState(targets);
-        // 000 appendix: all targets add; RT1 rgb: dst * (1 - src) (beta, Eq. 2), a: dst + src.
+        // [McGuire16] appendix: all targets add; RT1 rgb: dst * (1 - src) (beta, Eq. 2), a: dst +
+        // src.
         state.blend[0] = gpu::BlendState::func(GL_ONE, GL_ONE);
         state.blend[1] = gpu::BlendState::separate(GL_ZERO, GL_ONE_MINUS_SRC_COLOR, GL_ONE, GL_ONE);
         if (params_.refraction) state.blend[2] = gpu::BlendState::func(GL_ONE, GL_ONE);
@@ -182,7 +183,7 @@ public:
         if (!params_.diffusion) state.colorMask[1] = glm::bvec4(true, true, true, false);
         const bool inferAO = params_.inferredAO && targets.ambientOcclusion && pass == 0;
         if (pass == 0) {
-            // The surfaces read the opaque depth (z_B of 000 Eq. 7, the inferred AO, the
+            // The surfaces read the opaque depth (z_B of [McGuire16 Eq. 7], the inferred AO, the
             // particles' depth key) while it is attached for the depth test: sample a copy,
             // not a texture in the feedback loop. Nothing reads it without those.
             if (params_.diffusion || inferAO || lowRes())
@@ -217,14 +218,14 @@ public:
         }
         targets.state->apply(state);
         fbo->bind();
-        // 000 Table 2 clear values.
+        // [McGuire16 Table 2] clear values.
         const float zero[4] = {0, 0, 0, 0}, betaClear[4] = {1, 1, 1, 0};
         glClearNamedFramebufferfv(fbo->id(), GL_COLOR, 0, zero);
         glClearNamedFramebufferfv(fbo->id(), GL_COLOR, 1, betaClear);
         if (params_.refraction) glClearNamedFramebufferfv(fbo->id(), GL_COLOR, 2, zero);
         program.set("phenThicknessRef", params_.thicknessReference)
             .set("phenVolumeBlur", params_.volumeBlur);
-        // 001 section 6: inferred AO needs the frame's AO buffer (render.ao on).
+        // [McGuire17 sec. 6]: inferred AO needs the frame's AO buffer (render.ao on).
         program.set("phenInferredAO", inferAO ? 1 : 0);
         if (inferAO) targets.ambientOcclusion->bind(VEIL_TEX_AO);
         prepareProgram(pass, program);
@@ -266,7 +267,7 @@ public:
 
     // The result at a pixel reads A and beta_d at that pixel, and with diffusion the
     // background and the diffusion radius D of the taps within min(D, max_diffusion_pixels) of
-    // the pixel moved by its refraction offset (000 section 5): within refineMarginPx() for
+    // the pixel moved by its refraction offset [McGuire16 sec. 5]: within refineMarginPx() for
     // offsets up to 16 px; a larger offset reads another tile's accumulation. The background
     // is the opaque image everywhere (targets.opaqueColor during a refinement).
     void resolve(const pass::Context& targets) override {
@@ -316,8 +317,8 @@ public:
                (volume() ? 8 * 16 + 8 : 0);
     }
 
-    // The accumulation targets of 000 Table 2 (Listing 1): A = weighted premultiplied radiance
-    // and coverage, beta_d = transmission (rgb) and diffusion, delta = refraction offsets;
+    // The accumulation targets of [McGuire16 Table 2] (Listing 1): A = weighted premultiplied
+    // radiance and coverage, beta_d = transmission (rgb) and diffusion, delta = refraction offsets;
     // thickness with volume_refraction.
     std::vector<Resource> resources() const override {
         std::vector<Resource> r = {{"oit.phenomenological.a", [this] { return &accumA_; }},
@@ -354,8 +355,8 @@ private:
     // The pass index without the slice-map pass (0: full resolution, 1: particles).
     int innerPass(int pass) const { return volume() ? pass - 1 : pass; }
 
-    // 003 section 2: slice maps of the transparent surfaces, bits OR-ed in 8 RGBA32UI targets,
-    // depth-tested against the opaque depth (hidden media do not count).
+    // [Eisemann06 sec. 2]: slice maps of the transparent surfaces, bits OR-ed in 8 RGBA32UI
+    // targets, depth-tested against the opaque depth (hidden media do not count).
     void beginSlicePass(const pass::Context& targets) {
         sliceFramebuffer_.bind();
         gpu::PipelineState state = accumulationState(targets);
@@ -368,7 +369,7 @@ private:
         targets.state->apply(state);
     }
 
-    // 003 section 3: the slice maps walked into a thickness per pixel (thickness.comp).
+    // [Eisemann06 sec. 3]: the slice maps walked into a thickness per pixel (thickness.comp).
     void computeThickness(const pass::Context& targets) {
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
         const gpu::Program& program = programs_.get(thicknessProgram_);
@@ -385,7 +386,7 @@ private:
             glBindTextureUnit(VEIL_PHEN_TEX_SLICES + k, 0);
     }
 
-    // 000 section 5 "Upsample" into the full-resolution buffers (upsample.comp).
+    // [McGuire16 sec. 5] "Upsample" into the full-resolution buffers (upsample.comp).
     void upsample(const pass::Context& targets) {
         const gpu::Program& program = programs_.get(upsampleProgram_);
         program.use();
@@ -432,36 +433,41 @@ static PropertySchema phenomenologicalSchema() {
     const PhenomenologicalParams d;
     PropertySchema s;
     s.real("pixels_per_unit", d.pixelsPerUnit, 0.0, 1e9,
-           "W / (2 tan(theta/2)) of the diffusion std-dev; 0 = from the camera", "000 Eq. 7")
+           "W / (2 tan(theta/2)) of the diffusion std-dev; 0 = from the camera",
+           "[McGuire16 Eq. 7]")
         .integer("max_diffusion_pixels", d.maxDiffusionPixels, 1, 64,
-                 "diffusion kernel radius clamp (D saturates there)", "000 Listing 2")
-        .real("k0", d.k0, 0.0, 1e6, "std-dev of one c = 0 surface at unit depth", "000 Eq. 6-7")
-        .real("k1", d.k1, 1e-9, 1e6, "implied thickness of the scattering surface", "000 Eq. 7")
+                 "diffusion kernel radius clamp (D saturates there)", "[McGuire16 Listing 2]")
+        .real("k0", d.k0, 0.0, 1e6, "std-dev of one c = 0 surface at unit depth",
+              "[McGuire16 Eq. 6-7]")
+        .real("k1", d.k1, 1e-9, 1e6, "implied thickness of the scattering surface",
+              "[McGuire16 Eq. 7]")
         .real("weight_min", d.weightMin, 1e-9, 1000.0, "lower clamp of the depth weight w",
-              "000 Eq. 5")
+              "[McGuire16 Eq. 5]")
         .real("weight_max", d.weightMax, 1e-9, 1000.0, "upper clamp of the depth weight w",
-              "000 Eq. 5")
+              "[McGuire16 Eq. 5]")
         .real("refraction_depth", d.refractionDepth, 1e-9, 1e6,
-              "Delta z: background plane distance behind the surface", "000 Eq. 9")
+              "Delta z: background plane distance behind the surface", "[McGuire16 Eq. 9]")
         .boolean("self_modulation", d.selfModulation, "modulate the surface by its own colour",
-                 "000 Eq. 13, 001 Eq. 14")
-        .boolean("refraction", d.refraction, "refraction offset in the resolve", "000 sec. 5")
+                 "[McGuire16 Eq. 13], [McGuire17 Eq. 14]")
+        .boolean("refraction", d.refraction, "refraction offset in the resolve",
+                 "[McGuire16 sec. 5]")
         .boolean("diffusion", d.diffusion, "occlusion-aware diffusion gather in the resolve",
-                 "000 sec. 5, Listing 2")
+                 "[McGuire16 sec. 5, Listing 2]")
         .integer("particle_downsample", d.particleDownsample, 1, 4,
                  "1, 2 or 4: billboards accumulate at 1/n resolution, bilateral upsampled",
-                 "000 sec. 5")
+                 "[McGuire16 sec. 5]")
         .boolean("volume_refraction", d.volumeRefraction,
                  "thickness from front/back slice maps scales refraction and absorption",
-                 "003 sec. 3")
+                 "[Eisemann06 sec. 3]")
         .real("thickness_reference", d.thicknessReference, 0.0, 1e6,
-              "medium thickness a transmission t stands for (0 = t not rescaled)", "003 sec. 3")
+              "medium thickness a transmission t stands for (0 = t not rescaled)",
+              "[Eisemann06 sec. 3]")
         .real("volume_blur", d.volumeBlur, 0.0, 1e6, "k_r of the thickness x roughness blur",
-              "003 sec. 3")
+              "[Eisemann06 sec. 3]")
         .boolean("inferred_ao", d.inferredAO,
                  "AO inferred at the partial-coverage edges of binary-coverage materials "
                  "(with render.ao on)",
-                 "001 sec. 6, Listing 2");
+                 "[McGuire17 sec. 6, Listing 2]");
     return s;
 }
 
@@ -473,7 +479,7 @@ static std::unique_ptr<Technique> createPhenomenological(gpu::ProgramManager& pr
 
 void registerPhenomenological(Registry& registry) {
     registry.add({"phenomenological",
-                  "McGuire & Mara 2016/2017: weighted blended OIT with colored transmission, "
+                  "[McGuire16, McGuire17]: weighted blended OIT with colored transmission, "
                   "diffusion, refraction and self-modulation",
                   nullptr, createPhenomenological, phenomenologicalSchema()});
     // The paper's cost figures are given with and without diffusion; the variant without it
@@ -482,7 +488,7 @@ void registerPhenomenological(Registry& registry) {
                   "phenomenological without diffusion (refraction and self-modulation kept)",
                   nullptr, createPhenomenological,
                   phenomenologicalSchema().withDefault("diffusion", false)});
-    // Thickness-dependent refraction and absorption from slice maps (003).
+    // Thickness-dependent refraction and absorption from slice maps [Eisemann06].
     registry.add({"phenomenological-volume",
                   "phenomenological with volume refraction: per-pixel thickness from front/back "
                   "slice maps scales refraction, Beer-Lambert absorption and roughness blur",

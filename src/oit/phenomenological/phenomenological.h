@@ -1,9 +1,9 @@
 // OIT technique `phenomenological`: McGuire & Mara, "A Phenomenological Scattering Model for
-// Order-Independent Transparency" (000, I3D 2016) and its journal version (001, TVCG 2017),
-// transparency part: colored transmission beta (000 Eq. 2), depth-weighted reflected light A
+// Order-Independent Transparency" [McGuire16] and its journal version [McGuire17],
+// transparency part: colored transmission beta [McGuire16 Eq. 2], depth-weighted reflected light A
 // (Eq. 4-5), diffusion D (Eq. 7) and refraction offset delta (Eq. 8-9) accumulated in one
 // unordered pass, then a compute resolve with refraction, occlusion-aware diffusion and
-// self-modulation (000 section 5, Listing 2; 001 Eq. 14).
+// self-modulation ([McGuire16 sec. 5, Listing 2]; [McGuire17 Eq. 14]).
 //
 // Parameters (PhenomenologicalParams; defaults in brackets; the properties of the three ids
 // are the same names in snake_case, declared in registerPhenomenological):
@@ -18,14 +18,14 @@
 //                               Listing 1 uses 0.05).
 //   weightMin, weightMax [0.01, 30]  Eq. 5 clamp of the depth weight w.
 //   refractionDepth     [2]     Eq. 9 Delta z: background plane distance behind the surface.
-//   selfModulation      [on]    000 Eq. 13 / 001 Eq. 14.
-//   refraction          [on]    000 section 5 "Refract".
-//   diffusion           [on]    000 section 5 "Diffuse".
+//   selfModulation      [on]    [McGuire16 Eq. 13] / [McGuire17 Eq. 14].
+//   refraction          [on]    [McGuire16 sec. 5 "Refract"].
+//   diffusion           [on]    [McGuire16 sec. 5 "Diffuse"].
 //   particleDownsample  [1]     2 or 4: billboard (particle) meshes accumulate at 1/2 or 1/4
-//                               resolution and are joint-bilateral upsampled (000 section 5).
-//   volumeRefraction    [off]   replaces 000's fixed-distance assumption (section 3) by the
+//                               resolution and are joint-bilateral upsampled [McGuire16 sec. 5].
+//   volumeRefraction    [off]   replaces [McGuire16]'s fixed-distance assumption (section 3) by the
 //                               per-pixel thickness h of the transparent geometry, from
-//                               front/back slice maps (003 section 3; technique name
+//                               front/back slice maps ([Eisemann06 sec. 3]; technique name
 //                               `phenomenological-volume`). One extra geometry pass (the first)
 //                               and a compute walk (thickness.comp); then in the accumulation:
 //                               Eq. 9 Delta z := h for eta != 1 (refractionDepth unused there),
@@ -37,20 +37,20 @@
 //   thicknessReference  [0]     medium thickness a surface's transmission t stands for; 0 =
 //                               t is not rescaled (only attenuation_distance absorbs).
 //   volumeBlur          [0.25]  k_r of the thickness x roughness diffusion term.
-//   inferredAO          [on]    001 section 6 / Listing 2: at the partial-coverage edge of a
+//   inferredAO          [on]    [McGuire17 sec. 6 / Listing 2]: at the partial-coverage edge of a
 //                               binary-coverage material (scene::Material::baseCoverageIsBinary)
 //                               the ambient term is multiplied by AO inferred from the frame's
 //                               AO buffer (only when render.ao is enabled; inferred_ao.glsl).
 //
-// Framebuffer (000 Table 2 with changed formats):
+// Framebuffer ([McGuire16 Table 2] with changed formats):
 //   RT0 A          RGBA16F    as the paper.
 //   RT1 beta, D^2  RGBA16 UNORM instead of RGBA8: 8 bits give 1/255 steps in beta, far from the
-//                  "exactly matches sorted two-pass" claim of 000 Fig. 2 (tested to 1e-3).
+//                  "exactly matches sorted two-pass" claim of [McGuire16 Fig. 2] (tested to 1e-3).
 //                  Alpha holds D^2 / maxDiffusionPixels^2 (Table 2: D^2 / 63^2); without
 //                  diffusion it is write-masked (stays 0) and the opaque depth is not copied.
 //   RT2 delta      RG16F sum c_i w_i delta_i / 64 (pixels) instead of RG8_SNORM delta / 63,
 //                  only with refraction: the resolve divides by RT0's A_a = sum c_i w_i, so the
-//                  layers' offsets are averaged (001 section 4.3.2) with the weights of their
+//                  layers' offsets are averaged [McGuire17 sec. 4.3.2] with the weights of their
 //                  reflected light (emit.glsl's header says why not by c_i alone).
 // 20 bytes per transparent fragment blended (16 without refraction) plus, per pixel, a depth
 // copy (4) and a background copy (8); before 2026-12-01 RT2 was RGBA16F (24 bytes).

@@ -20,14 +20,14 @@
 // Storage: an r32ui head-pointer image, an r32f image of each pixel's list length written by
 // the resolve (the frame resource oit.reference.fragments_per_pixel: surface fragments plus,
 // with fog, one node per fog segment; the viewer's heat map), a node pool SSBO of 32-byte nodes
-// (premultiplied radiance rgb, view depth, modulation rgb = 1 - a + a T (000 Eq. 2), next index)
-// and a counter SSBO {nodes requested, fragments dropped by the resolve}. Pool overflow: after the
-// last geometry pass repeatAccumulation() reads the counter back; if more nodes were requested than
-// the pool holds, the pool grows to the next power of two and the frame re-runs the transparent
-// passes (grow-and-repeat: the pool ends sized from the frame's actual fragment count, rounded up
-// to a power of two). Fog: fogSegments() is true, so the frame marches the fog per segment between
-// the sorted surfaces of each pixel (oitNextSurfaceDepth() in emit.glsl) and appends one node per
-// segment.
+// (premultiplied radiance rgb, view depth, modulation rgb = 1 - a + a T [McGuire16 Eq. 2], next
+// index) and a counter SSBO {nodes requested, fragments dropped by the resolve}. Pool overflow:
+// after the last geometry pass repeatAccumulation() reads the counter back; if more nodes were
+// requested than the pool holds, the pool grows to the next power of two and the frame re-runs the
+// transparent passes (grow-and-repeat: the pool ends sized from the frame's actual fragment count,
+// rounded up to a power of two). Fog: fogSegments() is true, so the frame marches the fog per
+// segment between the sorted surfaces of each pixel (oitNextSurfaceDepth() in emit.glsl) and
+// appends one node per segment.
 #pragma once
 
 #include "oit/technique.h"

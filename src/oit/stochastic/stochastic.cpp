@@ -1,28 +1,30 @@
-// Stochastic transparency (004). Parameter block:
+// Stochastic transparency [Enderton11]. Parameter block:
 //
 //   name               default  paper                      meaning
-//   samples (S)        8        004 3.1, 3.5, section 5    MSAA samples per pixel per pass,
+//   samples (S)        8        [Enderton11 sec. 3.1, 3.5, sec. 5]    MSAA samples per pixel per
+//   pass,
 //                                                          min(requested, GL_MAX_SAMPLES,
 //                                                          colour/depth texture limits, 32);
 //                                                          llvmpipe gives 4
-//   passes             1        004 3.5, section 5,        repeats with different seeds;
+//   passes             1        [Enderton11 sec. 3.5, sec. 5],        repeats with different seeds;
 //                               footnotes 3 and 4          total samples = S x passes. When
 //                                                          S x passes <= 32, one stratified
 //                                                          mask of S x passes bits is split
 //                                                          across the passes (footnote 3);
 //                                                          otherwise each pass draws its own
 //                                                          S-bit mask
-//   seed               pass::Context::seed    004 sec. 6   hashed with pixel, primitive id
+//   seed               pass::Context::seed    [Enderton11 sec. 6]   hashed with pixel, primitive id
 //                                                          and depth into the mask choice;
 //                                                          same seed, same image
 //   mask table         all C(N,R) masks for N <= 16, else 16384 distinct random ones per R
-//                      (004 section 5 lookup table; src/oit/cpu/stochastic.cpp)
+//                      ([Enderton11 sec. 5] lookup table; src/oit/cpu/stochastic.cpp)
 //
 // Geometry passes (geometryPasses(), P = passes):
-//   stochastic        P x [stochastic colour]                        (004 3.1)
-//   stochastic-alpha  [total alpha] + P x [stochastic colour]        (004 3.3, 3.5 basic)
-//   stochastic-depth  [total alpha] + P x [stochastic depth, accumulation]   (004 3.4, 3.5)
-// i.e. 1 + 2P passes for the depth-based method, as 004 section 3.5 counts them.
+//   stochastic        P x [stochastic colour]                        [Enderton11 sec. 3.1]
+//   stochastic-alpha  [total alpha] + P x [stochastic colour]        ([Enderton11 sec. 3.3, 3.5]
+//   basic) stochastic-depth  [total alpha] + P x [stochastic depth, accumulation]   [Enderton11
+//   sec. 3.4, 3.5]
+// i.e. 1 + 2P passes for the depth-based method, as [Enderton11 sec. 3.5] counts them.
 //
 // Opaque depth: the frame's depth is single-sample; before every pass that z-tests, a
 // fullscreen fragment pass (copy_depth.frag, depth func ALWAYS) writes it into all samples of
@@ -174,13 +176,13 @@ public:
         msDepthHoldsOpaque_ = info.kind == PassKind::TotalAlpha ||
                               (msDepthHoldsOpaque_ && info.kind == PassKind::Accumulate);
         switch (info.kind) {
-        case PassKind::TotalAlpha: // 004 3.5 step 2, multiplicative blend
+        case PassKind::TotalAlpha: // [Enderton11 sec. 3.5 step 2], multiplicative blend
             totalFbo_.bind();
             state.blendAll(gpu::BlendState::func(GL_ZERO, GL_SRC_COLOR));
             targets.state->apply(state);
             break;
-        case PassKind::StochColor:   // 004 3.1: winner take all per sample
-        case PassKind::StochDepth: { // 004 3.5 depth-based step 3: z only
+        case PassKind::StochColor:   // [Enderton11 sec. 3.1]: winner take all per sample
+        case PassKind::StochDepth: { // [Enderton11 sec. 3.5] depth-based step 3: z only
             state.depth(GL_LESS, true);
             targets.state->apply(state);
             if (info.kind == PassKind::StochColor) {
@@ -195,7 +197,8 @@ public:
             prepareProgram(pass, program);
             break;
         }
-        case PassKind::Accumulate: // 004 3.5 step 4: add to samples where z_frag <= z_buffer
+        case PassKind::Accumulate: // [Enderton11 sec. 3.5 step 4]: add to samples where z_frag <=
+                                   // z_buffer
             colorFbo_.bind();
             state.depth(GL_LEQUAL, false);
             // The fragment must pass against the depth it stored in the stochastic pass, drawn
@@ -334,10 +337,10 @@ void add(Registry& registry, const char* id, StochasticMode mode, const char* de
     schema
         .integer("samples", 8, 1, 64,
                  "MSAA samples per pixel per pass, S (clamped to the driver's limits and 32)",
-                 "004 3.1, 3.5")
+                 "[Enderton11 sec. 3.1, 3.5]")
         .integer("passes", 1, 1, 64,
                  "passes with different seeds; total samples per pixel = S x passes",
-                 "004 3.5, sec. 5");
+                 "[Enderton11 sec. 3.5, sec. 5]");
     registry.add({id, description, [](const gpu::ContextInfo& c) { return c.maxSamples >= 2; },
                   [mode](gpu::ProgramManager& programs, const Properties& p) {
                       const StochasticParams params{p.getInt("samples"), p.getInt("passes")};
@@ -360,11 +363,11 @@ int stochasticEffectiveSamples(int requested) {
 
 void registerStochastic(Registry& registry) {
     add(registry, "stochastic", StochasticMode::Basic,
-        "stochastic transparency, basic stratified S-choose-R masks (Enderton et al. 2011, 3.1)");
+        "stochastic transparency, basic stratified S-choose-R masks [Enderton11 sec. 3.1]");
     add(registry, "stochastic-alpha", StochasticMode::AlphaCorrected,
-        "stochastic transparency with alpha correction (Enderton et al. 2011, 3.3)");
+        "stochastic transparency with alpha correction [Enderton11 sec. 3.3]");
     add(registry, "stochastic-depth", StochasticMode::DepthBased,
-        "depth-based stochastic transparency (Enderton et al. 2011, 3.4/3.5)");
+        "depth-based stochastic transparency [Enderton11 sec. 3.4/3.5]");
 }
 
 } // namespace veil::oit

@@ -63,7 +63,7 @@ public:
 
     std::size_t bytesPerPixel() const override { return 8 + 2; }
 
-    // 000 Eq. 5: accum = sum of weighted premultiplied radiance (rgb) and coverage (a),
+    // [McGuire16 Eq. 5]: accum = sum of weighted premultiplied radiance (rgb) and coverage (a),
     // revealage = prod(1 - alpha).
     std::vector<Resource> resources() const override {
         return {{"oit.wboit.accum", [this] { return &accum_; }},
@@ -81,7 +81,7 @@ private:
 
 void registerWboit(Registry& registry) {
     registry.add({"wboit",
-                  "weighted blended OIT (McGuire & Bavoil 2013; 000 Eq. 5 weight, Listing 2 "
+                  "weighted blended OIT ([McGuire13]; [McGuire16 Eq. 5] weight, Listing 2 "
                   "guards; grey revealage)",
                   nullptr,
                   [](gpu::ProgramManager& programs, const Properties&) {

@@ -65,7 +65,7 @@ void registerTemplate(Registry& registry) {
     addOpaqueMapProperties(schema);
     schema.real("strength", 1.0, 0.0, 1.0,
                 "fraction of the light an opaque caster blocks (1: Williams depth maps, 0: none)",
-                "Williams 1978");
+                "[Williams78]");
     registry.add({"template", "copy me: opaque depth maps with a shadow strength property", nullptr,
                   [](gpu::ProgramManager& programs, const Properties& p) {
                       return std::make_unique<TemplateTechnique>(programs, p);

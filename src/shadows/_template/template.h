@@ -18,7 +18,7 @@
 //   pcf_radius [1]     [0, 16]      opaque map PCF kernel, (2r+1)^2 taps
 //   strength   [1]     [0, 1]       fraction of the light an opaque caster blocks: the
 //                                   receivers get 1 - strength x (1 - V), V the filtered
-//                                   depth-map visibility of Williams (1978) (an example of a
+//                                   depth-map visibility of [Williams78] (an example of a
 //                                   property reaching the visibility include through
 //                                   fillParams(): params[1].x).
 #pragma once

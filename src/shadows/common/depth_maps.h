@@ -1,5 +1,5 @@
 // The opaque casters' depth maps of every light view, one layer of a DEPTH32F texture array
-// each (Williams 1978), storing the normalized linear depth along the view's axis
+// each [Williams78], storing the normalized linear depth along the view's axis
 // (shaders/shadows/common/depth.frag). Every shadow technique has one: `opaque` is just this,
 // the others add the transparent casters and the fog on top. Receivers sample it through
 // shaders/shadows/common/opaque_depth.glsl at VEIL_TEX_SHADOW_MAP.

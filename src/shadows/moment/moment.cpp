@@ -148,7 +148,7 @@ private:
         const gpu::Program& program = programs_.get(caster_);
         gpu::PipelineState s;
         s.view(size_, size_);
-        s.depthTest = false; // 002 sec. 6: no depth test against the opaque casters
+        s.depthTest = false; // [Munstermann18 sec. 6]: no depth test against the opaque casters
         s.depthWrite = false;
         s.blendAll(gpu::BlendState::func(GL_ONE, GL_ONE));
         if (y0 > 0 || y1 < size_) {
@@ -217,7 +217,8 @@ private:
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
 
-    // 002 sec. 6's Gaussian, separable: each map horizontally into temp_, vertically back.
+    // [Munstermann18 sec. 6]'s Gaussian, separable: each map horizontally into temp_, vertically
+    // back.
     void filter() {
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
         for (gpu::Texture* t : {&absorbance_, &moments_, &media_}) {
@@ -291,15 +292,18 @@ void registerMoment(Registry& registry) {
     addOpaqueMapProperties(schema);
     schema
         .real("moment_bias", 6e-5, 0.0, 0.1,
-              "bias alpha toward the power-4 bias vector (MOMENTS-NOTES.md)", "002 sec. 3.2")
+              "bias alpha toward the power-4 bias vector (docs/oit.md#moment-constants)",
+              "[Munstermann18 sec. 3.2]")
         .real("overestimation", 0.0, 0.0, 1.0,
-              "overestimation weight beta; 0 for shadows (002 sec. 7.2)", "002 Alg. 2")
+              "overestimation weight beta; 0 for shadows [Munstermann18 sec. 7.2]",
+              "[Munstermann18 Algorithm 2]")
         .choice("storage", "float32", {"float32", "quantized16"},
                 "moment storage the receivers read: float32, or 16-bit quantized after "
                 "filtering (half-float b0, UNORM16 normalized moments)",
-                "002 sec. 4.1, 6")
+                "[Munstermann18 sec. 4.1, 6]")
         .integer("blur_radius", 4, 0, 32,
-                 "separable Gaussian taps each side (sigma = r/2); 4 = 002's 9x9", "002 sec. 6")
+                 "separable Gaussian taps each side (sigma = r/2); 4 = [Munstermann18]'s 9x9",
+                 "[Munstermann18 sec. 6]")
         .integer("media_steps", 64, 1, 4096,
                  "steps per texel ray through the volumes' bounds (density absorbance)")
         .boolean("media_skip_empty", true,

@@ -1,11 +1,12 @@
-// `moment`: moment shadow maps for transparent casters and density volumes (002 section 6,
+// `moment`: moment shadow maps for transparent casters and density volumes ([Munstermann18 sec. 6],
 // "the moment-based analog of Fourier opacity mapping"), with the opaque casters in their own
-// Williams map (002 section 6: "for opaque shadow casters, any shadow technique may be used";
-// we keep the PCF map every technique shares instead of a 64-bit moment shadow map).
+// Williams map ([Munstermann18 sec. 6]: "for opaque shadow casters, any shadow technique may be
+// used"; we keep the PCF map every technique shares instead of a 64-bit moment shadow map).
 //
 // Per light view (src/shadows/views.h), one frame:
 //   shadow              opaque casters' depth (common/depth_maps.h)            -> shadow.depth
-//   shadow.transparent  transparent casters, additive, no depth test (002 sec. 6), caster.frag:
+//   shadow.transparent  transparent casters, additive, no depth test [Munstermann18 sec. 6],
+//   caster.frag:
 //                       absorbance per channel and 4 power moments of the mean absorbance at
 //                       the linear depth z in [-1, 1]                           -> shadow.moments
 //   shadow.media        the volumes marched along every texel's ray from the light, each step's
@@ -13,7 +14,7 @@
 //   shadow.filter       separable Gaussian, radius `blur_radius` (4 = the paper's 9x9)
 //   shadow.quantize     only with storage quantized16: 16-bit copy the receivers read
 // Receivers (visibility.glsl): opaque PCF x exp(-A(zf)), A from the 4-moment reconstruction
-// (reconstruct.glsl), overestimation beta = 0 for shadows (002 section 7.2).
+// (reconstruct.glsl), overestimation beta = 0 for shadows [Munstermann18 sec. 7.2].
 //
 // Colour: three full moment maps (one per channel) would cost 15 floats per texel. Instead
 // the transparent surfaces' total absorbance b0 is stored per channel (3 floats) and their
@@ -28,12 +29,12 @@
 //
 // Properties (besides size, max_lights, bias, pcf_radius of the opaque map):
 //   moment_bias      alpha, interpolation of the normalized moments toward the power-4 bias
-//                    vector (MOMENTS-NOTES.md): 6e-5 (the 16-bit figure; float32 ports that used
-//                    5e-7 met NaN for a single surface)
-//   overestimation   beta of 002 Algorithm 2: 0 for shadows (002 sec. 7.2)
+//                    vector (docs/oit.md#moment-constants): 6e-5 (the 16-bit figure; float32 ports
+//                    that used 5e-7 met NaN for a single surface)
+//   overestimation   beta of [Munstermann18 Algorithm 2]: 0 for shadows [Munstermann18 sec. 7.2]
 //   storage          float32 (additive blending only) or quantized16 (half-float b0, UNORM16
 //                    normalized moments through the 4-moment transform, after filtering)
-//   blur_radius      Gaussian taps each side (sigma = r / 2); 4 = 9x9 as 002 sec. 6
+//   blur_radius      Gaussian taps each side (sigma = r / 2); 4 = 9x9 as [Munstermann18 sec. 6]
 //   media_steps      steps per texel ray through the volumes' bounds
 //   receiver_offset  world distance toward the light at which receivers look the maps up (a
 //                    transparent receiver does not shadow itself)

@@ -1,4 +1,4 @@
-// `opaque`: Williams (1978) shadow maps of the opaque casters for every shadow-casting light
+// `opaque`: [Williams78] shadow maps of the opaque casters for every shadow-casting light
 // (directional, spot, and point lights through six cube faces), PCF-filtered in the receivers
 // (shaders/shadows/opaque/visibility.glsl). Transparent casters and the fog cast no shadow:
 // this is the baseline the other shadow techniques are measured against.

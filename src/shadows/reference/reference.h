@@ -4,7 +4,7 @@
 //                    hard test at the texel's depth
 //   transparent      every fragment of every transparent caster of every light view in a
 //                    per-texel list (a node pool linked from a head image per layer); a
-//                    receiver multiplies the transmittance 1 - alpha + alpha T (000 Eq. 2) of
+//                    receiver multiplies the transmittance 1 - alpha + alpha T [McGuire16 Eq. 2] of
 //                    each fragment of its texel in front of it. The product is order-
 //                    independent, so unlike the OIT `reference` nothing is sorted.
 //   density volumes  the optical depth marched from the receiver to the light (to the volumes'

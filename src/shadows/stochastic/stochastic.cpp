@@ -1,4 +1,4 @@
-// `stochastic` (004) and `stochastic-vsm` (000) shadow techniques: see stochastic.h.
+// `stochastic` [Enderton11] and `stochastic-vsm` [McGuire16] shadow techniques: see stochastic.h.
 //
 // Resources:
 //   shadow.depth       the opaque casters' Williams maps (DepthMaps), both techniques
@@ -164,8 +164,8 @@ public:
     }
 
 private:
-    // 004 sec. 3.2 / 3.6: per view and channel, a stratified stochastic MSAA depth map of the
-    // transparent casters. VSM: the opaque casters first, so that a sample no transparent
+    // [Enderton11 sec. 3.2 / 3.6]: per view and channel, a stratified stochastic MSAA depth map of
+    // the transparent casters. VSM: the opaque casters first, so that a sample no transparent
     // surface covers holds the depth of what is behind (the receiver's own depth where it is
     // the first opaque surface), which makes Chebyshev's bound exact for one plane.
     // Rows [y0, y1) of every layer (all of them: 0, size_).
@@ -211,8 +211,9 @@ private:
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
 
-    // 000 sec. 4.3: "convert the shadow maps to Variance Shadow Maps": per texel the mean of z
-    // and z^2 over its S samples (the box filter of the samples, 004 sec. 4.1 operator F).
+    // [McGuire16 sec. 4.3]: "convert the shadow maps to Variance Shadow Maps": per texel the mean
+    // of z and z^2 over its S samples (the box filter of the samples, [Enderton11 sec. 4.1]
+    // operator F).
     void resolveMoments(const pass::Context& frame, const LightView& view, int y0, int y1) {
         frame.state->apply(gpu::PipelineState{}); // compute only
         const gpu::Program& program = programs_.get(momentsProgram_);
@@ -225,7 +226,7 @@ private:
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     }
 
-    // 000 sec. 4.3: "filter them with a 15x15 tent kernel (in two 1D passes)", here for the
+    // [McGuire16 sec. 4.3]: "filter them with a 15x15 tent kernel (in two 1D passes)", here for the
     // rows [y0, y1) of vsm_ (all of them: 0, size_). The vertical pass of those rows reads
     // the horizontal result (blurTmp_) of rows [y0 - r, y1 + r); bands run in order, so an
     // earlier band made it up to row y0 + r and this one adds rows [y0 + r, y1 + r) (from
@@ -282,11 +283,11 @@ PropertySchema& addStochasticProperties(PropertySchema& s) {
     s.integer("samples", 8, 1, 32,
               "MSAA samples S of the stochastic map per texel and channel (clamped to "
               "GL_MAX_SAMPLES and GL_MAX_DEPTH_TEXTURE_SAMPLES; llvmpipe has 4)",
-              "004 sec. 3.5, 3.6");
+              "[Enderton11 sec. 3.5, 3.6]");
     s.boolean("colored", true,
               "one stochastic map per RGB channel with rho = alpha (1 - t) per channel (colored "
               "stochastic shadow maps); false: one map of the channels' mean rho (grey)",
-              "000 sec. 4.3");
+              "[McGuire16 sec. 4.3]");
     return s;
 }
 
@@ -298,19 +299,19 @@ void add(Registry& registry, const char* id, Mode mode, const char* description)
         schema.integer("filter_radius", 2, 0, 8,
                        "PCF of the stochastic map over (2r+1)^2 texels x S samples (surfaces; "
                        "volume samples read one texel)",
-                       "004 sec. 3.2 Eq. 4, sec. 3.6");
+                       "[Enderton11 sec. 3.2, Eq. 4, sec. 3.6]");
     } else {
         schema
             .boolean("caustics", true,
                      "caustic density: rho scaled by 1 + g s^0.2 from the incidence and ior",
-                     "000 sec. 4.3 Eq. 10-12")
+                     "[McGuire16 sec. 4.3, Eq. 10-12]")
             .integer("blur_radius", 5, 0, 64,
                      "tent blur radius in texels of a 2048^2 map (G3D's default 5), scaled "
                      "by size / 2048 and rounded for other sizes",
-                     "000 sec. 4.3")
+                     "[McGuire16 sec. 4.3]")
             .real("light_bleeding", 0.0, 0.0, 0.99,
                   "light-bleeding reduction: visibility = linstep(amount, 1, Chebyshev bound)",
-                  "000 sec. 4.3 (VSM, Donnelly and Lauritzen 2006)")
+                  "[McGuire16 sec. 4.3] (VSM, [Donnelly06])")
             .boolean("fog_reads_vsm", false,
                      "fog samples (the compute marcher) also read the VSM; off: they get the "
                      "opaque map only, because on llvmpipe (Mesa 23, LLVM 15) the marcher's "
@@ -333,10 +334,10 @@ int stochasticVsmBlurTexels(int blurRadius, int size) {
 void registerStochastic(Registry& registry) {
     add(registry, "stochastic", Mode::Stochastic,
         "stochastic shadow maps of the transparent casters (MSAA, stratified sample masks, one "
-        "map per channel) read by PCF, with the opaque Williams map (Enderton et al. 2011)");
+        "map per channel) read by PCF, with the opaque Williams map [Enderton11]");
     add(registry, "stochastic-vsm", Mode::Vsm,
         "caustic colored stochastic shadow maps converted to blurred variance shadow maps, "
-        "Chebyshev bound, with the opaque Williams map (McGuire and Mara 2016)");
+        "Chebyshev bound, with the opaque Williams map [McGuire16]");
 }
 
 } // namespace veil::shadows

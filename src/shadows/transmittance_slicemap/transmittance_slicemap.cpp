@@ -93,7 +93,7 @@ std::vector<glm::dvec3> casterTransmittances(const scene::Scene& scene) {
 
 namespace {
 
-constexpr int kSlicesPerPass = 1024; // 8 RGBA32UI targets (003 sec. 2: MRT)
+constexpr int kSlicesPerPass = 1024; // 8 RGBA32UI targets ([Eisemann06 sec. 2]: MRT)
 
 class TransmittanceSlicemapTechnique final : public Technique {
 public:
@@ -288,7 +288,8 @@ private:
             classT[c] = glm::vec3(classT_[c]);
         for (const LightView& view : *frame.lightViews) {
             if (local_) {
-                // 003 sec. 2.2: per-column near and far of the casters (one MIN-blended pass).
+                // [Eisemann06 sec. 2.2]: per-column near and far of the casters (one MIN-blended
+                // pass).
                 rangeFbo_.attachLayer(GL_COLOR_ATTACHMENT0, range_, view.layer)
                     .drawBuffers({GL_COLOR_ATTACHMENT0});
                 rangeFbo_.bind();
@@ -318,7 +319,7 @@ private:
                     const GLuint zeros[4] = {0, 0, 0, 0};
                     for (int t = 0; t < int(targets_.size()); ++t)
                         glClearNamedFramebufferuiv(sliceFbo_.id(), GL_COLOR, t, zeros);
-                    // 003 sec. 2: the fragments' bit masks OR-ed into the integer targets.
+                    // [Eisemann06 sec. 2]: the fragments' bit masks OR-ed into the integer targets.
                     s.logicOp = true;
                     s.logicOpMode = GL_OR;
                     frame.state->apply(s);
@@ -381,42 +382,44 @@ void registerTransmittanceSlicemap(Registry& registry) {
     schema.integer("slices", 128, 1, 1024,
                    "slices per light-view column (32 per word; 1024 per geometry pass of 8 "
                    "RGBA32UI targets and per material class)",
-                   "003 sec. 2, 3");
+                   "[Eisemann06 sec. 2, 3]");
     schema.boolean("local_slicing", false,
                    "slices subdivide each column's [near, far] of the transparent casters (one "
                    "MIN-blended range pass per view) instead of the whole light view",
-                   "003 sec. 2.2");
-    schema.choice("method", "raster", {"raster", "conservative", "three-axis", "compute"},
-                  "voxelizer method (src/voxelize names): raster = one slice per texel centre per "
-                  "surface (003, exact counts for thin surfaces); conservative = every slice of "
-                  "the surface's depth range over the texel (steep surfaces count more than "
-                  "once); three-axis and compute need CPU triangles in a world grid: an error",
-                  "003 sec. 2");
+                   "[Eisemann06 sec. 2.2]");
+    schema.choice(
+        "method", "raster", {"raster", "conservative", "three-axis", "compute"},
+        "voxelizer method (src/voxelize names): raster = one slice per texel centre per "
+        "surface ([Eisemann06], exact counts for thin surfaces); conservative = every slice of "
+        "the surface's depth range over the texel (steep surfaces count more than "
+        "once); three-axis and compute need CPU triangles in a world grid: an error",
+        "[Eisemann06 sec. 2]");
     schema.integer("classes", 3, 1, 3,
                    "material classes (maps per view): casters are grouped by their transmittance "
                    "per crossing surface 1 - alpha + alpha T; each class has its own T_c",
-                   "003 sec. 3 (three leaf colours)");
+                   "[Eisemann06 sec. 3] (three leaf colours)");
     schema.boolean("fog", true,
                    "the grid density volumes attenuate receivers through a per-slice optical "
                    "depth along the light view's columns (a compute pass; the fog marcher's own "
                    "self-shadowing volumes are then off); false: the marcher self-shadows and "
                    "surfaces get no fog shadow",
-                   "003 sec. 3 (volumetric extinction, deep shadow maps)");
+                   "[Eisemann06 sec. 3] (volumetric extinction, deep shadow maps)");
     schema.integer("fog_columns", 128, 4, 4096,
                    "fog columns per side of each light view (optical depth is bilinear between "
                    "them)");
     schema.integer("fog_substeps", 4, 1, 64,
                    "midpoint density samples per slice of the fog's optical depth (error of a "
                    "density edge: sigma x slice length / substeps)");
-    registry.add({"transmittance-slicemap",
-                  "003 transmittance shadow maps: light-space slice maps of the semi-transparent "
-                  "casters per material class, attenuation prod T_c^(n_c) from slice counts, "
-                  "times the opaque casters' map",
-                  nullptr,
-                  [](gpu::ProgramManager& programs, const Properties& p) {
-                      return std::make_unique<TransmittanceSlicemapTechnique>(programs, p);
-                  },
-                  std::move(schema)});
+    registry.add(
+        {"transmittance-slicemap",
+         "[Eisemann06] transmittance shadow maps: light-space slice maps of the semi-transparent "
+         "casters per material class, attenuation prod T_c^(n_c) from slice counts, "
+         "times the opaque casters' map",
+         nullptr,
+         [](gpu::ProgramManager& programs, const Properties& p) {
+             return std::make_unique<TransmittanceSlicemapTechnique>(programs, p);
+         },
+         std::move(schema)});
 }
 
 } // namespace veil::shadows

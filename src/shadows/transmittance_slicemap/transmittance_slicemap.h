@@ -1,10 +1,10 @@
-// `transmittance-slicemap`: transmittance shadow maps from slice maps (003 sec. 3,
+// `transmittance-slicemap`: transmittance shadow maps from slice maps ([Eisemann06 sec. 3],
 // Eisemann & Decoret 2006). For every light view (src/shadows/views.h) the semi-transparent
-// casters are voxelized into light-space slice maps (003 sec. 2; the bit layout, bit masks and
-// pack pass of src/voxelize), one per material class; a receiver at slice s gets
-// prod_c T_c^(n_c) with n_c the set slices of class c in front of it (bitCount over masked
-// words), times the opaque casters' Williams map (DepthMaps). docs/shadows.md
-// "transmittance-slicemap" has the design, the class mapping and what differs from 003.
+// casters are voxelized into light-space slice maps ([Eisemann06 sec. 2]; the bit layout, bit masks
+// and pack pass of src/voxelize), one per material class; a receiver at slice s gets prod_c
+// T_c^(n_c) with n_c the set slices of class c in front of it (bitCount over masked words), times
+// the opaque casters' Williams map (DepthMaps). docs/shadows.md "transmittance-slicemap" has the
+// design, the class mapping and what differs from [Eisemann06].
 //
 // Properties (declared once in registerTransmittanceSlicemap): size (1024 here; columns of
 // every view's slice map = texels of its opaque map), max_lights, bias, pcf_radius, slices,
@@ -24,8 +24,8 @@ void registerTransmittanceSlicemap(Registry& registry);
 
 namespace slicemap {
 
-// The transmittance per crossing surface of a material (000 Eq. 2: 1 - alpha + alpha T), the
-// quantity its class groups (shaders/frame/material.glsl surfaceTransmittance).
+// The transmittance per crossing surface of a material ([McGuire16 Eq. 2]: 1 - alpha + alpha T),
+// the quantity its class groups (shaders/frame/material.glsl surfaceTransmittance).
 glm::dvec3 surfaceTransmittance(const scene::Material& m);
 
 // Groups transmittances into at most `maxClasses` classes: distinct values (to 1e-4) each

@@ -1,4 +1,4 @@
-// The `volume` technique's per caster and light decisions (003 Sec. 3.2, classify.comp):
+// The `volume` technique's per caster and light decisions ([Eisemann06 sec. 3.2], classify.comp):
 // culled, clamped or infinite, from the receivers' slice map and the occluders' far depth per
 // grid column. volume.cpp builds the inputs; tests run it on inputs of their own.
 #pragma once

@@ -215,7 +215,7 @@ void setSlotViews(const gpu::Program& program, const std::vector<VolumeLight>& l
     }
 }
 
-// 003 Sec. 3.2: the receivers into each light's slice map, the occluders' far depth per
+// [Eisemann06 sec. 3.2]: the receivers into each light's slice map, the occluders' far depth per
 // column, and per caster and light: culled, clamped or infinite (casters_).
 void VolumeTechnique::classify(const pass::Context& frame, const std::vector<int>& casters,
                                const std::function<void(const char*)>& stamp) {
@@ -527,22 +527,22 @@ void registerVolume(Registry& registry) {
     schema.boolean("caster_culling", true,
                    "casters whose light-space footprint lies behind other opaque casters in the "
                    "opaque map (their volume is inside the others' shadow) draw no volume",
-                   "003 sec. 3.2 (Fig. 6a)");
+                   "[Eisemann06 sec. 3.2, Fig. 6a]");
     schema.boolean("receiver_culling", true,
                    "casters with no camera-visible receiver behind them in the light's slice map "
                    "draw no volume",
-                   "003 sec. 3.2 (Fig. 6c)");
+                   "[Eisemann06 sec. 3.2, Fig. 6c]");
     schema.boolean("clamping", true,
                    "each volume ends one slice past the farthest camera-visible receiver behind "
                    "its caster (the camera depth voxelized into the light's slice map) instead "
                    "of at infinity",
-                   "003 sec. 3.2 (Fig. 6b)");
+                   "[Eisemann06 sec. 3.2, Fig. 6b]");
     schema.integer("grid", 256, 8, 4096,
                    "columns per side of each light's slice map of the receivers (culling and "
                    "clamping)",
-                   "003 sec. 3.2");
+                   "[Eisemann06 sec. 3.2]");
     schema.integer("slices", 128, 1, 1024, "slices per column of the receivers' slice map",
-                   "003 sec. 2, 3.2");
+                   "[Eisemann06 sec. 2, 3.2]");
     schema.boolean("measure", true,
                    "count the volume triangles (GL_PRIMITIVES_GENERATED) and the stencil fill "
                    "(GL_SAMPLES_PASSED of the volumes redrawn without depth test) every frame, "
@@ -551,21 +551,22 @@ void registerVolume(Registry& registry) {
                    "casters whose volume cannot hold the eye (the segment from the eye toward "
                    "the light misses their bounds) are counted depth-pass, without front caps "
                    "and without back caps at infinity; the others depth-fail",
-                   "Everitt & Kilgard 2002; Lloyd et al. 2004 (CC shadow volumes)");
+                   "[Everitt02]; [Lloyd04] (CC shadow volumes)");
     schema.boolean("timing", false,
                    "GL_TIMESTAMP queries between the pass's parts (world vertices, pre-pass, "
                    "culling and clamping, silhouettes, stencil, resolve), read back at the end "
                    "of the pass into stats() part_ms (a CPU wait per frame: for benchmarks)");
-    registry.add({"volume",
-                  "stencil shadow volumes (depth-fail, caps, infinite extrusion with depth clamp) "
-                  "of the opaque casters, exact per pixel for opaque receivers, culled and "
-                  "clamped with the light's slice map of the visible receivers (003 sec. 3.2); "
-                  "transparent receivers and fog get the opaque map",
-                  nullptr,
-                  [](gpu::ProgramManager& programs, const Properties& p) {
-                      return std::make_unique<VolumeTechnique>(programs, p);
-                  },
-                  std::move(schema)});
+    registry.add(
+        {"volume",
+         "stencil shadow volumes (depth-fail, caps, infinite extrusion with depth clamp) "
+         "of the opaque casters, exact per pixel for opaque receivers, culled and "
+         "clamped with the light's slice map of the visible receivers [Eisemann06 sec. 3.2]; "
+         "transparent receivers and fog get the opaque map",
+         nullptr,
+         [](gpu::ProgramManager& programs, const Properties& p) {
+             return std::make_unique<VolumeTechnique>(programs, p);
+         },
+         std::move(schema)});
 }
 
 } // namespace veil::shadows
