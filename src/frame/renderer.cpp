@@ -35,7 +35,12 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
     const Properties& sp = shadows_->properties();
     shadowSet_ = shadows::chooseShadowLights(scene, sp.getInt("max_lights"),
                                              fmt::format("{} (max_lights)", shadowsWhere));
-    if (shadowSet_.viewCount > 0) shadows_->resize(sp.getInt("size"), shadowSet_.viewCount);
+    if (shadowSet_.viewCount > 0) {
+        shadows_->resize(sp.getInt("size"), shadowSet_.viewCount);
+        if (auto request = shadows_->lightSliceMap())
+            lightSlices_ =
+                std::make_unique<voxelize::LightSliceMap>(programs_, std::move(*request));
+    }
 
     using gpu::ProgramDesc;
     // Receivers (opaque and transparent surfaces, the fog) see lights through the shadow

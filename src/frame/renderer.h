@@ -30,6 +30,7 @@
 #include "scene/scene.h"
 #include "shadows/technique.h"
 #include "volume/fog_pass.h"
+#include "voxelize/light_slice_map.h"
 
 #include <functional>
 #include <memory>
@@ -178,6 +179,8 @@ private:
     // segments): released when setOitTechnique() replaces it.
     std::vector<gpu::ProgramHandle> oitPrograms_;
     std::unique_ptr<shadows::Technique> shadows_;
+    // The light slice map the shadow technique asks for (its voxelize pass), or null.
+    std::unique_ptr<voxelize::LightSliceMap> lightSlices_;
     shadows::ShadowLightSet shadowSet_;
     std::vector<shadows::LightView> shadowViews_;
     std::vector<std::string> shadowResources_; // what receivers read

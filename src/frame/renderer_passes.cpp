@@ -22,6 +22,21 @@ void Renderer::buildPasses() {
     shadowResources_.clear();
     if (shadowSet_.viewCount > 0) {
         shadowResources_ = shadows_->receiverResources();
+        // The light slice map the technique reads, voxelized first (src/voxelize).
+        if (lightSlices_) {
+            pass::Pass p{"voxelize.light_slices",
+                         {},
+                         {lightSlices_->request().name},
+                         [this](const pass::Context& context) {
+                             std::vector<voxelize::LightSliceMap::View> views;
+                             for (const shadows::LightView& v : *context.lightViews)
+                                 views.push_back({v.layer, v.view, v.viewProjection});
+                             lightSlices_->render(context, views);
+                         }};
+            p.scope = pass::Scope::Lights;
+            lightSlices_->addResources(resources_);
+            addPass(std::move(p));
+        }
         for (pass::Pass& p : shadows_->passes()) {
             p.name = p.name.empty() ? "shadow" : "shadow." + p.name;
             p.scope = pass::Scope::Lights;

@@ -53,25 +53,61 @@ enum class ObjectSet {
     TransparentCasters, // transparent materials of objects that cast shadows
 };
 
-// The name -> texture table of the frame's resources (debug views, `veil render --dump`,
-// tests). The module that writes a resource adds it: a getter, since targets are recreated on
-// resize and some exist only in some frames (a null answer: no texture now).
+// The name -> texture (or buffer) table of the frame's resources (debug views, `veil render
+// --dump`, tests, the passes that read them). The module that writes a resource adds it: a
+// getter, since targets are recreated on resize and some exist only in some frames (a null
+// answer: no texture or buffer now).
 class Resources {
 public:
     using Getter = std::function<const gpu::Texture*()>;
+    using BufferGetter = std::function<const gpu::Buffer*()>;
     void add(const std::string& name, Getter getter) { table_[name] = std::move(getter); }
     void add(const std::string& name, const gpu::Texture& texture) {
         table_[name] = [t = &texture] { return t; };
+    }
+    void addBuffer(const std::string& name, BufferGetter getter) {
+        buffers_[name] = std::move(getter);
     }
     // The texture behind `name`, or null (not a resource with a texture, or none now).
     const gpu::Texture* texture(const std::string& name) const {
         const auto it = table_.find(name);
         return it == table_.end() ? nullptr : it->second();
     }
-    void clear() { table_.clear(); }
+    // The buffer behind `name`, or null (not a resource with a buffer, or none now).
+    const gpu::Buffer* buffer(const std::string& name) const {
+        const auto it = buffers_.find(name);
+        return it == buffers_.end() ? nullptr : it->second();
+    }
+    void clear() {
+        table_.clear();
+        buffers_.clear();
+    }
 
 private:
     std::map<std::string, Getter> table_;
+    std::map<std::string, BufferGetter> buffers_;
+};
+
+// A light slice map a module needs ([Eisemann06 sec. 2, 3]): the objects of
+// ObjectSet::TransparentCasters voxelized along every light view (Context::lightViews, one
+// map layer per view) into `slices` slices per texel column of a `size` x `size` map, one
+// map per material class, by a voxelize pass the frame adds before the module's passes
+// (src/voxelize/light_slice_map.h). That pass writes the resource `name`: a buffer of the
+// column-contiguous words of map (view layer, class) (32 slices a word, the layout of
+// src/voxelize's pack.comp), and the texture `name`.range: local slicing's per-column near and
+// far of the casters (RG32F array, one layer per view).
+struct LightSliceMapRequest {
+    std::string name;   // the resource
+    std::string owner;  // who asks (error messages)
+    std::string caster; // fragment shader (with frame/mesh.vert; defines DEPTH_PASS, LOCAL,
+                        // CONSERVATIVE) that writes one class's bit masks into 8 RGBA32UI
+                        // targets (uniforms shadowView, uSlices, uPass, uClass, uClasses, uClassT)
+    std::string method; // "raster" or "conservative" (src/voxelize's names)
+    int size = 0, views = 0, slices = 0;
+    bool local = false; // slices subdivide each column's [near, far] of the casters
+    // The material classes' transmittances per crossing surface for `scene` (at most 3; empty:
+    // no transparent caster), asked once per run of the pass before it draws.
+    std::function<std::vector<glm::vec3>(const scene::Scene&)> classes;
 };
 
 // What the frame gives every pass.

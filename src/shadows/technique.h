@@ -28,6 +28,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,10 @@ public:
     // Called when the number of views or the map size changes: (re)creates the texture arrays
     // with one layer per view.
     virtual void resize(int mapSize, int viewCount) = 0;
+    // The light slice map the technique's passes or receivers read, if any: the frame then
+    // adds a voxelize pass writing it (the resource request.name) before passes(). Called
+    // once, after the first resize().
+    virtual std::optional<pass::LightSliceMapRequest> lightSliceMap() { return std::nullopt; }
     // The passes, in order. The frame's receivers read `receiverResources()`.
     virtual std::vector<pass::Pass> passes() = 0;
     virtual std::vector<std::string> receiverResources() const = 0;

@@ -3,7 +3,6 @@
 #include "base/error.h"
 #include "shadows/common/depth_maps.h"
 #include "shadows/opaque/opaque.h"
-#include "voxelize/gpu_voxelizer.h"
 
 #include <fmt/format.h>
 
@@ -93,8 +92,6 @@ std::vector<glm::dvec3> casterTransmittances(const scene::Scene& scene) {
 
 namespace {
 
-constexpr int kSlicesPerPass = 1024; // 8 RGBA32UI targets ([Eisemann06 sec. 2]: MRT)
-
 class TransmittanceSlicemapTechnique final : public Technique {
 public:
     TransmittanceSlicemapTechnique(gpu::ProgramManager& programs, const Properties& p)
@@ -103,21 +100,14 @@ public:
           local_(p.getBool("local_slicing")), maxClasses_(p.getInt("classes")),
           fog_(p.getBool("fog")), fogColumns_(p.getInt("fog_columns")),
           fogSubsteps_(p.getInt("fog_substeps")) {
-        const voxelize::Method method = voxelize::parseMethod(p.getString("method"));
-        VEIL_CHECK(method == voxelize::Method::Raster || method == voxelize::Method::Conservative,
+        const std::string method = p.getString("method");
+        VEIL_CHECK(method == "raster" || method == "conservative",
                    "transmittance-slicemap: method '{}' is not available for light views (it "
                    "voxelizes CPU triangles into a world-aligned orthographic grid; the casters "
                    "come from the frame's caster draw into perspective/oblique light views): "
                    "use raster or conservative",
-                   voxelize::methodName(method));
-        std::vector<std::string> defines;
-        if (method == voxelize::Method::Conservative) defines.push_back("CONSERVATIVE");
-        if (local_) defines.push_back("LOCAL");
-        const char* frag = "shadows/transmittance_slicemap/caster.frag";
-        sliceProgram_ = programs.add(gpu::ProgramDesc::graphics("frame/mesh.vert", frag, defines));
-        rangeProgram_ =
-            programs.add(gpu::ProgramDesc::graphics("frame/mesh.vert", frag, {"DEPTH_PASS"}));
-        packProgram_ = programs.add(gpu::ProgramDesc::compute("voxelize/pack.comp"));
+                   method);
+        method_ = method;
         if (fog_)
             fogProgram_ =
                 programs.add(gpu::ProgramDesc::compute("shadows/transmittance_slicemap/fog.comp"));
@@ -132,29 +122,7 @@ public:
         if (mapSize == size_ && viewCount == views_) return;
         size_ = mapSize;
         views_ = viewCount;
-        range_ = gpu::Texture(GL_TEXTURE_2D_ARRAY);
-        range_.storage3D(1, GL_RG32F, size_, size_, std::max(views_, 1))
-            .parameter(GL_TEXTURE_MIN_FILTER, GL_NEAREST)
-            .parameter(GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        const int targets = std::min(8, (std::min(slices_, kSlicesPerPass) + 127) / 128);
-        targets_.clear();
-        for (int t = 0; t < targets; ++t) {
-            targets_.emplace_back(GL_TEXTURE_2D);
-            targets_.back()
-                .storage2D(1, GL_RGBA32UI, size_, size_)
-                .parameter(GL_TEXTURE_MIN_FILTER, GL_NEAREST)
-                .parameter(GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        }
-        sliceFbo_ = gpu::Framebuffer();
-        for (int t = 0; t < targets; ++t)
-            sliceFbo_.attach(GL_COLOR_ATTACHMENT0 + t, targets_[t]);
-        auto buf = [&](int t) {
-            return t < targets ? GLenum(GL_COLOR_ATTACHMENT0 + t) : GLenum(GL_NONE);
-        };
-        sliceFbo_.drawBuffers({buf(0), buf(1), buf(2), buf(3), buf(4), buf(5), buf(6), buf(7)});
-        sliceFbo_.checkComplete("transmittance-slicemap slice pass");
-        rangeFbo_ = gpu::Framebuffer();
-        words_ = gpu::Buffer{gpu::NoCreate};
+        wordsBytes_ = 0;
         fogTau_ = gpu::Texture(GL_TEXTURE_3D);
         fogTau_
             .storage3D(1, GL_R32F, fog_ ? fogColumns_ : 1, fog_ ? fogColumns_ : 1,
@@ -165,17 +133,40 @@ public:
             .parameter(GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE)
             .parameter(GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
     }
-    // Bands of texel rows (pass::Pass::executeRows) for the depth and fog passes. The slices
-    // pass runs whole: its words are packed by src/voxelize's pack.comp (whole targets, no
-    // row offset) into one buffer cleared whole, and its class grouping is per pass.
+    // The slice map of the transparent casters: the frame's voxelize pass writes it (the
+    // resource shadow.slices) before these passes, with this technique's class grouping
+    // (asked once per run of that pass: classT_ then holds this frame's classes).
+    std::optional<pass::LightSliceMapRequest> lightSliceMap() override {
+        pass::LightSliceMapRequest r;
+        r.name = "shadow.slices";
+        r.owner = name();
+        r.caster = "shadows/transmittance_slicemap/caster.frag";
+        r.method = method_;
+        r.size = size_;
+        r.views = views_;
+        r.slices = slices_;
+        r.local = local_;
+        r.classes = [this](const scene::Scene& scene) {
+            const std::vector<glm::dvec3> ts = slicemap::casterTransmittances(scene);
+            classT_ =
+                ts.empty() ? std::vector<glm::dvec3>{} : slicemap::groupClasses(ts, maxClasses_);
+            wordsBytes_ = std::size_t(views_) * std::max(classCount(), 1) * size_ * size_ *
+                          ((slices_ + 31) / 32) * 4;
+            std::vector<glm::vec3> t;
+            for (const glm::dvec3& c : classT_)
+                t.emplace_back(c);
+            return t;
+        };
+        return r;
+    }
+    // Bands of texel rows (pass::Pass::executeRows) for the depth and fog passes.
     std::vector<pass::Pass> passes() override {
         std::vector<pass::Pass> p = {
             {"",
              {},
              {"shadow.depth"},
              [this](const pass::Context& f) { depth_.render(f); },
-             [this](const pass::Context& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }},
-            {"slices", {}, {"shadow.slices"}, [this](const pass::Context& f) { render(f); }}};
+             [this](const pass::Context& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }}};
         if (fog_)
             p.push_back({"fog",
                          {},
@@ -191,17 +182,21 @@ public:
     bool attenuatesMedia() const override { return fog_; }
     void bindForReceivers() const override {
         depth_.bind();
-        range_.bind(VEIL_TEX_SHADOW1);
         fogTau_.bind(VEIL_TEX_SHADOW2);
-        if (words_) words_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_SLICES);
     }
     void fillParams(ShadowsBlock& block) const override {
         block.params[0] = glm::vec4(bias_, float(pcfRadius_), float(slices_), local_ ? 1.0f : 0.0f);
     }
     // The classes and the fog come from this frame's passes (they run before every
-    // receiver; the shadows block is filled before them): uniforms of the receiver.
+    // receiver; the shadows block is filled before them): uniforms of the receiver. The slice
+    // map (its words and local slicing's range) from the frame's resources.
     void prepareReceiver(const gpu::Program& program, const pass::Context& frame) const override {
-        (void)frame;
+        if (frame.resources) {
+            if (const gpu::Texture* range = frame.resources->texture("shadow.slices.range"))
+                range->bind(VEIL_TEX_SHADOW1);
+            if (const gpu::Buffer* words = frame.resources->buffer("shadow.slices"))
+                words->bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_SHADOW_SLICES);
+        }
         std::vector<glm::vec3> t(3, glm::vec3(1.0f));
         for (int c = 0; c < classCount(); ++c)
             t[c] = glm::vec3(classT_[c]);
@@ -210,16 +205,17 @@ public:
     }
     const gpu::Texture* resourceTexture(const std::string& name) const override {
         if (name == "shadow.depth") return &depth_.texture();
-        if (name == "shadow.range") return &range_;
         if (name == "shadow.fog") return &fogTau_;
         return nullptr;
     }
     // Slices of the casters and of the media along the light views: no camera.
     bool dependsOnCamera() const override { return false; }
+    // With the slice map the voxelize pass keeps for this technique (words, range, targets).
     std::size_t gpuBytes() const override {
-        return depth_.gpuBytes() + (words_ ? words_.size() : 0) +
+        const std::size_t targets = std::min(8, (std::min(slices_, 1024) + 127) / 128);
+        return depth_.gpuBytes() + wordsBytes_ +
                (fog_ ? std::size_t(fogColumns_) * fogColumns_ * views_ * (slices_ + 1) * 4 : 0) +
-               std::size_t(size_) * size_ * (8 + 16 * targets_.size()) * std::max(views_, 1);
+               std::size_t(size_) * size_ * (8 + 16 * targets) * std::max(views_, 1);
     }
     nlohmann::json stats() const override {
         nlohmann::json classes = nlohmann::json::array();
@@ -228,7 +224,7 @@ public:
         return {{"slices", slices_},
                 {"local_slicing", local_},
                 {"classes", classes},
-                {"occupied_words_bytes", words_ ? words_.size() : 0}};
+                {"occupied_words_bytes", wordsBytes_}};
     }
 
 private:
@@ -261,100 +257,6 @@ private:
         glUseProgram(0);
     }
 
-    void render(const pass::Context& frame) {
-        VEIL_CHECK(frame.scene, "transmittance-slicemap: the frame gives no scene (classes)");
-        const std::vector<glm::dvec3> ts = slicemap::casterTransmittances(*frame.scene);
-        classT_ = ts.empty() ? std::vector<glm::dvec3>{} : slicemap::groupClasses(ts, maxClasses_);
-        const int classes = std::max(classCount(), 1);
-        const int wpc = (slices_ + 31) / 32;
-        const std::size_t words = std::size_t(views_) * classes * size_ * size_ * wpc;
-        VEIL_CHECK(words * 4 <= (std::size_t(2) << 30),
-                   "transmittance-slicemap: {} views x {} classes x {}^2 columns x {} slices need "
-                   "{} MiB of slice words (limit 2048): lower size, slices or classes",
-                   views_, classes, size_, slices_, words * 4 >> 20);
-        if (!words_ || words_.size() != words * 4) {
-            words_ = gpu::Buffer();
-            words_.setStorage(words * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
-        }
-        const GLuint zero = 0;
-        glClearNamedBufferData(words_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-        if (classT_.empty()) return; // no transparent caster: every count is 0
-
-        const gpu::Program& slice = programs_.get(sliceProgram_);
-        const gpu::Program& range = programs_.get(rangeProgram_);
-        const gpu::Program& pack = programs_.get(packProgram_);
-        std::vector<glm::vec3> classT(3, glm::vec3(1.0f));
-        for (int c = 0; c < classCount(); ++c)
-            classT[c] = glm::vec3(classT_[c]);
-        for (const LightView& view : *frame.lightViews) {
-            if (local_) {
-                // [Eisemann06 sec. 2.2]: per-column near and far of the casters (one MIN-blended
-                // pass).
-                rangeFbo_.attachLayer(GL_COLOR_ATTACHMENT0, range_, view.layer)
-                    .drawBuffers({GL_COLOR_ATTACHMENT0});
-                rangeFbo_.bind();
-                gpu::PipelineState s;
-                s.view(size_, size_);
-                s.depthWrite = false;
-                frame.state->apply(s);
-                const GLfloat big[4] = {1e30f, 1e30f, 0.0f, 0.0f};
-                glClearNamedFramebufferfv(rangeFbo_.id(), GL_COLOR, 0, big);
-                s.blendAll(gpu::BlendState::func(GL_ONE, GL_ONE, GL_MIN));
-                frame.state->apply(s);
-                range.use();
-                setCasterView(range, view);
-                range.set("shadowView", view.layer);
-                frame.drawObjects(range, pass::ObjectSet::TransparentCasters);
-                glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-                range_.bind(VEIL_TEX_SHADOW1);
-            }
-            const int passes = (slices_ + kSlicesPerPass - 1) / kSlicesPerPass;
-            for (int c = 0; c < classCount(); ++c)
-                for (int p = 0; p < passes; ++p) {
-                    sliceFbo_.bind();
-                    gpu::PipelineState s;
-                    s.view(size_, size_);
-                    s.depthWrite = false;
-                    frame.state->apply(s);
-                    const GLuint zeros[4] = {0, 0, 0, 0};
-                    for (int t = 0; t < int(targets_.size()); ++t)
-                        glClearNamedFramebufferuiv(sliceFbo_.id(), GL_COLOR, t, zeros);
-                    // [Eisemann06 sec. 2]: the fragments' bit masks OR-ed into the integer targets.
-                    s.logicOp = true;
-                    s.logicOpMode = GL_OR;
-                    frame.state->apply(s);
-                    slice.use();
-                    setCasterView(slice, view);
-                    slice.set("shadowView", view.layer)
-                        .set("uSlices", slices_)
-                        .set("uPass", p)
-                        .set("uClass", c)
-                        .set("uClasses", classCount());
-                    glProgramUniform3fv(slice.id(), slice.uniformLocation("uClassT"), 3,
-                                        &classT[0].x);
-                    frame.drawObjects(slice, pass::ObjectSet::TransparentCasters);
-                    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-                    // src/voxelize's pack pass: targets -> column-contiguous words of map
-                    // (view, class).
-                    const std::size_t offset =
-                        (std::size_t(view.layer) * classes + c) * size_ * size_ * wpc;
-                    glProgramUniform3i(pack.id(), pack.uniformLocation("uGridSize"), size_, size_,
-                                       slices_);
-                    pack.set("uPass", p).set("uWordOffset", static_cast<unsigned>(offset));
-                    for (int t = 0; t < 8; ++t)
-                        targets_[std::min<std::size_t>(t, targets_.size() - 1)].bind(VEIL_TEX_VOX0 +
-                                                                                     t);
-                    words_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_VOX_WORDS);
-                    pack.use();
-                    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-                    glDispatchCompute((size_ + 7) / 8, (size_ + 7) / 8, 1);
-                    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-                    glUseProgram(0);
-                }
-        }
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    }
-
     gpu::ProgramManager& programs_;
     DepthMaps depth_;
     float bias_;
@@ -364,13 +266,11 @@ private:
     bool fog_;
     int fogColumns_, fogSubsteps_;
     bool fogActive_ = false;
-    gpu::ProgramHandle sliceProgram_, rangeProgram_, packProgram_, fogProgram_;
+    std::string method_;
+    gpu::ProgramHandle fogProgram_;
     gpu::Texture fogTau_{gpu::NoCreate};
     int size_ = 0, views_ = 0;
-    gpu::Texture range_{gpu::NoCreate};
-    std::vector<gpu::Texture> targets_;
-    gpu::Framebuffer sliceFbo_{gpu::NoCreate}, rangeFbo_{gpu::NoCreate};
-    gpu::Buffer words_{gpu::NoCreate};
+    std::size_t wordsBytes_ = 0; // the slice map's words, once the voxelize pass ran
     std::vector<glm::dvec3> classT_;
 };
 

@@ -1,10 +1,11 @@
 // `transmittance-slicemap`: transmittance shadow maps from slice maps ([Eisemann06 sec. 3],
 // Eisemann & Decoret 2006). For every light view (src/shadows/views.h) the semi-transparent
-// casters are voxelized into light-space slice maps ([Eisemann06 sec. 2]; the bit layout, bit masks
-// and pack pass of src/voxelize), one per material class; a receiver at slice s gets prod_c
-// T_c^(n_c) with n_c the set slices of class c in front of it (bitCount over masked words), times
-// the opaque casters' Williams map (DepthMaps). docs/shadows.md "transmittance-slicemap" has the
-// design, the class mapping and what differs from [Eisemann06].
+// casters are voxelized into light-space slice maps ([Eisemann06 sec. 2]), one per material
+// class: the technique asks the frame for them (lightSliceMap()) and the frame's voxelize pass
+// (voxelize::LightSliceMap) writes them into the resource shadow.slices. A receiver at slice s
+// gets prod_c T_c^(n_c) with n_c the set slices of class c in front of it (bitCount over masked
+// words), times the opaque casters' Williams map (DepthMaps). docs/shadows.md
+// "transmittance-slicemap" has the design, the class mapping and what differs from [Eisemann06].
 //
 // Properties (declared once in registerTransmittanceSlicemap): size (1024 here; columns of
 // every view's slice map = texels of its opaque map), max_lights, bias, pcf_radius, slices,
