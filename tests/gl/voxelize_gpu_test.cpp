@@ -83,8 +83,7 @@ std::vector<Shape> shapes() {
     s.push_back({"sphere", fromMesh(scene::makeSphere(1.0f, 32, 16))});
     s.push_back({"torus", fromMesh(scene::makeTorus(1.0f, 0.3f, 32, 16), rot)});
     Triangles teapot;
-    for (const auto& m :
-         scene::loadMeshFile(std::string(VEIL_DATA_DIR) + "/utah-teapot/teapot.obj"))
+    for (const auto& m : scene::loadMeshFile(dataDir() / "utah-teapot" / "teapot.obj"))
         teapot.append(m.mesh, glm::mat4(1.0f));
     s.push_back({"teapot", std::move(teapot)});
     return s;
