@@ -9,7 +9,6 @@ namespace veil::scene {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr AcceptedRange kAnyNumber{};
 constexpr AcceptedRange kNonNegative{0.0, kInf};
 constexpr AcceptedRange kPositive{0.0, kInf, true};
 constexpr AcceptedRange kUnit{0.0, 1.0};
