@@ -13,6 +13,9 @@ packages=(
   libvtk9-dev
   libimgui-dev libspdlog-dev
   xvfb xauth
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
+  munge slurmctld slurmd slurm-client
+  chromium
 )
 
 missing=()
