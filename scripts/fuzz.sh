@@ -74,7 +74,8 @@ for t in $targets; do
   dict=()
   if [[ -f tests/fuzz/$t.dict ]]; then dict=(-dict="tests/fuzz/$t.dict"); fi
   echo "fuzz: $t $what over $(find "$runs/$t" -type f | wc -l) inputs (log: $log)"
-  run=("$exe" "${mode[@]}" -timeout="${FUZZ_TIMEOUT:-${timeout_of[$t]:-10}}" -rss_limit_mb=2048 -seed="$seed" -print_final_stats=1
+  limit=${FUZZ_TIMEOUT:-${timeout_of[$t]:-10}}
+  run=("$exe" "${mode[@]}" -timeout="$limit" -rss_limit_mb=2048 -seed="$seed" -print_final_stats=1
        "${dict[@]}" -artifact_prefix="$artifacts/$t-" "$runs/$t")
   if [[ ${FUZZ_PARALLEL:-0} == 1 ]]; then
     "${run[@]}" >"$log" 2>&1 &

@@ -15,7 +15,6 @@ packages=(
   xvfb xauth
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
   munge slurmctld slurmd slurm-client
-  chromium
 )
 
 missing=()
