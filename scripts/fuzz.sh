@@ -75,7 +75,10 @@ for t in $targets; do
   if [[ -f tests/fuzz/$t.dict ]]; then dict=(-dict="tests/fuzz/$t.dict"); fi
   echo "fuzz: $t $what over $(find "$runs/$t" -type f | wc -l) inputs (log: $log)"
   limit=${FUZZ_TIMEOUT:-${timeout_of[$t]:-10}}
-  run=("$exe" "${mode[@]}" -timeout="$limit" -rss_limit_mb=2048 -seed="$seed" -print_final_stats=1
+  # libFuzzer saves an input that runs past -report_slow_units as a "slow-unit" artifact
+  # without failing; past -timeout it fails. Only the latter is a finding here, so the two
+  # limits are the same.
+  run=("$exe" "${mode[@]}" -timeout="$limit" -report_slow_units="$limit" -rss_limit_mb=2048 -seed="$seed" -print_final_stats=1
        "${dict[@]}" -artifact_prefix="$artifacts/$t-" "$runs/$t")
   if [[ ${FUZZ_PARALLEL:-0} == 1 ]]; then
     "${run[@]}" >"$log" 2>&1 &
@@ -97,7 +100,11 @@ for t in $targets; do
   # The inputs libFuzzer saved, as it reports them (a child process of the code under test
   # may inherit libFuzzer's handlers; fuzzer_main.cpp resets them, and only this process's
   # log counts).
-  found=$(sed -n 's/.*Test unit written to //p' "$log" | sort -u)
+  found=$(sed -n 's/.*Test unit written to //p' "$log" | grep -v -- '-slow-unit-' | sort -u || true)
+  slow=$(sed -n 's/.*Test unit written to //p' "$log" | grep -- '-slow-unit-' | sort -u || true)
+  for f in $slow; do
+    echo "fuzz: $t: slow input (under the ${limit}s limit, not a finding): $f"
+  done
   if ((rc != 0)) || [[ -n $found ]]; then
     status=1
     grep -E '^==[0-9]+==|^SUMMARY|runtime error|uncaught exception|terminate called|ALARM|out-of-memory' \
