@@ -183,6 +183,15 @@ s0=$SECONDS
 step "4-task array + merge: $((SECONDS - s0)) s"
 same_results "$t/single/results.json" "$t/run/report/results.json"
 
+# Scaling (VEIL_CI_SCALING=1, docs/cluster.md): wall time of arrays of 1, 2 and 4 tasks + merge.
+if [[ ${VEIL_CI_SCALING:-0} == 1 ]]; then
+  for n in 1 2 4; do
+    s0=$SECONDS
+    "$here/submit-regress.sh" --tasks $n --cpus 1 --mem 2G --veil "$veil" --wait "$suite" "$t/scale-$n" >/dev/null
+    step "scaling: $n task(s) + merge: $((SECONDS - s0)) s"
+  done
+fi
+
 # --- 2. a task cancelled mid-run, recovered by re-submission ---
 step "fault: cancel a task mid-run"
 out=$(SUITE=$suite "$here/submit-regress.sh" --tasks 4 --cpus 1 --mem 2G --veil "$veil" "$suite" "$t/run-fault")
