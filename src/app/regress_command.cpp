@@ -168,7 +168,7 @@ std::string superviseWorker(const RegressArgs& args, const regress::Suite& suite
 
 void runWorker(const RegressArgs& args, const regress::Suite& suite, const regress::Shard& shard) {
     const fs::path out = args.output;
-    regress::RunOptions options{out, args.update, args.device, args.worker, true, printCase, {}};
+    regress::RunOptions options{out, args.update, args.device, printCase, args.worker, true, {}};
     options.onDevice = [&](const gpu::ContextInfo& info) {
         const std::string line =
             fmt::format("EGL device {}: {} ({}); chosen by {}", info.deviceIndex, info.renderer,
@@ -195,7 +195,7 @@ void runRegress(const RegressArgs& args) {
         try {
             shard = regress::shardFromArgumentOrEnvironment(args.shard);
         } catch (const Error& e) {
-            if (!args.shard.empty()) usage("--shard", e.what());
+            if (!args.shard.empty()) throw CLI::ValidationError(std::string(e.what()));
             throw;
         }
     }
@@ -231,7 +231,7 @@ void runRegress(const RegressArgs& args) {
             regress::clearReport(out);
         const std::string device = superviseWorker(args, suite, shard, out, version);
         // Every case now has its file: the report is made from them, nothing renders.
-        regress::RunOptions options{out, false, args.device, version, true, {}, {}};
+        regress::RunOptions options{out, false, args.device, {}, version, true, {}};
         report = regress::runSuite(suite, options, shard);
         report.device = device;
     }

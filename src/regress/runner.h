@@ -35,12 +35,12 @@ struct RunOptions {
     std::filesystem::path output; // the report folder: images go to output/images
     bool update = false;          // write the renders as the new stored references
     int device = -1;              // EGL device index (-1: gpu/device_choice.h chooses)
+    std::function<void(const CaseResult&)> onCase; // after each case (progress)
     // Each case's file (cases/<name>.json) is written as the case ends, with the suite's
     // checksum and this version; with `resume`, a case whose file is there from the same suite
     // and version is taken from it instead of rendered again.
     std::string version;
     bool resume = false;
-    std::function<void(const CaseResult&)> onCase;         // after each case (progress)
     std::function<void(const gpu::ContextInfo&)> onDevice; // once the context exists
 };
 
