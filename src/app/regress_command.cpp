@@ -21,6 +21,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <signal.h>
+
 #include <chrono>
 #include <fstream>
 #include <iostream>
@@ -70,6 +72,18 @@ std::string readText(const fs::path& p) {
     std::stringstream ss;
     ss << in.rdbuf();
     return ss.str();
+}
+
+// Removes the previous report with SIGINT/SIGTERM/SIGHUP held back, so a signal cannot leave
+// part of it (an old index.html without its results.json).
+void clearPreviousReport(const fs::path& out) {
+    sigset_t set, old;
+    sigemptyset(&set);
+    for (int sig : {SIGINT, SIGTERM, SIGHUP})
+        sigaddset(&set, sig);
+    sigprocmask(SIG_BLOCK, &set, &old);
+    regress::clearReport(out);
+    sigprocmask(SIG_SETMASK, &old, nullptr);
 }
 
 [[noreturn]] void usage(const std::string& option, const std::string& problem) {
@@ -213,7 +227,7 @@ void runRegress(const RegressArgs& args) {
     if (!args.merge.empty()) {
         report = regress::mergeReports(suite, {args.merge.begin(), args.merge.end()}, out, version);
     } else if (args.jobs > 1) {
-        if (!args.resume) regress::clearReport(out);
+        if (!args.resume) clearPreviousReport(out);
         const std::vector<fs::path> dirs = runChildren(args, out);
         report = regress::mergeReports(suite, dirs, out, version);
         for (const fs::path& d : dirs)
@@ -228,7 +242,7 @@ void runRegress(const RegressArgs& args) {
         if (args.resume)
             fs::remove(out / "results.json");
         else
-            regress::clearReport(out);
+            clearPreviousReport(out);
         const std::string device = superviseWorker(args, suite, shard, out, version);
         // Every case now has its file: the report is made from them, nothing renders.
         regress::RunOptions options{out, false, args.device, {}, version, true, {}};

@@ -139,8 +139,11 @@ TEST(RegressFaultsTest, SigtermLeavesNoReportAndResumeCompletes) {
     ASSERT_EQ(
         runCommand(veilExe() + " regress " + shellQuote(s) + " -o " + shellQuote(out)).exitCode, 0);
     const pid_t pid = start({"regress", s.string(), "-o", out.string()}, d / "run.log");
-    ASSERT_TRUE(waitUntil([&] { return anyCaseFile(out) && !fs::exists(out / "results.json"); }))
-        << read(d / "run.log");
+    // Mid-run: the new run's worker is rendering a case and has finished one.
+    ASSERT_TRUE(waitUntil([&] {
+        return fs::exists(out / "cases" / ".running") && anyCaseFile(out) &&
+               !fs::exists(out / "results.json");
+    })) << read(d / "run.log");
     kill(pid, SIGTERM);
     const int status = finish(pid);
     EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << status;
@@ -238,10 +241,11 @@ TEST(RegressFaultsTest, MergeRefusesPathsOutsideTheShardAndWritesNothing) {
 TEST(RegressFaultsTest, UsageErrorsExitTwo) {
     const fs::path d = dir() / "usage";
     const fs::path s = prepare(d, 1);
-    for (const std::string& args :
+    for (const char* args :
          {" --shard a/b", " --shard 3/2", " --merge x --update", " --jobs 2 --shard 0/2",
           " --jobs 2 --merge x", " --resume --merge x", " --shard 0/2 --merge x"}) {
-        const CommandResult r = runCommand(veilExe() + " regress " + shellQuote(s) + args);
+        const CommandResult r =
+            runCommand(veilExe() + " regress " + shellQuote(s) + std::string(args));
         EXPECT_EQ(r.exitCode, 2) << args << ": " << r.output;
         EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
     }

@@ -169,7 +169,7 @@ TEST(RegressLibraryTest, ReportSurvivesWriteAndRead) {
     const fs::path d = dir() / "report";
     fs::remove_all(d);
     regress::Report r{
-        "suite", "/x/suite.json", "0/2", {result("a", true), result("b", false)}, 1.5};
+        "suite", "/x/suite.json", "0/2", {result("a", true), result("b", false)}, 1.5, "", "", ""};
     r.cases[1].error = "it broke";
     EXPECT_EQ(r.failed(), 1);
     regress::writeReport(d, r);
@@ -191,7 +191,7 @@ TEST(RegressLibraryTest, ReportSurvivesWriteAndRead) {
 // A shard report of `suite` (its checksum recorded, as a run writes it).
 regress::Report shardReport(const regress::Suite& suite, const std::string& shard,
                             std::vector<regress::CaseResult> cases, double seconds) {
-    regress::Report r{"three", suite.file.string(), shard, std::move(cases), seconds};
+    regress::Report r{"three", suite.file.string(), shard, std::move(cases), seconds, "", "", ""};
     r.suiteSha256 = suite.sha256;
     r.veilVersion = "v1";
     return r;
@@ -341,7 +341,7 @@ TEST(RegressLibraryTest, EveryReportFieldIsEscaped) {
     c.technique = c.reference = c.scene = c.note = c.error = evil;
     c.renderPng = c.referencePng = c.diffPng = evil;
     c.metrics[0].name = evil;
-    regress::Report r{evil, evil, evil, {c}, 1};
+    regress::Report r{evil, evil, evil, {c}, 1, "", "", ""};
     regress::writeReport(d, r);
     for (const char* f : {"index.html", "results.xml"}) {
         const std::string text = readText(d / f);
