@@ -185,6 +185,12 @@ TEST(RegressFaultsTest, SigtermToJobsParentEndsChildrenAndShardFolders) {
     const int status = finish(pid);
     EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << status;
     EXPECT_TRUE(waitUntil([&] { return processesWith(out.string()).empty(); }, 10));
+    // The children were ended, not left to finish their shards (12 cases in all).
+    const std::string log = read(d / "run.log");
+    std::size_t passed = 0;
+    for (std::size_t p = log.find("PASS c"); p != std::string::npos; p = log.find("PASS c", p + 1))
+        ++passed;
+    EXPECT_LT(passed, 12u) << log;
     EXPECT_FALSE(fs::exists(out / ".shard-0"));
     EXPECT_FALSE(fs::exists(out / ".shard-1"));
     EXPECT_FALSE(fs::exists(out / ".veil-regress.lock"));
