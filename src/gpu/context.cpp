@@ -2,6 +2,7 @@
 
 #include "base/error.h"
 #include "base/log.h"
+#include "gpu/device_choice.h"
 #include "gpu/gl.h"
 
 #include <epoxy/egl.h>
@@ -141,16 +142,6 @@ std::string tryDevice(EGLDeviceEXT device, bool debug, EGLDisplay& dpyOut, EGLCo
 } // namespace
 
 HeadlessContext::HeadlessContext(const HeadlessOptions& options) : impl_(std::make_unique<Impl>()) {
-    int wanted = options.deviceIndex;
-    if (wanted < 0) {
-        if (const char* env = std::getenv("VEIL_EGL_DEVICE")) {
-            char* end = nullptr;
-            long v = std::strtol(env, &end, 10);
-            VEIL_CHECK(end != env && *end == '\0' && v >= 0,
-                       "VEIL_EGL_DEVICE='{}' is not a device index (0, 1, ...)", env);
-            wanted = static_cast<int>(v);
-        }
-    }
     const char* clientExts = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     const std::string client = clientExts ? clientExts : "";
     log::debug("EGL client extensions: {}", client.empty() ? "(none)" : client);
@@ -168,12 +159,33 @@ HeadlessContext::HeadlessContext(const HeadlessOptions& options) : impl_(std::ma
     std::vector<EGLDeviceEXT> devices(static_cast<std::size_t>(count));
     if (count > 0) queryDevices(count, devices.data(), &count);
     VEIL_CHECK(count > 0, "no headless OpenGL: EGL reports no devices");
-    VEIL_CHECK(wanted < count, "EGL device {} requested but only {} device(s) exist (0..{})",
-               wanted, count, count - 1);
+    // What each device is (software or not, its CUDA ordinal), for the choice by what the
+    // scheduler allowed (gpu/device_choice.h).
+    auto queryAttrib = reinterpret_cast<PFNEGLQUERYDEVICEATTRIBEXTPROC>(
+        eglGetProcAddress("eglQueryDeviceAttribEXT"));
+    std::vector<EglDeviceFacts> facts(static_cast<std::size_t>(count));
+    for (int i = 0; i < count; ++i) {
+        const char* e =
+            eglQueryDeviceStringEXT(devices[static_cast<std::size_t>(i)], EGL_EXTENSIONS);
+        const std::string exts = e ? e : "";
+        EglDeviceFacts& f = facts[static_cast<std::size_t>(i)];
+        f.software = exts.find("EGL_MESA_device_software") != std::string::npos;
+        EGLAttrib cuda = -1;
+        if (queryAttrib && exts.find("EGL_NV_device_cuda") != std::string::npos &&
+            queryAttrib(devices[static_cast<std::size_t>(i)], EGL_CUDA_DEVICE_NV, &cuda))
+            f.cudaDevice = static_cast<int>(cuda);
+        log::debug("EGL device {}: extensions '{}', CUDA device {}", i, exts, f.cudaDevice);
+    }
+    const DeviceChoice choice =
+        chooseDevice(facts, deviceRequestFromEnvironment(options.deviceIndex));
+    // The chosen device first; unless it was named explicitly, the others after it.
+    std::vector<int> order{choice.index};
+    if (!choice.strict)
+        for (int i = 0; i < count; ++i)
+            if (i != choice.index) order.push_back(i);
 
     std::string tried;
-    for (int i = 0; i < count; ++i) {
-        if (wanted >= 0 && i != wanted) continue;
+    for (int i : order) {
         std::string why = tryDevice(devices[static_cast<std::size_t>(i)], options.debug,
                                     impl_->display, impl_->context);
         if (why.empty()) {
@@ -182,6 +194,11 @@ HeadlessContext::HeadlessContext(const HeadlessOptions& options) : impl_(std::ma
             const char* devExts =
                 eglQueryDeviceStringEXT(devices[static_cast<std::size_t>(i)], EGL_EXTENSIONS);
             info_.eglDevice = devExts ? devExts : "";
+            info_.cudaDevice = facts[static_cast<std::size_t>(i)].cudaDevice;
+            info_.deviceChoice = i == choice.index ? choice.why
+                                                   : fmt::format("device {} failed ({}), the next "
+                                                                 "that works",
+                                                                 choice.index, tried);
             int glMajor = 0, glMinor = 0;
             glGetIntegerv(GL_MAJOR_VERSION, &glMajor);
             glGetIntegerv(GL_MINOR_VERSION, &glMinor);
@@ -197,7 +214,8 @@ HeadlessContext::HeadlessContext(const HeadlessOptions& options) : impl_(std::ma
     }
     VEIL_CHECK(impl_->context != EGL_NO_CONTEXT, "no headless OpenGL 4.5 context:{}", tried);
     if (options.debug) enableDebugOutput();
-    log::info("EGL device {}: {} ({})", info_.deviceIndex, info_.renderer, info_.version);
+    log::info("EGL device {}: {} ({}); chosen by {}", info_.deviceIndex, info_.renderer,
+              info_.version, info_.deviceChoice);
 }
 
 HeadlessContext::~HeadlessContext() {

@@ -13,6 +13,8 @@ struct ContextInfo {
     std::string version;
     std::string eglDevice; // EGL device extensions / description, headless only
     int deviceIndex = -1;
+    int cudaDevice = -1;      // EGL_CUDA_DEVICE_NV of the device, -1 when not reported
+    std::string deviceChoice; // what chose the device (gpu/device_choice.h), for logs
     int maxSamples = 0;
     int maxDrawBuffers = 0;
     int max3DTextureSize = 0;
@@ -29,8 +31,9 @@ ContextInfo queryContextInfo();
 void enableDebugOutput();
 
 struct HeadlessOptions {
-    // EGL device index; -1 = take VEIL_EGL_DEVICE from the environment, else the first
-    // device that gives a 4.5 core context.
+    // EGL device index; -1 = VEIL_EGL_DEVICE, else the GPU the scheduler allowed
+    // (CUDA_VISIBLE_DEVICES, SLURM_STEP_GPUS, SLURM_JOB_GPUS, slot VEIL_GPU_SLOT; see
+    // gpu/device_choice.h), else the first device that gives a 4.5 core context.
     int deviceIndex = -1;
     bool debug = false; // a debug context with GL debug output routed to the logger
 };

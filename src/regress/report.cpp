@@ -2,6 +2,7 @@
 
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "regress/report_folder.h"
 
 #include <fmt/format.h>
 
@@ -68,6 +69,9 @@ nlohmann::json toJson(const Report& r) {
     return {{"suite", r.suiteName},
             {"suite_file", r.suiteFile},
             {"shard", r.shard},
+            {"suite_sha256", r.suiteSha256},
+            {"veil_version", r.veilVersion},
+            {"device", r.device},
             {"cases", cases},
             {"passed", static_cast<int>(r.cases.size()) - r.failed()},
             {"failed", r.failed()},
@@ -139,7 +143,7 @@ std::string html(const Report& r) {
             h << "<table class=\"m\"><tr><th>metric</th><th>value</th><th>tolerance</th><th></th>"
                  "</tr>\n";
             for (const MetricResult& m : c.metrics)
-                h << "<tr><td>" << m.name << "</td><td>" << num(m.value) << "</td><td>"
+                h << "<tr><td>" << escape(m.name) << "</td><td>" << num(m.value) << "</td><td>"
                   << (metrics::higherIsBetter(m.name) ? "&ge; " : "&le; ") << num(m.threshold)
                   << "</td><td class=\"" << (m.passed ? "ok\">ok" : "bad\">FAIL") << "</td></tr>\n";
             h << "</table>\n";
@@ -168,12 +172,14 @@ int Report::failed() const {
 }
 
 void writeReport(const fs::path& dir, const Report& r) {
-    fs::create_directories(dir / "cases");
     for (const CaseResult& c : r.cases)
-        writeTextFileAtomically(dir / "cases" / (c.name + ".json"), c.toJson().dump(2) + "\n");
-    writeTextFileAtomically(dir / "results.json", toJson(r).dump(2) + "\n");
+        writeCaseFile(dir, c, r.suiteSha256, r.veilVersion);
     writeTextFileAtomically(dir / "results.xml", junit(r));
     writeTextFileAtomically(dir / "index.html", html(r));
+    // Paths in folders whose names are not UTF-8 are written with U+FFFD in their place.
+    writeTextFileAtomically(
+        dir / "results.json",
+        toJson(r).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
 Report readReport(const fs::path& dir) {
@@ -187,6 +193,9 @@ Report readReport(const fs::path& dir) {
         r.suiteName = j.at("suite");
         r.suiteFile = j.at("suite_file");
         r.shard = j.at("shard");
+        r.suiteSha256 = j.value("suite_sha256", "");
+        r.veilVersion = j.value("veil_version", "");
+        r.device = j.value("device", "");
         r.seconds = j.at("seconds");
         for (const auto& c : j.at("cases"))
             r.cases.push_back(CaseResult::fromJson(c));

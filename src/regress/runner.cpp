@@ -6,6 +6,7 @@
 #include "frame/renderer.h"
 #include "io/image_io.h"
 #include "io/metrics.h"
+#include "regress/report_folder.h"
 #include "scene/scene.h"
 
 #include <fmt/format.h>
@@ -14,6 +15,9 @@
 #include <chrono>
 #include <cstdlib>
 #include <map>
+#include <memory>
+#include <optional>
+#include <set>
 
 namespace veil::regress {
 
@@ -207,40 +211,113 @@ CaseResult runCase(const RegressCase& k, const gpu::ContextInfo& info, const Run
 
 Report runSuite(const Suite& suite, const RunOptions& options, const Shard& shard) {
     const auto t0 = std::chrono::steady_clock::now();
-    Report report{suite.name, suite.file.string(), shard.label(), {}, 0.0};
-    const std::vector<const RegressCase*> mine = shardCases(suite, shard);
-    if (!mine.empty()) {
-        gpu::HeadlessContext context({options.device, false});
-        for (const RegressCase* k : mine) {
-            report.cases.push_back(runCase(*k, context.info(), options));
-            if (options.onCase) options.onCase(report.cases.back());
+    Report report{suite.name, suite.file.string(), shard.label(),   {},
+                  0.0,        suite.sha256,        options.version, ""};
+    std::unique_ptr<gpu::HeadlessContext> context; // made for the first case that renders
+    for (const RegressCase* k : shardCases(suite, shard)) {
+        std::optional<CaseResult> done;
+        if (options.resume)
+            done = readCaseFile(options.output, k->name, suite.sha256, options.version);
+        if (!done) {
+            if (!context) {
+                context = std::make_unique<gpu::HeadlessContext>(
+                    gpu::HeadlessOptions{options.device, false});
+                if (options.onDevice) options.onDevice(context->info());
+            }
+            markRunning(options.output, k->name);
+            done = runCase(*k, context->info(), options);
+            writeCaseFile(options.output, *done, suite.sha256, options.version);
+            clearRunning(options.output);
         }
+        report.cases.push_back(*done);
+        if (options.onCase) options.onCase(report.cases.back());
     }
+    if (context)
+        report.device = fmt::format("EGL device {}: {} ({})", context->info().deviceIndex,
+                                    context->info().renderer, context->info().deviceChoice);
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return report;
 }
 
-Report mergeReports(const Suite& suite, const std::vector<fs::path>& dirs, const fs::path& out) {
+namespace {
+
+// The images of one case to copy in a merge: from inside the shard folder to inside `out`.
+struct ImageCopy {
+    fs::path from, to;
+};
+
+bool sameFolder(const fs::path& a, const fs::path& b) {
+    std::error_code e1, e2;
+    const fs::path ca = fs::weakly_canonical(a, e1), cb = fs::weakly_canonical(b, e2);
+    if (e1 || e2) return false;
+    return ca == cb || (fs::exists(a) && fs::exists(b) && fs::equivalent(a, b, e1));
+}
+
+} // namespace
+
+Report mergeReports(const Suite& suite, const std::vector<fs::path>& dirs, const fs::path& out,
+                    const std::string& version) {
     std::map<std::string, CaseResult> found;
+    std::map<std::string, fs::path> from; // case -> the results.json it came from
+    std::vector<ImageCopy> copies;
+    std::set<std::string> names;
+    for (const RegressCase& k : suite.cases)
+        names.insert(k.name);
     double seconds = 0.0;
+    // Everything is read and checked first; nothing is written to `out` on a refusal.
     for (const fs::path& d : dirs) {
+        const std::string file = (d / "results.json").string();
+        VEIL_CHECK(!sameFolder(d, out),
+                   "--merge: the output folder '{}' is one of the shard folders ('{}'): choose "
+                   "another -o",
+                   out.string(), d.string());
         const Report part = readReport(d);
+        VEIL_CHECK(part.suiteSha256 == suite.sha256,
+                   "--merge: '{}' is a run of another suite file ('{}', sha256 {}) than '{}' "
+                   "(sha256 {}): refusing to merge it",
+                   file, printable(part.suiteFile, 200),
+                   part.suiteSha256.empty() ? "not recorded" : part.suiteSha256.substr(0, 16),
+                   suite.file.string(), suite.sha256.substr(0, 16));
+        VEIL_CHECK(version.empty() || part.veilVersion == version,
+                   "--merge: '{}' was made by another veil binary ('{}') than this one ('{}'): "
+                   "refusing to merge it",
+                   file,
+                   printable(part.veilVersion.empty() ? "not recorded" : part.veilVersion, 200),
+                   version);
         seconds = std::max(seconds, part.seconds);
-        for (const CaseResult& c : part.cases) {
-            VEIL_CHECK(found.emplace(c.name, c).second,
-                       "--merge: case '{}' is in two of the folders", c.name);
-            for (const std::string* png : {&c.renderPng, &c.referencePng, &c.diffPng})
-                if (!png->empty() && fs::absolute(d) != fs::absolute(out)) {
-                    fs::create_directories(out / "images");
-                    fs::copy_file(d / *png, out / *png, fs::copy_options::overwrite_existing);
-                }
+        for (CaseResult c : part.cases) {
+            checkCaseName(c.name, "--merge: '" + file + "'");
+            VEIL_CHECK(names.count(c.name), "--merge: '{}': case '{}' is not in suite '{}'", file,
+                       c.name, suite.file.string());
+            if (auto [it, fresh] = from.emplace(c.name, d / "results.json"); !fresh)
+                throw Error(fmt::format("--merge: case '{}' is in two of the folders: '{}' and "
+                                        "'{}'",
+                                        c.name, it->second.string(), file));
+            const std::pair<std::string*, const char*> images[] = {
+                {&c.renderPng, "render_png"},
+                {&c.referencePng, "reference_png"},
+                {&c.diffPng, "diff_png"}};
+            for (const auto& [png, key] : images) {
+                if (png->empty()) continue;
+                const std::string what =
+                    fmt::format("--merge: '{}': case '{}': {}", file, c.name, key);
+                const fs::path src = safePathInside(d, *png, what);
+                VEIL_CHECK(fs::is_regular_file(src), "{} '{}' does not exist in '{}'", what,
+                           printable(*png, 200), d.string());
+                // The copy's name comes from the (checked) case name, not from the shard.
+                const std::string suffix = std::string(key) == "render_png"      ? "-render.png"
+                                           : std::string(key) == "reference_png" ? "-reference.png"
+                                                                                 : "-diff.png";
+                *png = "images/" + c.name + suffix;
+                copies.push_back({src, safePathInside(out, *png, "--merge: output")});
+            }
+            found.emplace(c.name, c);
         }
     }
-    Report r{suite.name, suite.file.string(), "", {}, seconds};
+    Report r{suite.name, suite.file.string(), "", {}, seconds, suite.sha256, version, ""};
     for (const RegressCase& k : suite.cases) {
         if (auto it = found.find(k.name); it != found.end()) {
             r.cases.push_back(it->second);
-            found.erase(it);
         } else {
             CaseResult missing;
             missing.name = k.name;
@@ -250,8 +327,15 @@ Report mergeReports(const Suite& suite, const std::vector<fs::path>& dirs, const
             r.cases.push_back(missing);
         }
     }
-    VEIL_CHECK(found.empty(), "--merge: case '{}' is not in suite '{}'", found.begin()->first,
-               suite.file.string());
+    // Now the writes: the previous report goes first, so `out` never shows a mix.
+    clearReport(out);
+    if (!copies.empty()) fs::create_directories(out / "images");
+    for (const ImageCopy& c : copies) {
+        std::error_code ec;
+        fs::copy_file(c.from, c.to, fs::copy_options::overwrite_existing, ec);
+        VEIL_CHECK(!ec, "--merge: cannot copy '{}' to '{}': {}", c.from.string(), c.to.string(),
+                   ec.message());
+    }
     return r;
 }
 

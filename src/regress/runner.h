@@ -34,8 +34,14 @@ std::vector<const RegressCase*> shardCases(const Suite& suite, const Shard& shar
 struct RunOptions {
     std::filesystem::path output; // the report folder: images go to output/images
     bool update = false;          // write the renders as the new stored references
-    int device = -1;              // EGL device index (-1: $VEIL_EGL_DEVICE or the first)
+    int device = -1;              // EGL device index (-1: gpu/device_choice.h chooses)
     std::function<void(const CaseResult&)> onCase; // after each case (progress)
+    // Each case's file (cases/<name>.json) is written as the case ends, with the suite's
+    // checksum and this version; with `resume`, a case whose file is there from the same suite
+    // and version is taken from it instead of rendered again.
+    std::string version;
+    bool resume = false;
+    std::function<void(const gpu::ContextInfo&)> onDevice; // once the context exists
 };
 
 // One case in an existing context. Errors of the case (a scene that fails to render, a
@@ -47,9 +53,12 @@ CaseResult runCase(const RegressCase& k, const gpu::ContextInfo& info, const Run
 Report runSuite(const Suite& suite, const RunOptions& options, const Shard& shard = {});
 
 // Joins the report folders of shard runs into one report in suite order, copying their images
-// into `out`; a case no folder ran is a failed case, a case in two folders or not in the suite
-// is a veil::Error.
+// into `out`; a case no folder ran is a failed case. Everything is checked before anything is
+// written to `out`, and each problem is a veil::Error naming the shard's results.json (and the
+// case): a folder without a finished report, a report of another suite file (checksum) or
+// another `version`, a case in two folders or not in the suite, a bad case name, an image path
+// that leaves its shard folder or is missing, `out` being one of the shard folders.
 Report mergeReports(const Suite& suite, const std::vector<std::filesystem::path>& dirs,
-                    const std::filesystem::path& out);
+                    const std::filesystem::path& out, const std::string& version = "");
 
 } // namespace veil::regress

@@ -1,8 +1,10 @@
 #include "regress/suite.h"
 
 #include "base/error.h"
+#include "base/sha256.h"
 #include "base/text.h"
 #include "oit/technique.h"
+#include "regress/report_folder.h"
 #include "scene/scene.h"
 
 #include <fmt/format.h>
@@ -94,11 +96,10 @@ RegressCase parseCase(const Where& w, const fs::path& dir, const nlohmann::json&
     k.where = casePtr;
     if (!merged.contains("name")) w.fail(casePtr, "missing key 'name'");
     k.name = str(w, ptr("name"), merged["name"]);
-    for (char ch : k.name)
-        if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' || ch == '_' || ch == '.'))
-            w.fail(ptr("name"), fmt::format("'{}': use letters, digits, '-', '_' and '.' only "
-                                            "(it names files of the report)",
-                                            printable(k.name, 100)));
+    if (!validCaseName(k.name))
+        w.fail(ptr("name"), fmt::format("'{}': use letters, digits, '-', '_' and '.', not "
+                                        "starting with '.' (it names files of the report)",
+                                        printable(k.name, 100)));
     if (!merged.contains("scene")) w.fail(casePtr, "missing key 'scene'");
     k.scene = (dir / str(w, ptr("scene"), merged["scene"])).lexically_normal();
     if (!fs::is_regular_file(k.scene))
@@ -292,6 +293,7 @@ Suite loadSuite(const fs::path& file, bool update) {
             w.fail("/" + it.key(), "unknown key (known: name, defaults, cases)");
     Suite suite;
     suite.file = fs::absolute(file).lexically_normal();
+    suite.sha256 = sha256Hex(ss.str());
     suite.name = doc.contains("name") ? str(w, "/name", doc["name"]) : file.stem().string();
     const nlohmann::json defaults = doc.value("defaults", nlohmann::json::object());
     if (!defaults.is_object()) w.fail("/defaults", "expected an object");

@@ -42,6 +42,7 @@ struct RegressCase {
 
 struct Suite {
     std::filesystem::path file;
+    std::string sha256; // of the file's bytes: shards of other suite files are not merged
     std::string name;
     std::vector<RegressCase> cases;
 };

@@ -3,6 +3,7 @@
 // shard folders finds missing, doubled and foreign cases.
 #include "base/error.h"
 #include "regress/report.h"
+#include "regress/report_folder.h"
 #include "regress/runner.h"
 #include "regress/suite.h"
 #include "support/test_support.h"
@@ -12,6 +13,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <limits>
 
 namespace veil::test {
@@ -23,6 +25,11 @@ namespace {
 fs::path dir() { return outputSubdir("regress-library"); }
 
 void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+
+std::string readText(const fs::path& p) {
+    std::ifstream in(p);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
 
 const char* kScene = R"({
   "render": {"width": 16, "height": 12, "oit": "blend"},
@@ -162,7 +169,7 @@ TEST(RegressLibraryTest, ReportSurvivesWriteAndRead) {
     const fs::path d = dir() / "report";
     fs::remove_all(d);
     regress::Report r{
-        "suite", "/x/suite.json", "0/2", {result("a", true), result("b", false)}, 1.5};
+        "suite", "/x/suite.json", "0/2", {result("a", true), result("b", false)}, 1.5, "", "", ""};
     r.cases[1].error = "it broke";
     EXPECT_EQ(r.failed(), 1);
     regress::writeReport(d, r);
@@ -181,19 +188,40 @@ TEST(RegressLibraryTest, ReportSurvivesWriteAndRead) {
     EXPECT_THROW(regress::readReport(dir() / "no-such-folder"), Error);
 }
 
+// A shard report of `suite` (its checksum recorded, as a run writes it).
+regress::Report shardReport(const regress::Suite& suite, const std::string& shard,
+                            std::vector<regress::CaseResult> cases, double seconds) {
+    regress::Report r{"three", suite.file.string(), shard, std::move(cases), seconds, "", "", ""};
+    r.suiteSha256 = suite.sha256;
+    r.veilVersion = "v1";
+    return r;
+}
+
+std::string mergeError(const regress::Suite& suite, const std::vector<fs::path>& dirs,
+                       const fs::path& out) {
+    try {
+        regress::mergeReports(suite, dirs, out, "v1");
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
 TEST(RegressLibraryTest, MergeJoinsShardsInSuiteOrder) {
     const regress::Suite suite = regress::loadSuite(suiteFile("merge", kThreeCases), false);
     const fs::path d = dir() / "merge";
     for (const char* f : {"s0", "s1", "out", "dup", "foreign"})
         fs::remove_all(d / f);
-    regress::writeReport(d / "s0", {"three", "", "0/2", {result("c", true), result("a", true)}, 2});
-    regress::Report s1{"three", "", "1/2", {result("b", false)}, 3};
+    regress::writeReport(d / "s0",
+                         shardReport(suite, "0/2", {result("c", true), result("a", true)}, 2));
+    regress::Report s1 = shardReport(suite, "1/2", {result("b", false)}, 3);
     s1.cases[0].renderPng = "images/b-render.png";
     fs::create_directories(d / "s1" / "images");
     write(d / "s1" / "images" / "b-render.png", "png");
     regress::writeReport(d / "s1", s1);
 
-    const regress::Report merged = regress::mergeReports(suite, {d / "s0", d / "s1"}, d / "out");
+    const regress::Report merged =
+        regress::mergeReports(suite, {d / "s0", d / "s1"}, d / "out", "v1");
     ASSERT_EQ(merged.cases.size(), 3u);
     EXPECT_EQ(merged.cases[0].name, "a");
     EXPECT_EQ(merged.cases[1].name, "b");
@@ -203,20 +231,124 @@ TEST(RegressLibraryTest, MergeJoinsShardsInSuiteOrder) {
     EXPECT_TRUE(fs::exists(d / "out" / "images" / "b-render.png"));
 
     // A case no folder ran is a failed case.
-    const regress::Report partial = regress::mergeReports(suite, {d / "s0"}, d / "out");
+    const regress::Report partial = regress::mergeReports(suite, {d / "s0"}, d / "out", "v1");
     EXPECT_EQ(partial.cases[1].error, "no merged shard ran this case");
     EXPECT_FALSE(partial.cases[1].passed);
 
-    // The same case twice, or a case of another suite, is an error.
-    regress::writeReport(d / "dup", {"three", "", "", {result("a", true)}, 1});
-    EXPECT_THROW(regress::mergeReports(suite, {d / "s0", d / "dup"}, d / "out"), Error);
-    regress::writeReport(d / "foreign", {"three", "", "", {result("zz", true)}, 1});
-    try {
-        regress::mergeReports(suite, {d / "foreign"}, d / "out");
-        FAIL() << "a case not in the suite is refused";
-    } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("case 'zz' is not in suite"), std::string::npos)
-            << e.what();
+    // The same case twice, or a case of another suite, is an error naming both files.
+    regress::writeReport(d / "dup", shardReport(suite, "", {result("a", true)}, 1));
+    EXPECT_NE(mergeError(suite, {d / "s0", d / "dup"}, d / "out")
+                  .find("case 'a' is in two of the folders: '" + (d / "s0/results.json").string()),
+              std::string::npos);
+    regress::writeReport(d / "foreign", shardReport(suite, "", {result("zz", true)}, 1));
+    EXPECT_NE(mergeError(suite, {d / "foreign"}, d / "out").find("case 'zz' is not in suite"),
+              std::string::npos);
+}
+
+TEST(RegressLibraryTest, MergeRefusesShardsOfAnotherSuiteOrBinary) {
+    const regress::Suite suite = regress::loadSuite(suiteFile("merge-other", kThreeCases), false);
+    const fs::path d = dir() / "merge-other";
+    for (const char* f : {"s0", "s1", "out"})
+        fs::remove_all(d / f);
+    regress::writeReport(d / "s0", shardReport(suite, "0/2", {result("a", true)}, 1));
+    // The suite file changed (another tolerance) after shard 1 ran.
+    regress::Report other = shardReport(suite, "1/2", {result("b", true)}, 1);
+    other.suiteSha256 = std::string(64, 'f');
+    regress::writeReport(d / "s1", other);
+    std::string e = mergeError(suite, {d / "s0", d / "s1"}, d / "out");
+    EXPECT_NE(e.find("'" + (d / "s1/results.json").string() + "' is a run of another suite file"),
+              std::string::npos)
+        << e;
+    other.suiteSha256 = suite.sha256;
+    other.veilVersion = "v2";
+    regress::writeReport(d / "s1", other);
+    e = mergeError(suite, {d / "s0", d / "s1"}, d / "out");
+    EXPECT_NE(e.find("was made by another veil binary ('v2') than this one ('v1')"),
+              std::string::npos)
+        << e;
+    EXPECT_FALSE(fs::exists(d / "out")); // a refused merge writes nothing
+}
+
+TEST(RegressLibraryTest, MergeKeepsEveryPathInsideItsFolder) {
+    const regress::Suite suite = regress::loadSuite(suiteFile("merge-paths", kThreeCases), false);
+    const fs::path d = dir() / "merge-paths";
+    fs::remove_all(d / "s0");
+    fs::remove_all(d / "out");
+    fs::create_directories(d / "s0" / "images");
+    write(d / "victim.txt", "precious");
+    write(d / "s0" / "images" / "a-render.png", "png");
+    fs::create_symlink(d / "victim.txt", d / "s0" / "images" / "link.png");
+    // The previous report in -o must survive a refused merge.
+    fs::create_directories(d / "out");
+    write(d / "out" / "results.json", "old");
+    struct Bad {
+        std::string png, expected;
+    };
+    const std::vector<Bad> bad{{"../victim.txt", "leaves the folder"},
+                               {"images/../../victim.txt", "leaves the folder"},
+                               {(d / "victim.txt").string(), "is not a path relative to"},
+                               {"images/link.png", "outside the folder"},
+                               {"images/none.png", "does not exist in"}};
+    for (const Bad& b : bad) {
+        regress::Report r = shardReport(suite, "", {result("a", true)}, 1);
+        r.cases[0].renderPng = b.png;
+        fs::remove(d / "s0" / "results.json");
+        regress::writeReport(d / "s0", r);
+        const std::string e = mergeError(suite, {d / "s0"}, d / "out");
+        EXPECT_NE(e.find("'" + (d / "s0/results.json").string() + "': case 'a': render_png '" +
+                         b.png + "'"),
+                  std::string::npos)
+            << e;
+        EXPECT_NE(e.find(b.expected), std::string::npos) << e;
+        EXPECT_FALSE(fs::exists(d / "out" / "images")) << b.png;
+        EXPECT_EQ(readText(d / "out" / "results.json"), "old");
+        EXPECT_EQ(readText(d / "victim.txt"), "precious");
+    }
+    // Case names that are not file names are refused where they are read.
+    for (const char* name : {"..", ".", ".hidden", "a/b"}) {
+        fs::remove(d / "s0" / "results.json");
+        regress::writeReport(d / "s0", shardReport(suite, "", {}, 1));
+        std::ifstream in(d / "s0" / "results.json");
+        nlohmann::json j = nlohmann::json::parse(in);
+        j["cases"].push_back(result(name, true).toJson());
+        std::ofstream(d / "s0" / "results.json") << j.dump();
+        EXPECT_NE(mergeError(suite, {d / "s0"}, d / "out").find("case name"), std::string::npos)
+            << name;
+    }
+    // -o one of the shard folders (written with a trailing slash) is refused.
+    regress::writeReport(d / "s0", shardReport(suite, "", {result("a", true)}, 1));
+    EXPECT_NE(mergeError(suite, {d / "s0/"}, d / "s0").find("is one of the shard folders"),
+              std::string::npos);
+}
+
+TEST(RegressLibraryTest, SuiteRefusesDotCaseNames) {
+    for (const char* name : {".", "..", ".hidden"}) {
+        const std::string suite = std::string(R"({"cases": [{"name": ")") + name +
+                                  R"(", "scene": "scene.json", "reference": "reference",
+                                  "metrics": {"rmse": 1}}]})";
+        const std::string e = errorOf(suiteFile("dot-name", suite));
+        EXPECT_NE(e.find("/cases/0/name: '" + std::string(name) + "': use letters"),
+                  std::string::npos)
+            << e;
+    }
+}
+
+TEST(RegressLibraryTest, EveryReportFieldIsEscaped) {
+    const fs::path d = dir() / "escape";
+    fs::remove_all(d);
+    const std::string evil = "<script>alert('x')</script>\"<img src=x onerror=alert(1)>&";
+    regress::CaseResult c = result("a", false);
+    c.technique = c.reference = c.scene = c.note = c.error = evil;
+    c.renderPng = c.referencePng = c.diffPng = evil;
+    c.metrics[0].name = evil;
+    regress::Report r{evil, evil, evil, {c}, 1, "", "", ""};
+    regress::writeReport(d, r);
+    for (const char* f : {"index.html", "results.xml"}) {
+        const std::string text = readText(d / f);
+        EXPECT_EQ(text.find("<script"), std::string::npos) << f;
+        EXPECT_EQ(text.find("<img src=x"), std::string::npos) << f;
+        EXPECT_EQ(text.find("'x'"), std::string::npos) << f;
+        EXPECT_NE(text.find("&lt;script&gt;alert(&apos;x&apos;)"), std::string::npos) << f;
     }
 }
 
