@@ -148,8 +148,7 @@ Scene loadScene(const std::filesystem::path& path, const std::vector<std::string
     std::error_code ec;
     const auto status = std::filesystem::status(path, ec);
     VEIL_CHECK(!std::filesystem::is_directory(status),
-               "cannot open scene file '{}': it is a folder, not a scene file (.json)",
-               path.string());
+               "cannot open scene file '{}': not a regular file but a folder", path.string());
     VEIL_CHECK(!std::filesystem::exists(status) || std::filesystem::is_regular_file(status),
                "cannot open scene file '{}': not a regular file", path.string());
     // Other files people give where a scene belongs: name the format, not a JSON error.
