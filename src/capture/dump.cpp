@@ -69,7 +69,9 @@ std::string fileStem(const std::string& resource) {
 
 } // namespace
 
-void checkDumpDirectory(const fs::path& dir) {
+void checkDumpDirectory(const fs::path& given) {
+    // "out/dump/" names the folder "out/dump": its parent is "out", not "out/dump".
+    const fs::path dir = given.has_filename() ? given : given.parent_path();
     std::error_code ec;
     const fs::file_status st = fs::status(dir, ec);
     VEIL_CHECK(!fs::exists(st) || fs::is_directory(st), "--dump '{}': exists and is not a folder",

@@ -226,6 +226,10 @@ TEST(ReliabilityCliTest, DumpsReplaceTheFolderAsAWhole) {
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_TRUE(fs::exists(dir / "d" / "manifest.json"));
     EXPECT_FALSE(fs::exists(dir / "d" / "stale.exr"));
+    // A new folder given with a trailing slash (its parent is the folder above).
+    const CommandResult slash = runCommand(veilExe() + " " + render + q(dir / "fresh") + "/");
+    ASSERT_EQ(slash.exitCode, 0) << slash.output;
+    EXPECT_TRUE(fs::exists(dir / "fresh" / "manifest.json"));
     for (const auto& e : fs::directory_iterator(dir))
         EXPECT_NE(e.path().filename().string()[0], '.') << e.path();
 }
