@@ -2,6 +2,7 @@
 // a difference heat map, and an exit status from thresholds, as OpenImageIO's idiff does:
 // 0 when every --fail threshold holds (warnings only print), 1 when one does not or a file
 // cannot be read or compared.
+#include "app/cli_checks.h"
 #include "app/commands.h"
 
 #include "base/atomic_file.h"
@@ -17,6 +18,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 
 namespace veil::app {
 
@@ -32,7 +34,8 @@ struct CompareArgs {
     double diffScale = 0.0;
 };
 
-// "T" (for the first metric) or "METRIC=T", as given to --fail / --warn.
+// "T" (for the first metric) or "METRIC=T", as given to --fail / --warn. A bad item is a usage
+// error (exit 2) naming the option and what it accepts.
 std::map<std::string, double> parseThresholds(const std::vector<std::string>& items,
                                               const std::string& firstMetric, const char* option) {
     std::map<std::string, double> out;
@@ -40,22 +43,19 @@ std::map<std::string, double> parseThresholds(const std::vector<std::string>& it
         const auto eq = item.find('=');
         const std::string name = eq == std::string::npos ? firstMetric : item.substr(0, eq);
         const std::string text = eq == std::string::npos ? item : item.substr(eq + 1);
-        VEIL_CHECK(metrics::isMetricName(name), "{} {}: unknown metric '{}' (known: {})", option,
-                   printable(item, 200), printable(name, 100),
-                   fmt::join(metrics::metricNames(), ", "));
-        std::size_t used = 0;
-        double v = std::nan("");
-        try {
-            v = std::stod(text, &used);
-        } catch (const std::exception&) {
-            used = 0;
-        }
-        VEIL_CHECK(used == text.size() && !text.empty() && std::isfinite(v),
-                   "{} {}: '{}' is not a finite number", option, printable(item, 200),
-                   printable(text, 100));
-        VEIL_CHECK(metrics::higherIsBetter(name) || v >= 0.0,
-                   "{} {}: a threshold of {} must be >= 0", option, printable(item, 200), name);
-        out[name] = v;
+        const auto bad = [&](const std::string& problem) {
+            usageError(fmt::format("{} '{}': {}; expected T or METRIC=T with T a finite number "
+                                   "(>= 0 but for psnr and ssim) and METRIC one of {}",
+                                   option, printable(item, 200), problem,
+                                   fmt::join(metrics::metricNames(), ", ")));
+        };
+        if (!metrics::isMetricName(name))
+            bad(fmt::format("unknown metric '{}'", printable(name, 100)));
+        const std::optional<double> v = parseFiniteNumber(text);
+        if (!v) bad(fmt::format("'{}' is not a finite number", printable(text, 100)));
+        if (!metrics::higherIsBetter(name) && *v < 0.0)
+            bad(fmt::format("a threshold of {} must be >= 0", name));
+        out[name] = *v;
     }
     return out;
 }
@@ -78,15 +78,16 @@ void runCompare(const CompareArgs& args) {
     std::vector<std::string> names = args.metrics;
     if (names.empty()) names = {"rmse", "maxabs", "relmse", "p99", "psnr", "ssim"};
     for (const std::string& n : names)
-        VEIL_CHECK(metrics::isMetricName(n), "--metric: unknown metric '{}' (known: {})",
-                   printable(n, 100), fmt::join(metrics::metricNames(), ", "));
+        if (!metrics::isMetricName(n))
+            usageError(fmt::format("--metric: unknown metric '{}' (known: {})", printable(n, 100),
+                                   fmt::join(metrics::metricNames(), ", ")));
     const auto fail = parseThresholds(args.fail, names.front(), "--fail");
     const auto warn = parseThresholds(args.warn, names.front(), "--warn");
     for (const auto* thresholds : {&fail, &warn})
         for (const auto& [n, t] : *thresholds)
             if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
-    VEIL_CHECK(args.tonemap == "clamp" || args.tonemap == "aces",
-               "--tonemap '{}': use clamp or aces", printable(args.tonemap, 100));
+    if (args.tonemap != "clamp" && args.tonemap != "aces")
+        usageError(fmt::format("--tonemap '{}': use clamp or aces", printable(args.tonemap, 100)));
     if (!args.diff.empty()) {
         VEIL_CHECK(lowerExtension(args.diff) == ".png" || lowerExtension(args.diff) == ".exr",
                    "--diff '{}' must end in .png or .exr", printable(args.diff, 500));
@@ -159,9 +160,9 @@ void addCompareCommand(CLI::App& app) {
                     "Write a heat map of max |a - b| over RGB (PNG; black = 0, white = the largest "
                     "error or --diff-scale)");
     cmd->add_option("--diff-scale", args->diffScale, "Error shown as white in --diff")
-        ->check(CLI::PositiveNumber);
+        ->check(finiteRange(1e-30, 1e30));
     cmd->add_option("--exposure", args->exposure, "Exposure before tone mapping for ssim")
-        ->check(CLI::PositiveNumber);
+        ->check(finiteRange(1e-30, 1e30));
     cmd->add_option("--tonemap", args->tonemap, "Tone map for ssim: clamp (default) or aces");
     cmd->callback([args] { runCompare(*args); });
 }

@@ -76,7 +76,8 @@ void sample(const GridT& grid, const openvdb::CoordBBox& box, double factor, io:
 void runExport(const ExportArgs& args) {
     VEIL_CHECK(lowerExtension(args.input) == ".vdb", "input '{}' must be an OpenVDB file (.vdb)",
                args.input);
-    VEIL_CHECK(lowerExtension(args.output) == ".vti", "output '{}' must end in .vti", args.output);
+    if (lowerExtension(args.output) != ".vti")
+        usageError(fmt::format("output '{}' must end in .vti", args.output));
     checkOutputPath(args.output, "output", {args.input});
     const openvdb::GridPtrVecPtr grids = volume::readVdbFile(args.input);
     const vdb::SelectedGrid sel =
@@ -121,7 +122,14 @@ void runExport(const ExportArgs& args) {
                    what, "xyz"[a]);
         dense.spacing[a] = d[a] / args.resample;
         const double extent = double(box.max()[a]) - double(box.min()[a]);
-        dense.dims[a] = static_cast<int>(std::floor(extent * args.resample + 1e-9)) + 1;
+        // In double first: a box spanning the int range has 2^32 points along an axis.
+        const double n = std::floor(extent * args.resample + 1e-9) + 1.0;
+        VEIL_CHECK(n <= kMaxPoints,
+                   "{}: {:.3g} points along {} (index box [{} {} {}]..[{} {} {}]) exceed the "
+                   "limit of {:.3g} points (use a smaller --box or a --resample below 1)",
+                   what, n, "xyz"[a], box.min().x(), box.min().y(), box.min().z(), box.max().x(),
+                   box.max().y(), box.max().z(), kMaxPoints);
+        dense.dims[a] = static_cast<int>(n);
     }
     const double points = double(dense.dims[0]) * dense.dims[1] * dense.dims[2];
     VEIL_CHECK(points <= kMaxPoints,

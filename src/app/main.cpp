@@ -50,6 +50,26 @@ std::string suggestOption(const CLI::App& command, int argc, char** argv) {
     return {};
 }
 
+// The first empty value on the command line, described ("--dump ''", "--report=", "argument
+// 3 ''"), or empty when there is none. No option or argument of any command means something
+// when empty, and CLI11 would store "" as if the option had not been given.
+std::string emptyArgument(int argc, char** argv) {
+    for (int i = 1; i < argc; ++i) {
+        const std::string word = argv[i];
+        if (word == "--") break;
+        if (word.empty()) {
+            const std::string previous = argv[i - 1];
+            if (i > 1 && previous.size() > 1 && previous[0] == '-')
+                return "option " + previous + " needs a value, not ''";
+            return "argument " + std::to_string(i) + " is empty ('')";
+        }
+        if (word.size() > 2 && word.rfind("--", 0) == 0 && word.back() == '=' &&
+            word.find('=') == word.size() - 1)
+            return "option " + word.substr(0, word.size() - 1) + " needs a value, not ''";
+    }
+    return {};
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -86,6 +106,11 @@ int main(int argc, char** argv) {
                             " (commands: " + names + "; see veil --help)",
                         kExitUsage);
     }
+    if (const std::string empty = emptyArgument(argc, argv); !empty.empty())
+        return fail(empty + (argc > 1 && argv[1][0] != '-'
+                                 ? " (see veil " + std::string(argv[1]) + " --help)"
+                                 : std::string(" (see veil --help)")),
+                    kExitUsage);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

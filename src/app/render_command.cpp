@@ -1,4 +1,5 @@
 // `veil render <scene.json> -o out.{png,exr}`: one frame headless, plus a JSON report.
+#include "app/cli_checks.h"
 #include "app/commands.h"
 
 #include "app/progress.h"
@@ -156,6 +157,27 @@ nlohmann::json errorJson(const std::string& against, const compare::ImageError& 
     return j;
 }
 
+// The files one render writes (image, error image, report): when a later one cannot be
+// written (a full disk), the earlier ones are removed, so a failed run leaves none of them.
+class RunOutputs {
+public:
+    RunOutputs() = default;
+    RunOutputs(const RunOutputs&) = delete;
+    RunOutputs& operator=(const RunOutputs&) = delete;
+    ~RunOutputs() {
+        if (committed_) return;
+        std::error_code ec;
+        for (const fs::path& p : written_)
+            fs::remove(p, ec);
+    }
+    void wrote(const fs::path& path) { written_.push_back(path); }
+    void commit() { committed_ = true; }
+
+private:
+    std::vector<fs::path> written_;
+    bool committed_ = false;
+};
+
 fs::path errorImagePath(const fs::path& output) {
     return output.parent_path() / (output.stem().string() + "-error.png");
 }
@@ -182,12 +204,22 @@ void checkOutputPaths(const RenderArgs& args) {
 void runRender(const RenderArgs& args) {
     const fs::path output = args.output;
     std::string ext = lowerExtension(args.output);
-    VEIL_CHECK(ext == ".png" || ext == ".exr", "output '{}' must end in .png or .exr", args.output);
+    // Arguments that cannot work together are usage errors (exit 2), found before any file
+    // is read.
+    if (ext != ".png" && ext != ".exr")
+        usageError(fmt::format("output '{}' must end in .png or .exr", args.output));
     // The report is optional: a default name beside the output could overwrite the scene.
-    VEIL_CHECK(args.report.empty() || lowerExtension(args.report) == ".json",
-               "report '{}' must end in .json", args.report);
-    VEIL_CHECK(ext == ".exr" || (!args.half && args.aovs.empty()),
-               "--half and --aov need an .exr output, not '{}'", args.output);
+    if (!args.report.empty() && lowerExtension(args.report) != ".json")
+        usageError(fmt::format("report '{}' must end in .json", args.report));
+    if (ext != ".exr" && (args.half || !args.aovs.empty()))
+        usageError(fmt::format("--half and --aov need an .exr output, not '{}'", args.output));
+    if (!args.dump.empty() && args.oit == "all")
+        usageError("--dump needs one technique, not --oit all");
+    if (!args.compareTo.empty() && args.oit == "all")
+        usageError("--compare-to cannot be combined with --oit all (which compares every "
+                   "technique with reference)");
+    if (!args.grid.empty() && lowerExtension(args.scene) != ".vdb")
+        usageError(fmt::format("--grid is for a .vdb input, not '{}'", args.scene));
     checkOutputPaths(args);
     if (!args.dump.empty()) {
         VEIL_CHECK(args.oit != "all", "--dump needs one technique, not --oit all");
@@ -273,19 +305,35 @@ void runRender(const RenderArgs& args) {
 
     // PNG gets the tone-mapped sRGB image, EXR the linear HDR radiance.
     fs::path errorPath;
-    if (all) {
+    RunOutputs outputs;
+    if (all && png) {
         std::vector<ImageF> tiles;
         for (const Rendered& f : frames)
-            tiles.push_back(png ? f.ldr : f.hdr);
+            tiles.push_back(f.ldr);
         io::writeImage(output, compare::contactSheet(tiles));
+        outputs.wrote(output);
+    } else if (all) {
+        // EXR: the reference frame as R, G, B, A, Z (and --aov channels, --half), every other
+        // technique as a layer <technique>.R/.G/.B of the same size, not a contact sheet.
+        io::ExrImage exr = capture::makeExr(main.hdr, main.extras, metadata, args.half);
+        std::string layers = "R,G,B,A,Z: " + main.oit;
+        for (std::size_t i = 1; i < frames.size(); ++i) {
+            capture::addRgbLayer(exr, frames[i].oit, frames[i].hdr);
+            layers += "; " + frames[i].oit + ".R,G,B: " + frames[i].oit;
+        }
+        exr.strings.emplace_back("veil:layers", layers);
+        io::writeExr(output, exr);
+        outputs.wrote(output);
     } else {
         if (png)
             io::writeImage(output, main.ldr);
         else
             io::writeExr(output, capture::makeExr(main.hdr, main.extras, metadata, args.half));
+        outputs.wrote(output);
         if (!args.compareTo.empty()) {
             errorPath = errorImagePath(output);
             io::writeImage(errorPath, compare::errorImage(main.hdr, referenceHdr));
+            outputs.wrote(errorPath);
         }
     }
 
@@ -320,7 +368,9 @@ void runRender(const RenderArgs& args) {
                                   {"compare", errorJson("reference", errors[i].second)}});
         }
         report["techniques"] = techniques;
-        report["sheet_order"] = "left to right as in techniques[]";
+        report["sheet_order"] = png ? "left to right as in techniques[]"
+                                    : "EXR: reference in R,G,B,A,Z, the others as layers "
+                                      "<oit>.R,G,B (header veil:layers)";
     } else {
         report["gpu_bytes"] = main.gpuBytes;
         report["passes"] = main.passes;
@@ -340,11 +390,20 @@ void runRender(const RenderArgs& args) {
         }
     }
     const fs::path reportPath = args.report;
-    if (!args.report.empty())
+    if (!args.report.empty()) {
         writeTextFileAtomically(
             reportPath,
             report.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
-    if (all) {
+    }
+    outputs.commit();
+    if (all && !png) {
+        std::cout << "wrote " << args.output << " (" << frames.size()
+                  << " techniques as EXR layers "
+                  << "of " << main.width << "x" << main.height << ", " << context.info().renderer
+                  << ")\n";
+        for (const auto& [name, e] : errors)
+            std::cout << fmt::format("  {:<12} vs reference: {}\n", name, formatError(e));
+    } else if (all) {
         std::cout << "wrote " << args.output << " (contact sheet, " << frames.size() << " tiles of "
                   << main.width << "x" << main.height << ", " << context.info().renderer << ")\n";
         for (const auto& [name, e] : errors)
@@ -404,7 +463,8 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--camera", args->camera, "Camera name (default: the scene's)");
     cmd->add_option("--oit", args->oit,
                     "Transparency technique (default: the scene's); 'all' renders every "
-                    "available one into a contact sheet and prints each one's error vs reference");
+                    "available one into a contact sheet (PNG) or EXR layers <technique>.R/G/B "
+                    "beside the reference's R,G,B,A,Z, and prints each one's error vs reference");
     cmd->add_option("--shadows", args->shadows,
                     "Shadow technique (default: the scene's render.shadows); see `veil "
                     "techniques`");

@@ -2,6 +2,7 @@
 // state is a session::ViewSession (session/view_session.h), the panel app/view_panel.h, debug views
 // viewer/debug_view.h. `--script actions.json` drives the same window from a list of actions
 // (viewer/view_script.h); `--frames N --screenshot out.png` renders N frames without the panel.
+#include "app/cli_checks.h"
 #include "app/commands.h"
 #include "app/view_panel.h"
 #include "session/view_session.h"
@@ -506,7 +507,7 @@ void addViewCommand(CLI::App& app) {
                     "view.refine_budget_ms: halve a refinement step's tile until its estimated "
                     "pass time is under this many ms (down to 16 px; 0 = whole tiles; default: "
                     "100 interactive, 0 scripted)")
-        ->check(CLI::Range(0.0, 1e6));
+        ->check(finiteRange(0.0, 1e6));
     cmd->add_option("--reuse-shadow-maps", args->reuseShadowMaps,
                     "view.reuse_shadow_maps: keep the shadow maps across frames while nothing they "
                     "depend on changed (camera moves keep them; techniques whose maps follow the "

@@ -94,14 +94,16 @@ void runVoxelize(const VoxelizeArgs& args) {
     // Everything that can be checked before work is checked first.
     const Method method =
         parseMethod(args.method.empty() ? (args.solid ? "raster" : "conservative") : args.method);
-    VEIL_CHECK(lowerExtension(args.output) == ".vdb", "output '{}' must end in .vdb", args.output);
-    VEIL_CHECK(args.vti.empty() || lowerExtension(args.vti) == ".vti",
-               "--vti '{}' must end in .vti", args.vti);
+    if (lowerExtension(args.output) != ".vdb")
+        usageError(fmt::format("output '{}' must end in .vdb", args.output));
+    if (!args.vti.empty() && lowerExtension(args.vti) != ".vti")
+        usageError(fmt::format("--vti '{}' must end in .vti", args.vti));
     checkOutputPath(args.output, "output", {args.scene});
     if (!args.vti.empty()) checkOutputPath(args.vti, "--vti", {args.scene, args.output});
     const bool mesh = isMeshFile(args.scene);
-    VEIL_CHECK(!mesh || (!args.perspective && args.overrides.empty()),
-               "'{}' is a mesh: --perspective and --set need a scene file", args.scene);
+    if (mesh && (args.perspective || !args.overrides.empty()))
+        usageError(
+            fmt::format("'{}' is a mesh: --perspective and --set need a scene file", args.scene));
     int slices = args.slices > 0 ? args.slices : args.res;
     const scene::Scene scene =
         mesh ? sceneForMesh(args.scene) : scene::loadScene(args.scene, args.overrides);

@@ -12,6 +12,8 @@
 
 #include <algorithm>
 
+#include <unistd.h>
+
 namespace veil::capture {
 
 namespace fs = std::filesystem;
@@ -67,7 +69,9 @@ std::string fileStem(const std::string& resource) {
 
 } // namespace
 
-void checkDumpDirectory(const fs::path& dir) {
+void checkDumpDirectory(const fs::path& given) {
+    // "out/dump/" names the folder "out/dump": its parent is "out", not "out/dump".
+    const fs::path dir = given.has_filename() ? given : given.parent_path();
     std::error_code ec;
     const fs::file_status st = fs::status(dir, ec);
     VEIL_CHECK(!fs::exists(st) || fs::is_directory(st), "--dump '{}': exists and is not a folder",
@@ -75,6 +79,11 @@ void checkDumpDirectory(const fs::path& dir) {
     VEIL_CHECK(fs::exists(st) ||
                    fs::is_directory(dir.parent_path().empty() ? "." : dir.parent_path()),
                "--dump '{}': its parent folder does not exist", dir.string());
+    VEIL_CHECK(!fs::is_directory(st) || fs::is_empty(dir, ec) ||
+                   fs::is_regular_file(dir / "manifest.json", ec),
+               "--dump '{}': the folder holds files but no manifest.json (not an earlier "
+               "dump, which a dump replaces as a whole): give an empty or new folder",
+               dir.string());
 }
 
 io::ExrImage resourceExr(const ResourceImage& image,
@@ -88,11 +97,60 @@ io::ExrImage resourceExr(const ResourceImage& image,
     return exr;
 }
 
-nlohmann::json dumpFrame(const frame::Renderer& renderer, const fs::path& dir) {
+namespace {
+
+// The folder a dump is written into before it is renamed to `target` (a sibling, so the
+// rename stays on one file system).
+fs::path stagingFolderFor(const fs::path& target, const char* kind) {
+    const fs::path abs = fs::absolute(target).lexically_normal();
+    const fs::path clean = abs.has_filename() ? abs : abs.parent_path();
+    return clean.parent_path() /
+           fmt::format(".{}.{}-{}", clean.filename().string(), kind, static_cast<long>(getpid()));
+}
+
+nlohmann::json writeDump(const frame::Renderer& renderer, const fs::path& dir);
+
+} // namespace
+
+nlohmann::json dumpFrame(const frame::Renderer& renderer, const fs::path& target) {
+    checkDumpDirectory(target);
+    const fs::path staging = stagingFolderFor(target, "dump");
+    const fs::path old = stagingFolderFor(target, "old");
     std::error_code ec;
-    fs::create_directories(dir, ec);
-    VEIL_CHECK(!ec && fs::is_directory(dir), "--dump '{}': cannot create the folder ({})",
-               dir.string(), ec.message());
+    fs::remove_all(staging, ec);
+    fs::create_directory(staging, ec);
+    VEIL_CHECK(!ec, "--dump '{}': cannot create the folder '{}' ({})", target.string(),
+               staging.string(), ec.message());
+    try {
+        nlohmann::json manifest = writeDump(renderer, staging);
+        const fs::path dest = fs::absolute(target).lexically_normal();
+        const fs::path place = dest.has_filename() ? dest : dest.parent_path();
+        if (fs::exists(place)) { // an earlier dump (checkDumpDirectory), replaced
+            fs::rename(place, old);
+            fs::rename(staging, place, ec);
+            if (ec) {
+                std::error_code back;
+                fs::rename(old, place, back);
+                throw fs::filesystem_error("rename", staging, place, ec);
+            }
+            fs::remove_all(old, ec);
+        } else {
+            fs::rename(staging, place);
+        }
+        return manifest;
+    } catch (const fs::filesystem_error& e) {
+        fs::remove_all(staging, ec);
+        throw Error(fmt::format("--dump '{}': cannot move the dump into place: {}", target.string(),
+                                e.code().message()));
+    } catch (...) {
+        fs::remove_all(staging, ec);
+        throw;
+    }
+}
+
+namespace {
+
+nlohmann::json writeDump(const frame::Renderer& renderer, const fs::path& dir) {
     nlohmann::json entries = nlohmann::json::array();
     for (const std::string& name : renderer.passes().resources()) {
         nlohmann::json e = {{"resource", name}};
@@ -170,5 +228,7 @@ nlohmann::json dumpFrame(const frame::Renderer& renderer, const fs::path& dir) {
     writeTextFileAtomically(dir / "manifest.json", manifest.dump(2) + "\n");
     return manifest;
 }
+
+} // namespace
 
 } // namespace veil::capture

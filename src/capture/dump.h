@@ -23,11 +23,15 @@ std::string resourceUnits(const std::string& resource);
 io::ExrImage resourceExr(const ResourceImage& image,
                          std::vector<std::pair<std::string, std::string>> strings);
 
-// Refuses a DIR that exists and is not a folder, before any rendering.
+// Refuses, before any rendering, a DIR that exists and is not a folder, or a non-empty
+// folder that is not an earlier dump (no manifest.json): a dump replaces DIR as a whole.
 void checkDumpDirectory(const std::filesystem::path& dir);
 
-// Writes the files and manifest.json (each atomically; the manifest last). Returns the
-// manifest.
+// Writes the files and manifest.json into a hidden sibling folder (".<name>.dump-<pid>") and
+// renames it to DIR only when everything is written, so DIR is either a complete dump or
+// what it was before (a failed or interrupted dump removes the sibling; a killed one leaves
+// the hidden sibling, never a DIR without manifest.json). An earlier dump in DIR is replaced.
+// Returns the manifest.
 nlohmann::json dumpFrame(const frame::Renderer& renderer, const std::filesystem::path& dir);
 
 } // namespace veil::capture

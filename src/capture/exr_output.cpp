@@ -124,6 +124,22 @@ io::ExrImage makeExr(const ImageF& hdr, const FrameExtras& extras, const RenderM
 
 namespace veil::capture {
 
+void addRgbLayer(io::ExrImage& exr, const std::string& layer, const ImageF& rgb) {
+    VEIL_CHECK(rgb.width == exr.width && rgb.height == exr.height && rgb.channels >= 3,
+               "EXR layer '{}': {}x{} image of {} channels for a {}x{} file", layer, rgb.width,
+               rgb.height, rgb.channels, exr.width, exr.height);
+    const std::size_t n = exr.channels.size(), m = n + 3;
+    std::vector<float> pixels(std::size_t(exr.width) * exr.height * m);
+    for (std::size_t p = 0; p < std::size_t(exr.width) * exr.height; ++p) {
+        std::copy_n(&exr.pixels[p * n], n, &pixels[p * m]);
+        for (int c = 0; c < 3; ++c)
+            pixels[p * m + n + c] = rgb.pixels[p * rgb.channels + c];
+    }
+    exr.pixels = std::move(pixels);
+    for (const char* c : {".R", ".G", ".B"})
+        exr.channels.push_back(layer + c);
+}
+
 RenderMetadata describeRender(const std::filesystem::path& scene, const std::string& oit,
                               const nlohmann::json& oitProperties, const std::string& camera,
                               const FrameExtras& extras, int width, int height,

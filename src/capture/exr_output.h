@@ -53,6 +53,10 @@ struct RenderMetadata {
 io::ExrImage makeExr(const ImageF& hdr, const FrameExtras& extras, const RenderMetadata& metadata,
                      bool half);
 
+// Adds a layer of an image's RGB as `<layer>.R`, `<layer>.G`, `<layer>.B` (OpenEXR's layer
+// naming), e.g. one per technique of `veil render --oit all -o all.exr`.
+void addRgbLayer(io::ExrImage& exr, const std::string& layer, const ImageF& rgb);
+
 } // namespace veil::capture
 
 namespace veil::capture {

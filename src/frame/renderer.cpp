@@ -36,6 +36,8 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
     shadowSet_ = shadows::chooseShadowLights(scene, sp.getInt("max_lights"),
                                              fmt::format("{} (max_lights)", shadowsWhere));
     if (shadowSet_.viewCount > 0) {
+        checkShadowWork(scene, context_, *shadows_, shadowsWhere, sp.getInt("size"),
+                        shadowSet_.viewCount);
         shadows_->resize(sp.getInt("size"), shadowSet_.viewCount);
         if (auto request = shadows_->lightSliceMap())
             lightSlices_ =

@@ -59,6 +59,24 @@ void checkFogWork(const scene::Scene& scene, const gpu::ContextInfo& context, in
                scene.render.fogSampleLimit < 0 ? " for a software renderer" : "");
 }
 
+void checkShadowWork(const scene::Scene& scene, const gpu::ContextInfo& context,
+                     const shadows::Technique& technique, const std::string& where, int mapSize,
+                     int viewCount) {
+    long long limit = scene.render.fogSampleLimit;
+    if (limit < 0) limit = context.softwareRenderer ? 300'000'000LL : 0; // automatic
+    if (limit == 0) return;
+    bool media = false;
+    for (const scene::VolumeRef& v : scene.volumes)
+        media = media || v.procedural != "homogeneous"; // grid volumes: files or procedural
+    const shadows::Technique::WorkEstimate w = technique.work(mapSize, viewCount, media);
+    VEIL_CHECK(w.samples <= double(limit),
+               "{}: shadows {} ({}): {} = {:.3g} samples per frame, over the limit of {:.3g}{} "
+               "(render.fog_sample_limit; lower those properties, or set the limit)",
+               scene.sourcePath.empty() ? std::string("<scene>") : scene.sourcePath.string(),
+               technique.name(), where, w.breakdown, w.samples, double(limit),
+               scene.render.fogSampleLimit < 0 ? " for a software renderer" : "");
+}
+
 CameraBlock cameraBlock(const scene::Camera& camera, int width, int height) {
     const float aspect = static_cast<float>(width) / static_cast<float>(height);
     CameraBlock cam{};

@@ -59,6 +59,11 @@ std::unique_ptr<shadows::Technique> createShadowTechnique(const scene::Scene& sc
 // before any volume is loaded: on llvmpipe 2048^2 pixels x 4096 steps would take days.
 void checkFogWork(const scene::Scene& scene, const gpu::ContextInfo& context, int width,
                   int height);
+// The same limit for the shadow technique's own passes (shadows::Technique::work), checked
+// before resize(mapSize, viewCount) allocates its maps: "where" names its properties.
+void checkShadowWork(const scene::Scene& scene, const gpu::ContextInfo& context,
+                     const shadows::Technique& technique, const std::string& where, int mapSize,
+                     int viewCount);
 
 // The camera block of `camera` for a width x height image.
 CameraBlock cameraBlock(const scene::Camera& camera, int width, int height);

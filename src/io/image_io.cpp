@@ -8,6 +8,10 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
+#include <string>
+
+#include <unistd.h>
 
 namespace veil::io {
 
@@ -52,16 +56,73 @@ void writeImage(const fs::path& path, const ImageF& image, bool dropAlpha) {
     });
 }
 
+namespace {
+
+// Codec libraries under OpenImageIO print on stderr themselves (libpng: "libpng error: IDAT:
+// CRC error"), before and beside Veil's one error line. While it lives, this sends file
+// descriptor 2 to a temporary file; text() is what was printed, on one line.
+class StderrCapture {
+public:
+    StderrCapture() {
+        std::fflush(stderr);
+        file_ = std::tmpfile();
+        saved_ = file_ ? dup(STDERR_FILENO) : -1;
+        if (saved_ >= 0 && dup2(fileno(file_), STDERR_FILENO) < 0) {
+            close(saved_);
+            saved_ = -1;
+        }
+    }
+    StderrCapture(const StderrCapture&) = delete;
+    StderrCapture& operator=(const StderrCapture&) = delete;
+    ~StderrCapture() {
+        restore();
+        if (file_) std::fclose(file_);
+    }
+    std::string text() {
+        restore();
+        std::string out;
+        if (!file_) return out;
+        std::rewind(file_);
+        char buf[512];
+        for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, file_)) > 0 && out.size() < 2000;)
+            out.append(buf, n);
+        for (char& c : out)
+            if (c == '\n' || c == '\r') c = ' ';
+        while (!out.empty() && out.back() == ' ')
+            out.pop_back();
+        return out;
+    }
+
+private:
+    void restore() {
+        if (saved_ < 0) return;
+        std::fflush(stderr);
+        dup2(saved_, STDERR_FILENO);
+        close(saved_);
+        saved_ = -1;
+    }
+    std::FILE* file_ = nullptr;
+    int saved_ = -1;
+};
+
+} // namespace
+
 ImageF readImage(const fs::path& path) {
+    StderrCapture codec;
+    const auto failed = [&](const std::string& err) {
+        const std::string printed = codec.text();
+        return Error(fmt::format("cannot read image '{}': {}{}", path.string(), err,
+                                 printed.empty() ? "" : " (" + printed + ")"));
+    };
     auto in = OIIO::ImageInput::open(path.string());
-    VEIL_CHECK(in, "cannot read image '{}': {}", path.string(), OIIO::geterror());
+    if (!in) throw failed(OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
     ImageF image(spec.width, spec.height, spec.nchannels);
     const bool ok =
         in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data());
     const std::string err = in->geterror();
     in->close();
-    VEIL_CHECK(ok, "cannot read image '{}': {}", path.string(), err);
+    if (!ok) throw failed(err);
     return image;
 }
 

@@ -95,9 +95,15 @@ double rmse(const ImageF& a, const ImageF& b) {
 
 double maxAbs(const ImageF& a, const ImageF& b) {
     checkSameSize(a, b);
+    // std::max(m, NaN) keeps m: a NaN pixel must make the maximum NaN, not vanish.
     double m = 0.0;
-    forEachRgb(a, b, [&](double x, double y) { m = std::max(m, std::abs(x - y)); });
-    return m;
+    bool nan = false;
+    forEachRgb(a, b, [&](double x, double y) {
+        const double d = std::abs(x - y);
+        nan = nan || std::isnan(d);
+        m = std::max(m, d);
+    });
+    return nan ? std::numeric_limits<double>::quiet_NaN() : m;
 }
 
 double normalizedRmse(const ImageF& a, const ImageF& reference) {
@@ -122,7 +128,13 @@ double percentileAbsError(const ImageF& a, const ImageF& b, double p) {
     VEIL_CHECK(p > 0.0 && p <= 100.0, "percentile {} not in (0, 100]", p);
     std::vector<double> e;
     e.reserve(static_cast<std::size_t>(count(a)));
-    forEachRgb(a, b, [&](double x, double y) { e.push_back(std::abs(x - y)); });
+    bool nan = false;
+    forEachRgb(a, b, [&](double x, double y) {
+        e.push_back(std::abs(x - y));
+        nan = nan || std::isnan(e.back());
+    });
+    // NaN has no rank (nth_element needs a strict weak order).
+    if (nan) return std::numeric_limits<double>::quiet_NaN();
     const auto rank = static_cast<std::size_t>(std::ceil(p / 100.0 * double(e.size())));
     const std::size_t k = std::clamp<std::size_t>(rank, 1, e.size()) - 1;
     std::nth_element(e.begin(), e.begin() + static_cast<std::ptrdiff_t>(k), e.end());
@@ -132,8 +144,12 @@ double percentileAbsError(const ImageF& a, const ImageF& b, double p) {
 double peak(const ImageF& reference) {
     VEIL_CHECK(reference.channels >= 3, "no RGB in an image of {} channels", reference.channels);
     double p = 0.0;
-    forEachRgb(reference, reference, [&](double, double y) { p = std::max(p, y); });
-    return p;
+    bool nan = false;
+    forEachRgb(reference, reference, [&](double, double y) {
+        nan = nan || std::isnan(y);
+        p = std::max(p, y);
+    });
+    return nan ? std::numeric_limits<double>::quiet_NaN() : p;
 }
 
 double psnr(const ImageF& a, const ImageF& reference) {
@@ -220,10 +236,15 @@ ImageF heatMap(const ImageF& a, const ImageF& b, double scale) {
             double m = 0.0;
             for (int c = 0; c < 3; ++c)
                 m = std::max(m, std::abs(double(a.at(x, y, c)) - double(b.at(x, y, c))));
+            // A NaN channel makes the pixel NaN (std::max would drop it); NaN and inf
+            // errors are drawn white, and the automatic scale is the largest finite error.
+            for (int c = 0; c < 3; ++c)
+                if (std::isnan(a.at(x, y, c)) || std::isnan(b.at(x, y, c)))
+                    m = std::numeric_limits<double>::infinity();
             e.at(x, y, 0) = static_cast<float>(m);
-            largest = std::max(largest, m);
+            if (std::isfinite(m)) largest = std::max(largest, m);
         }
-    if (scale <= 0.0) scale = largest > 0.0 ? largest : 1.0;
+    if (!std::isfinite(scale) || scale <= 0.0) scale = largest > 0.0 ? largest : 1.0;
     // Ramp stops at t = 0, 1/4, 1/2, 3/4, 1.
     static constexpr float kStops[5][3] = {
         {0, 0, 0}, {0.1f, 0.1f, 0.8f}, {0.85f, 0.1f, 0.1f}, {1, 0.85f, 0}, {1, 1, 1}};
@@ -255,6 +276,13 @@ bool higherIsBetter(const std::string& name) { return name == "psnr" || name == 
 
 double compute(const std::string& name, const ImageF& image, const ImageF& reference,
                double exposure, ToneMap op) {
+    // A NaN pixel in either image makes every metric NaN, which no threshold passes: no
+    // metric may hide it (std::max drops NaN, nrmse would call it +inf, ssim clamps it).
+    checkSameSize(image, reference);
+    bool nan = false;
+    forEachRgb(image, reference,
+               [&](double x, double y) { nan = nan || std::isnan(x) || std::isnan(y); });
+    if (nan && isMetricName(name)) return std::numeric_limits<double>::quiet_NaN();
     if (name == "rmse") return rmse(image, reference);
     if (name == "maxabs") return maxAbs(image, reference);
     if (name == "relmse") return relativeMse(image, reference);

@@ -18,7 +18,7 @@ namespace veil::metrics {
 
 // sqrt(mean over RGB of (a - b)^2).
 double rmse(const ImageF& a, const ImageF& b);
-// max over RGB of |a - b|.
+// max over RGB of |a - b|; NaN when a value of either image is NaN.
 double maxAbs(const ImageF& a, const ImageF& b);
 // RMSE / mean(b): the RMSE relative to the reference's mean RGB value (0 when both are 0,
 // +inf when only the reference is all zero).
@@ -57,7 +57,8 @@ ImageF toneMapSrgb(const ImageF& hdr, double exposure = 1.0, ToneMap op = ToneMa
 
 // A heat map of the error: per pixel e = max over RGB of |a - b|, mapped through a
 // black - blue - red - yellow - white ramp with e = scale at white (values above clamp).
-// RGB in [0, 1], for a PNG. scale <= 0 means the image's own largest error.
+// RGB in [0, 1], for a PNG. scale <= 0 (or not finite) means the image's own largest finite
+// error; NaN and infinite errors are white.
 ImageF heatMap(const ImageF& a, const ImageF& b, double scale = 0.0);
 
 // The metrics by name, as `veil compare --metric` and regression suites spell them.
@@ -66,6 +67,7 @@ const std::vector<std::string>& metricNames(); // rmse, maxabs, relmse, p99, psn
 bool isMetricName(const std::string& name);
 bool higherIsBetter(const std::string& name);
 // Computes one metric on linear images; ssim tone-maps both with `op` and `exposure` first.
+// Every metric is NaN when a value of either image is NaN (no threshold passes NaN).
 double compute(const std::string& name, const ImageF& image, const ImageF& reference,
                double exposure = 1.0, ToneMap op = ToneMap::Clamp);
 // Whether `value` passes threshold `t` for metric `name` (NaN never passes).

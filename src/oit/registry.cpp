@@ -37,7 +37,16 @@ std::unique_ptr<Technique> Registry::create(const std::string& name,
                                             gpu::ProgramManager& programs,
                                             const nlohmann::json& values,
                                             const std::string& where) const {
-    return createTechnique(name, context, programs, values, where);
+    try {
+        return createTechnique(name, context, programs, values, where);
+    } catch (const Error& e) {
+        // A technique's own checks of its properties (moment: z_min < z_max) know no file:
+        // name where the properties came from, unless the message already does.
+        const std::string what = e.what();
+        if (where.empty() || what.rfind(where, 0) == 0 || what.find(where) != std::string::npos)
+            throw;
+        throw Error(fmt::format("{}: {}", where, what));
+    }
 }
 
 } // namespace veil::oit

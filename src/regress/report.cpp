@@ -3,6 +3,7 @@
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "regress/report_folder.h"
+#include "scene/json_text.h"
 
 #include <fmt/format.h>
 
@@ -188,7 +189,10 @@ Report readReport(const fs::path& dir) {
     VEIL_CHECK(in, "cannot open '{}' (is '{}' the -o folder of a veil regress run?)", file.string(),
                dir.string());
     try {
-        const nlohmann::json j = nlohmann::json::parse(in);
+        std::stringstream text;
+        text << in.rdbuf();
+        // The parser shared with scenes and suites (nesting cap, no duplicate keys).
+        const nlohmann::json j = scene::parseJsonText(text.str(), file.string());
         Report r;
         r.suiteName = j.at("suite");
         r.suiteFile = j.at("suite_file");

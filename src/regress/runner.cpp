@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <map>
 #include <memory>
@@ -192,7 +193,10 @@ CaseResult runCase(const RegressCase& k, const gpu::ContextInfo& info, const Run
             r.metrics.push_back(m);
         }
         r.heatScale = heatScaleOf(k);
-        if (r.heatScale <= 0.0) r.heatScale = std::max(metrics::maxAbs(image, reference), 1e-6);
+        if (r.heatScale <= 0.0) { // NaN pixels (maxabs NaN): white, at a scale of 1
+            const double largest = metrics::maxAbs(image, reference);
+            r.heatScale = std::isfinite(largest) ? std::max(largest, 1e-6) : 1.0;
+        }
         fs::create_directories(out / "images");
         r.renderPng = "images/" + k.name + "-render.png";
         r.referencePng = "images/" + k.name + "-reference.png";

@@ -5,6 +5,7 @@
 #include "base/text.h"
 #include "oit/technique.h"
 #include "regress/report_folder.h"
+#include "scene/json_text.h"
 #include "scene/scene.h"
 
 #include <fmt/format.h>
@@ -279,14 +280,9 @@ Suite loadSuite(const fs::path& file, bool update) {
     VEIL_CHECK(in, "cannot open suite file '{}'", file.string());
     std::stringstream ss;
     ss << in.rdbuf();
-    nlohmann::json doc;
-    try {
-        doc = nlohmann::json::parse(ss.str(), nullptr, true, /*ignore_comments=*/true);
-    } catch (const nlohmann::json::parse_error& e) {
-        std::string what = e.what();
-        if (const auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
-        w.fail("", "invalid JSON: " + what);
-    }
+    // The parser shared with scenes: comments, a nesting cap (kMaxJsonDepth) and no duplicate
+    // keys, errors naming the file and the JSON pointer.
+    const nlohmann::json doc = scene::parseJsonText(ss.str(), file.string());
     if (!doc.is_object()) w.fail("", "expected an object with \"cases\"");
     for (auto it = doc.begin(); it != doc.end(); ++it)
         if (it.key() != "name" && it.key() != "cases" && it.key() != "defaults")

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <cctype>
 #include <cstdint>
 #include <fstream>
 #include <optional>
@@ -30,6 +31,104 @@ using nlohmann::json;
 // An accessor without a buffer view is all zeros (glTF 2.0 §3.6.2.3 "sparse" / defaults), so
 // no bytes bound its count; 16M elements is far above any mesh Veil renders in one primitive.
 constexpr std::uint64_t kMaxUnbackedAccessorElements = std::uint64_t(1) << 24;
+
+// assimp reads, converts, flattens (aiProcess_PreTransformVertices), validates and frees the
+// node hierarchy by recursion, one stack frame or more per level: a chain of some thousand
+// nodes overflowed the stack. Real models nest a few dozen levels.
+constexpr std::size_t kMaxNodeDepth = 256;
+
+// "%2e%2e" -> "..": glTF URIs are RFC 3986 references, so a reader that decodes them would
+// see the decoded path.
+std::string percentDecoded(const std::string& uri) {
+    std::string out;
+    for (std::size_t i = 0; i < uri.size(); ++i) {
+        const auto hex = [](char c) {
+            return std::isdigit(static_cast<unsigned char>(c)) ? c - '0'
+                   : (c >= 'a' && c <= 'f')                    ? c - 'a' + 10
+                   : (c >= 'A' && c <= 'F')                    ? c - 'A' + 10
+                                                               : -1;
+        };
+        if (uri[i] == '%' && i + 2 < uri.size() && hex(uri[i + 1]) >= 0 && hex(uri[i + 2]) >= 0) {
+            out += char(hex(uri[i + 1]) * 16 + hex(uri[i + 2]));
+            i += 2;
+        } else {
+            out += uri[i];
+        }
+    }
+    return out;
+}
+
+// A URI naming an external file must stay inside the model's folder (glTF 2.0 §3.3.5 allows
+// any relative path, but a model from elsewhere must not make Veil read /etc/passwd or
+// ../../secret): no absolute path, no scheme but data:, no ".." above the folder, no symbolic
+// link out of it; raw and percent-decoded forms alike.
+fs::path checkedUriFile(const std::string& uri, const fs::path& path, const std::string& where,
+                        const std::string& file) {
+    const fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+    std::error_code ec;
+    const fs::path realFolder = fs::weakly_canonical(fs::absolute(folder), ec);
+    for (const std::string& form : {uri, percentDecoded(uri)}) {
+        const fs::path rel = fs::u8path(form);
+        const fs::path normal = rel.lexically_normal();
+        const bool scheme = form.find(':') != std::string::npos;
+        const fs::path real = fs::weakly_canonical(fs::absolute(folder / rel), ec);
+        const fs::path inside = real.lexically_relative(realFolder);
+        VEIL_CHECK(!rel.has_root_path() && !scheme && !normal.empty() && *normal.begin() != ".." &&
+                       !ec && !inside.empty() && *inside.begin() != "..",
+                   "mesh file '{}': glTF {} '{}' names a file outside the model's folder '{}' "
+                   "(external files must lie inside it)",
+                   file, where, describeJson(json(uri), 200), folder.string());
+    }
+    return folder / fs::u8path(uri);
+}
+
+// Every node is the child of at most one node, children exist, there is no cycle, and no
+// chain is deeper than kMaxNodeDepth. Breadth first from the roots, without recursion.
+void checkNodeHierarchy(const json& nodes, const std::string& file) {
+    const std::size_t n = nodes.size();
+    std::vector<std::size_t> parent(n, n);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!nodes[i].is_object()) continue; // assimp reports it
+        const auto children = nodes[i].find("children");
+        if (children == nodes[i].end()) continue;
+        VEIL_CHECK(children->is_array(), "mesh file '{}': glTF nodes[{}].children is not an array",
+                   file, i);
+        for (const json& c : *children) {
+            VEIL_CHECK(c.is_number_unsigned() && c.get<std::uint64_t>() < n,
+                       "mesh file '{}': glTF nodes[{}].children holds {}, not a node index", file,
+                       i, describeJson(c));
+            const std::size_t child = c.get<std::size_t>();
+            VEIL_CHECK(parent[child] == n && child != i,
+                       "mesh file '{}': glTF nodes[{}] is a child of two nodes (or of itself)",
+                       file, child);
+            parent[child] = i;
+        }
+    }
+    std::vector<std::size_t> depth(n, 0), queue;
+    for (std::size_t i = 0; i < n; ++i)
+        if (parent[i] == n) queue.push_back(i), depth[i] = 1;
+    std::vector<std::vector<std::size_t>> kids(n);
+    for (std::size_t i = 0; i < n; ++i)
+        if (parent[i] != n) kids[parent[i]].push_back(i);
+    for (std::size_t head = 0; head < queue.size(); ++head) {
+        const std::size_t at = queue[head];
+        VEIL_CHECK(depth[at] <= kMaxNodeDepth,
+                   "mesh file '{}': glTF node hierarchy is deeper than {} levels (at nodes[{}])",
+                   file, kMaxNodeDepth, at);
+        for (std::size_t k : kids[at]) {
+            depth[k] = depth[at] + 1;
+            queue.push_back(k);
+        }
+    }
+    VEIL_CHECK(
+        queue.size() == n, "mesh file '{}': glTF nodes form a cycle (nodes[{}] and {} more)", file,
+        [&] {
+            for (std::size_t i = 0; i < n; ++i)
+                if (depth[i] == 0) return i;
+            return n;
+        }(),
+        n - queue.size() - 1);
+}
 
 std::uint32_t readLe32(const unsigned char* p) {
     return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 |
@@ -84,7 +183,7 @@ std::uint64_t bufferCapacity(const json& buffer, std::size_t index, const fs::pa
     const std::string& u = uri->get_ref<const std::string&>();
     if (u.rfind("data:", 0) == 0) return dataUriBytes(u);
     std::error_code ec;
-    const fs::path external = path.parent_path() / fs::u8path(u);
+    const fs::path external = checkedUriFile(u, path, fmt::format("buffers[{}].uri", index), file);
     const std::uint64_t size = fs::file_size(external, ec);
     VEIL_CHECK(!ec, "mesh file '{}': glTF buffers[{}] refers to '{}', which cannot be read ({})",
                file, index, external.string(), ec.message());
@@ -138,6 +237,14 @@ void checkElementsFit(std::uint64_t count, std::uint64_t elementBytes, std::uint
 void checkDocument(const json& doc, const fs::path& path, std::optional<std::uint64_t> binChunk,
                    const std::string& file) {
     VEIL_CHECK(doc.is_object(), "mesh file '{}': glTF JSON is not an object", file);
+    checkNodeHierarchy(arrayMember(doc, "nodes", file), file);
+    const json& images = arrayMember(doc, "images", file);
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        const auto uri = images[i].is_object() ? images[i].find("uri") : images[i].end();
+        if (uri != images[i].end() && uri->is_string() &&
+            uri->get_ref<const std::string&>().rfind("data:", 0) != 0)
+            checkedUriFile(uri->get<std::string>(), path, fmt::format("images[{}].uri", i), file);
+    }
     const json& buffers = arrayMember(doc, "buffers", file);
     std::vector<std::uint64_t> bufferBytes;
     for (std::size_t i = 0; i < buffers.size(); ++i) {

@@ -47,9 +47,15 @@ struct LoadedMesh {
     std::optional<Material> material; // filled from the file's material; empty if it has none
 };
 
+// The largest vertex coordinate a mesh file may hold. Shaders and the voxelizer square
+// differences and lengths in float: (2e18)^2 x 3 stays below FLT_MAX = 3.4e38, while
+// vertices near 3e38 made bounds, extents and squared lengths overflow to inf (a black
+// frame, a crash in grid fitting).
+constexpr float kMaxMeshCoordinate = 1e18f;
+
 // Loads every mesh of a glTF 2.0 (.gltf/.glb), OBJ or PLY file through assimp, with node
 // transforms baked into the vertices. Throws veil::Error naming the file on any failure
-// (missing file, parse error, no triangles).
+// (missing file, parse error, no triangles, a coordinate beyond kMaxMeshCoordinate).
 std::vector<LoadedMesh> loadMeshFile(const std::filesystem::path& path);
 
 } // namespace veil::scene

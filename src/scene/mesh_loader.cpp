@@ -146,8 +146,16 @@ std::vector<LoadedMesh> loadMeshFile(const std::filesystem::path& path) {
                            aiProcess_GenSmoothNormals | aiProcess_JoinIdenticalVertices |
                            aiProcess_PreTransformVertices | aiProcess_SortByPType;
     const aiScene* scene = importer.ReadFile(path.string(), flags);
+    // assimp gives no reason for some refusals (a GLB without meshes is "incomplete").
+    const std::string reason = importer.GetErrorString();
     VEIL_CHECK(scene != nullptr && !(scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE),
-               "cannot load mesh file '{}': {}", path.string(), importer.GetErrorString());
+               "cannot load mesh file '{}': {}", path.string(),
+               !reason.empty() ? reason
+               : scene == nullptr
+                   ? std::string("assimp read nothing from it")
+                   : fmt::format("assimp read it as incomplete ({} meshes; a file without "
+                                 "meshes is incomplete)",
+                                 scene->mNumMeshes));
 
     std::vector<LoadedMesh> out;
     std::size_t triangles = 0;
@@ -166,6 +174,11 @@ std::vector<LoadedMesh> loadMeshFile(const std::filesystem::path& path) {
                        "mesh file '{}': mesh '{}' has a NaN or infinite vertex position "
                        "(vertex {}: {} {} {})",
                        path.string(), m.name, v, p.x, p.y, p.z);
+            VEIL_CHECK(std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) <=
+                           kMaxMeshCoordinate,
+                       "mesh file '{}': mesh '{}' vertex {} ({} {} {}) lies beyond {:g}, the "
+                       "largest coordinate Veil renders in float",
+                       path.string(), m.name, v, p.x, p.y, p.z, kMaxMeshCoordinate);
             m.positions[v] = {p.x, p.y, p.z};
             if (am.mNormals) {
                 glm::vec3 n(am.mNormals[v].x, am.mNormals[v].y, am.mNormals[v].z);

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <fstream>
 #include <limits>
@@ -146,8 +147,32 @@ Scene loadScene(const std::filesystem::path& path, const std::vector<std::string
     constexpr std::uintmax_t kMaxSceneBytes = std::uintmax_t(256) << 20;
     std::error_code ec;
     const auto status = std::filesystem::status(path, ec);
+    VEIL_CHECK(!std::filesystem::is_directory(status),
+               "cannot open scene file '{}': not a regular file but a folder", path.string());
     VEIL_CHECK(!std::filesystem::exists(status) || std::filesystem::is_regular_file(status),
                "cannot open scene file '{}': not a regular file", path.string());
+    // Other files people give where a scene belongs: name the format, not a JSON error.
+    {
+        std::string ext = path.extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(),
+                       [](unsigned char c) { return char(std::tolower(c)); });
+        char magic[4] = {0, 0, 0, 0};
+        std::ifstream(path, std::ios::binary).read(magic, 4);
+        const std::string_view head(magic, 4);
+        const char* format = head == "glTF"                           ? "a GLB mesh file"
+                             : head == std::string_view(" BDV", 4)    ? "an OpenVDB file"
+                             : head == std::string_view("\x89PNG", 4) ? "a PNG image"
+                             : head == std::string_view("v/1\x01", 4) ? "an OpenEXR image"
+                             : ext == ".obj" || ext == ".ply" || ext == ".gltf" || ext == ".glb"
+                                 ? "a mesh file"
+                             : ext == ".vdb" || ext == ".nvdb" ? "a volume file"
+                                                               : nullptr;
+        VEIL_CHECK(format == nullptr,
+                   "'{}' is {}, not a scene file (JSON, docs/scene-format.md): meshes go in a "
+                   "scene's objects[].mesh, .vdb volumes in volumes[].path or straight to "
+                   "`veil render`/`veil view`",
+                   path.string(), format);
+    }
     const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
     VEIL_CHECK(ec || bytes <= kMaxSceneBytes,
                "cannot open scene file '{}': {} bytes is more than a scene's limit of 256 MiB",

@@ -429,9 +429,10 @@ VolumeRef parseVolume(const Context& ctx, const json& j, const std::string& ptr,
     if (o.get("procedural")) {
         v.procedural =
             o.str("procedural", "", {"box", "sphere", "smoke-ball", "noise-cloud", "homogeneous"});
-        v.size = o.vec<3>("size", v.size, kAny, true);
-        if (v.size.x <= 0 || v.size.y <= 0 || v.size.z <= 0)
-            fail(ctx, o.ptr("size"), "size must be positive");
+        // Positions are bounded by +-1e6 (cameras, lights): a larger volume cannot be seen from
+        // outside, and 1e30 made the voxel-count guard coarsen to 1e23-unit voxels and march
+        // for minutes.
+        v.size = o.vec<3>("size", v.size, Range{0.0, 1e6, true, false}, true);
         v.voxelSize = o.num("voxel_size", v.voxelSize, Range{1e-4, 1e4, true, true});
         v.seed = static_cast<std::uint32_t>(o.integer("seed", 1, 0, 1 << 30));
     } else {

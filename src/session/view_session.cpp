@@ -42,7 +42,9 @@ void Orbit::pan(float dx, float dy) {
                             -std::cos(pitch) * std::cos(yaw));
     const glm::vec3 right = glm::normalize(glm::cross(forward, glm::vec3(0, 1, 0)));
     const glm::vec3 up = glm::cross(right, forward);
-    target += (right * dx + up * dy) * distance;
+    const glm::dvec3 moved =
+        glm::dvec3(target) + glm::dvec3(right * dx + up * dy) * double(distance);
+    target = glm::vec3(glm::clamp(moved, -double(kMaxExtent), double(kMaxExtent)));
 }
 
 namespace {
@@ -369,15 +371,20 @@ bool ViewSession::reloadShaders() {
 }
 
 void ViewSession::orbitBy(float dyaw, float dpitch, float zoom) {
+    // A script's huge or non-finite steps leave a finite camera: non-finite ones are ignored,
+    // angles wrap, the distance stays in [1e-4, Orbit::kMaxExtent].
+    if (!std::isfinite(dyaw + dpitch + zoom) || zoom <= 0.0f) return;
     orbited_ = true;
-    orbit_.yaw += dyaw;
-    orbit_.pitch = glm::clamp(orbit_.pitch + dpitch, -1.55f, 1.55f);
-    orbit_.distance = std::max(orbit_.distance * zoom, 1e-4f);
+    orbit_.yaw = float(std::remainder(double(orbit_.yaw) + dyaw, 2.0 * M_PI));
+    orbit_.pitch = float(std::clamp(double(orbit_.pitch) + dpitch, -1.55, 1.55));
+    orbit_.distance =
+        float(std::clamp(double(orbit_.distance) * zoom, 1e-4, double(Orbit::kMaxExtent)));
     adoptCamera(false);
     ++version_;
 }
 
 void ViewSession::panBy(float dx, float dy) {
+    if (!std::isfinite(dx + dy)) return; // as orbitBy
     orbited_ = true;
     orbit_.pan(dx, dy);
     adoptCamera(false);

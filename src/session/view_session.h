@@ -32,8 +32,12 @@ struct Orbit {
     float yaw = 0.0f, pitch = 0.0f, distance = 1.0f;
     void from(const scene::Camera& c);
     void apply(scene::Camera& c) const;
-    // Moves the target in the view plane by (dx, dy) times the distance.
+    // Moves the target in the view plane by (dx, dy) times the distance (each coordinate
+    // clamped to +-kMaxExtent).
     void pan(float dx, float dy);
+    // Bound of the target's coordinates and of the distance: the eye then stays inside the
+    // +-1e6 that cameras.*.position accepts, so the copied `veil render` command parses.
+    static constexpr float kMaxExtent = 5e5f;
 };
 
 // What an override of `key` invalidates.

@@ -91,6 +91,20 @@ public:
         return nullptr;
     }
     virtual std::size_t gpuBytes() const = 0;
+    // Samples the technique's own passes take per frame at this map size and view count
+    // (e.g. density samples of a fog optical-depth pass), with a one-line breakdown for
+    // messages; {0, ""} when they are bounded by the map size alone. The frame checks it
+    // against render.fog_sample_limit before resize() allocates anything.
+    struct WorkEstimate {
+        double samples = 0.0;
+        std::string breakdown;
+    };
+    virtual WorkEstimate work(int mapSize, int viewCount, bool media) const {
+        (void)mapSize;
+        (void)viewCount;
+        (void)media;
+        return {};
+    }
     // Counters of the last frame (JSON object) for reports and the viewer.
     virtual nlohmann::json stats() const { return nlohmann::json::object(); }
 

@@ -46,8 +46,11 @@ VdbScene sceneForVdb(const fs::path& vdb, const std::string& selector,
     openvdb::Vec3d dir(0.3, 0.35, 1.0);
     dir.normalize();
     const openvdb::Vec3d eye = center + dir * distance;
-    const auto mm = openvdb::tools::minMax(grid.tree());
-    const double maxDensity = std::max(double(mm.max()), 1e-6);
+    // The largest finite density: NaN or infinite voxels (set to 0 when the grid is loaded)
+    // must not make the default density_scale NaN or 0.
+    double maxDensity = 1e-6;
+    for (auto it = grid.cbeginValueOn(); it; ++it)
+        if (std::isfinite(*it)) maxDensity = std::max(maxDensity, double(*it));
     const double largest = std::max({extent.x(), extent.y(), extent.z(), 1e-6});
     const double densityScale = 6.0 / (maxDensity * largest);
 
@@ -65,7 +68,9 @@ VdbScene sceneForVdb(const fs::path& vdb, const std::string& selector,
          {{{"type", "directional"}, {"direction", {-0.4, -1.0, -0.3}}, {"intensity", 3}}}},
         {"volumes",
          {{{"path", fs::absolute(vdb).string()},
-           {"grid", grid.getName()},
+           // A grid without a name is still the one selected (by index); the scene format
+           // refuses an empty name, so it is set after parsing.
+           {"grid", grid.getName().empty() ? std::string("density") : grid.getName()},
            {"density_scale", densityScale},
            {"albedo", 0.9}}}}};
     scene::applyOverrides(doc, overrides);
@@ -76,6 +81,8 @@ VdbScene sceneForVdb(const fs::path& vdb, const std::string& selector,
         throw Error(fmt::format("{} (default scene of '{}')", e.what(), vdb.string()));
     }
     out.scene.sourcePath = vdb;
+    if (grid.getName().empty() && out.scene.volumes.at(0).grid == "density")
+        out.scene.volumes.at(0).grid.clear();
     out.gridName = grid.getName();
     out.gridIndex = sel.index;
     out.description = fmt::format(

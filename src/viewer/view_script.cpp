@@ -7,6 +7,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -116,6 +118,12 @@ std::vector<ScriptAction> loadViewScript(const std::filesystem::path& path) {
             VEIL_CHECK(act.value.size() == 2 && act.value[0].is_number() &&
                            act.value[1].is_number(),
                        "{}: '{}' expects two numbers", where, act.kind);
+            // Radians (orbit) or view-plane steps in units of the distance (pan): beyond 1e6
+            // they mean nothing, and doubles past FLT_MAX would become inf.
+            for (const auto& v : act.value)
+                VEIL_CHECK(std::abs(v.get<double>()) <= 1e6,
+                           "{}: '{}' expects two numbers in -1e6..1e6, not {}", where, act.kind,
+                           scene::describeJson(v));
             if (act.kind == "resize")
                 for (const auto& v : act.value)
                     VEIL_CHECK(v.is_number_integer() && v.get<long long>() >= 1 &&
@@ -129,10 +137,23 @@ std::vector<ScriptAction> loadViewScript(const std::filesystem::path& path) {
             VEIL_CHECK(a["layer"].is_number_integer() && a["layer"].get<long long>() >= 0,
                        "{}: 'layer' must be an integer >= 0", where);
         if (a.contains("zoom"))
-            VEIL_CHECK(a["zoom"].is_number() && a["zoom"].get<double>() > 0.0,
-                       "{}: 'zoom' must be a number > 0", where);
+            VEIL_CHECK(a["zoom"].is_number() && a["zoom"].get<double>() >= 1e-6 &&
+                           a["zoom"].get<double>() <= 1e6,
+                       "{}: 'zoom' must be a number in 1e-6..1e6 (a distance factor)", where);
         if (a.contains("output"))
             VEIL_CHECK(a["output"].is_string(), "{}: 'output' must be a string", where);
+        // No output may replace the script being run (save_scene, screenshots, ...).
+        static const std::set<std::string> writers = {"screenshot", "window_screenshot",
+                                                      "copy_command", "save_scene", "status"};
+        const std::array<const nlohmann::json*, 2> outputs = {
+            &act.value, a.contains("output") ? &a["output"] : nullptr};
+        for (const nlohmann::json* out : outputs) {
+            if (!out || !out->is_string() || !writers.count(act.kind)) continue;
+            std::error_code ec;
+            VEIL_CHECK(!std::filesystem::equivalent(path, out->get<std::string>(), ec),
+                       "{}: '{}' would overwrite the script '{}' itself", where, act.kind,
+                       path.string());
+        }
         actions.push_back(std::move(act));
     }
     return actions;

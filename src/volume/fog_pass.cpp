@@ -22,7 +22,16 @@ FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
     options.budgetBytes = std::size_t(scene.render.volumeBudgetMiB) << 20;
     options.refuseOverBudget = scene.render.volumeOverBudget == "refuse";
     std::size_t used = 0;
-    for (const auto& ref : scene.volumes) {
+    const std::string source =
+        scene.sourcePath.empty() ? std::string("<scene>") : scene.sourcePath.string();
+    for (std::size_t i = 0; i < scene.volumes.size(); ++i) {
+        const scene::VolumeRef& ref = scene.volumes[i];
+        // The grid's own limits (index range, budget, coarsening) name the file and the JSON
+        // path of the volume, not only the grid.
+        const std::string where =
+            ref.path.empty()
+                ? fmt::format("{}: /volumes/{} (procedural '{}')", source, i, ref.procedural)
+                : fmt::format("{}: /volumes/{} ('{}')", source, i, ref.path.string());
         if (ref.procedural == "homogeneous") {
             // Global fog: densities, albedos and phase functions add up per unit length.
             globalAlbedo_ = (globalAlbedo_ * globalDensity_ + ref.albedo * ref.densityScale) /
@@ -32,12 +41,18 @@ FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
             continue;
         }
         VEIL_CHECK(volumes_.size() < VEIL_MAX_VOLUMES,
-                   "at most {} grid volumes per scene (volume '{}')", VEIL_MAX_VOLUMES, ref.name);
+                   "{}: at most {} grid volumes per scene (volume '{}')", where, VEIL_MAX_VOLUMES,
+                   ref.name);
         openvdb::FloatGrid::Ptr grid = loadVolume(ref);
         options.budgetBytes = std::size_t(scene.render.volumeBudgetMiB) << 20;
         options.budgetBytes = options.budgetBytes > used ? options.budgetBytes - used : 0;
-        Entry e{&ref, std::make_unique<GpuVolume>(grid, ref.transform, options),
-                gpu::Texture(gpu::NoCreate), glm::mat4(1.0f)};
+        std::unique_ptr<GpuVolume> gpuVolume;
+        try {
+            gpuVolume = std::make_unique<GpuVolume>(grid, ref.transform, options);
+        } catch (const Error& e) {
+            throw Error(fmt::format("{}: {}", where, e.what()));
+        }
+        Entry e{&ref, std::move(gpuVolume), gpu::Texture(gpu::NoCreate), glm::mat4(1.0f)};
         used += e.gpu->stats().gpuBytes;
         log::info("volume '{}': {} active voxels, {} ({} bricks), {:.2f} MiB on the GPU, grid "
                   "{:.2f} MiB",

@@ -2,12 +2,23 @@
 
 #include "base/error.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace veil::voxelize {
 
 void Triangles::bounds(glm::vec3& lo, glm::vec3& hi) const {
     VEIL_CHECK(!vertices.empty(), "nothing to voxelize: the scene has no triangles");
     lo = hi = vertices[0];
     for (const glm::vec3& v : vertices) {
+        // Transforms can carry a vertex past what float grid fitting handles (extents and
+        // their squares must stay finite).
+        VEIL_CHECK(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) &&
+                       std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}) <=
+                           scene::kMaxMeshCoordinate,
+                   "a triangle vertex at ({} {} {}) lies beyond {:g} (after its object's "
+                   "transform): too far out to voxelize in float",
+                   v.x, v.y, v.z, scene::kMaxMeshCoordinate);
         lo = glm::min(lo, v);
         hi = glm::max(hi, v);
     }

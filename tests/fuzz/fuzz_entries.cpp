@@ -1,6 +1,8 @@
 #include "fuzz/fuzz_entries.h"
 
 #include "base/error.h"
+#include "regress/report.h"
+#include "regress/suite.h"
 #include "scene/json_text.h"
 #include "scene/mesh.h"
 #include "scene/scene.h"
@@ -127,11 +129,38 @@ Outcome meshEntry(std::span<const std::uint8_t> input) {
     return expectOnlyVeilErrors([&] { (void)scene::loadMeshFile(path); });
 }
 
+// The one scene file beside the fuzzed suite, so suites naming "scene.json" can be accepted.
+constexpr const char* kSuiteScene = R"({"cameras": [{"name": "c", "position": [0, 0, 4]}],
+ "materials": {"m": {"alpha": 0.5}},
+ "objects": [{"shape": {"type": "sphere", "radius": 0.5}, "material": "m"}]})";
+
+Outcome suiteEntry(std::span<const std::uint8_t> input) {
+    static const bool sceneWritten = [] {
+        const std::string_view text = kSuiteScene;
+        writeInput("scene.json", {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()});
+        return true;
+    }();
+    (void)sceneWritten;
+    const fs::path path = writeInput("suite.json", input);
+    return expectOnlyVeilErrors([&] { (void)regress::loadSuite(path, false); });
+}
+
+Outcome resultsEntry(std::span<const std::uint8_t> input) {
+    static const fs::path shard = [] {
+        fs::path dir = scratchDir() / "shard";
+        fs::create_directories(dir);
+        return dir;
+    }();
+    writeInput("shard/results.json", input);
+    return expectOnlyVeilErrors([&] { (void)regress::readReport(shard); });
+}
+
 const std::string& lastError() { return gLastError; }
 
 std::span<const Entry> entries() {
-    static constexpr std::array<Entry, 3> kEntries = {
-        Entry{"scene", sceneEntry}, Entry{"volume", volumeEntry}, Entry{"mesh", meshEntry}};
+    static constexpr std::array<Entry, 5> kEntries = {
+        Entry{"scene", sceneEntry}, Entry{"volume", volumeEntry}, Entry{"mesh", meshEntry},
+        Entry{"suite", suiteEntry}, Entry{"results", resultsEntry}};
     return kEntries;
 }
 

@@ -32,12 +32,20 @@ Outcome volumeEntry(std::span<const std::uint8_t> input);
 // by its value modulo 4), the rest becomes the file handed to loadMeshFile.
 Outcome meshEntry(std::span<const std::uint8_t> input);
 
+// Regression suites: the bytes become suite.json in an empty folder (its scenes are missing
+// files, never the repository's) and go through regress::loadSuite.
+Outcome suiteEntry(std::span<const std::uint8_t> input);
+
+// The results.json reader of `veil regress --merge`: the bytes become a shard folder's
+// results.json and go through regress::readReport.
+Outcome resultsEntry(std::span<const std::uint8_t> input);
+
 struct Entry {
     std::string_view name; // the target's name: veil_fuzz_<name>, corpus/<name>/
     Outcome (*run)(std::span<const std::uint8_t>);
 };
 
-// scene, volume, mesh.
+// scene, volume, mesh, suite, results.
 std::span<const Entry> entries();
 
 // The message of the veil::Error behind the last Outcome::Rejected (for VEIL_FUZZ_VERBOSE

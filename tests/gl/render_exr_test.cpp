@@ -177,7 +177,7 @@ TEST(RenderExrTest, HalfAndFogAov) {
     // --aov and --half need .exr; --aov fog needs fog.
     const CommandResult png = runCommand(veilExe() + " render '" + scene.string() + "' -o '" +
                                          (dir() / "fog.png").string() + "' --half");
-    EXPECT_EQ(png.exitCode, 1) << png.output;
+    EXPECT_EQ(png.exitCode, 2) << png.output; // a usage error
     EXPECT_NE(png.output.find("need an .exr output"), std::string::npos) << png.output;
     std::ofstream(dir() / "plain.json") << kScene;
     const CommandResult nofog =

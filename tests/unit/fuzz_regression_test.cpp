@@ -80,6 +80,16 @@ TEST(FuzzRegression, MeshFindingsAndSeedsLoadOrFailWithVeilError) {
     EXPECT_GT(replay("mesh", "corpus"), 0u);
 }
 
+TEST(FuzzRegression, SuiteFindingsAndSeedsLoadOrFailWithVeilError) {
+    replay("suite", "regressions");
+    EXPECT_GT(replay("suite", "corpus"), 0u);
+}
+
+TEST(FuzzRegression, ResultsFindingsAndSeedsLoadOrFailWithVeilError) {
+    replay("results", "regressions");
+    EXPECT_GT(replay("results", "corpus"), 0u);
+}
+
 // The seeds made from the repository's scenes and the hand-written meshes are valid inputs:
 // if they were rejected the fuzzers would spend their time on error paths only.
 TEST(FuzzRegression, ValidSeedsAreAccepted) {
@@ -89,6 +99,10 @@ TEST(FuzzRegression, ValidSeedsAreAccepted) {
          std::vector<std::pair<std::string, std::string>>{{"scene", "default.json"},
                                                           {"scene", "default-overrides"},
                                                           {"scene", "oit-glass-overrides"},
+                                                          {"suite", "four-cases.json"},
+                                                          {"suite", "minimal.json"},
+                                                          {"results", "shard.json"},
+                                                          {"results", "empty.json"},
                                                           {"mesh", "quad.obj"},
                                                           {"mesh", "quad-ascii.ply"},
                                                           {"mesh", "tri-binary.ply"},

@@ -217,6 +217,17 @@ public:
                (fog_ ? std::size_t(fogColumns_) * fogColumns_ * views_ * (slices_ + 1) * 4 : 0) +
                std::size_t(size_) * size_ * (8 + 16 * targets) * std::max(views_, 1);
     }
+    // The fog pass: fog_columns^2 columns x views x (slices + 1) slices x fog_substeps density
+    // samples (fog.comp), when there are grid volumes to march.
+    WorkEstimate work(int mapSize, int viewCount, bool media) const override {
+        (void)mapSize;
+        if (!fog_ || !media) return {};
+        const double views = std::max(viewCount, 1);
+        return {double(fogColumns_) * fogColumns_ * views * (slices_ + 1) * fogSubsteps_,
+                fmt::format("fog optical depth: {}^2 columns (fog_columns) x {} view(s) x {} "
+                            "slices (slices + 1) x {} substeps (fog_substeps)",
+                            fogColumns_, viewCount, slices_ + 1, fogSubsteps_)};
+    }
     nlohmann::json stats() const override {
         nlohmann::json classes = nlohmann::json::array();
         for (const auto& t : classT_)
