@@ -49,16 +49,14 @@ nlohmann::json fireScene(const std::string& volumePath, bool turntable) {
                              {"near", 1},
                              {"far", 400}};
     if (turntable) camera["turntable"] = {{"frames", 4}, {"start_frame", 1}};
+    nlohmann::json volume = {
+        {"name", "fire"}, {"path", volumePath}, {"grid", "flames"}, {"density_scale", 6.0}};
+    if (volumePath.find('#') != std::string::npos) volume["after"] = "loop";
     return {{"render", {{"width", 64}, {"height", 64}, {"fog_steps", 48}, {"shadows", "opaque"}}},
             {"cameras", {camera}},
             {"lights",
              {{{"type", "directional"}, {"direction", {-0.4, 0.5, -0.75}}, {"shadows", false}}}},
-            {"volumes",
-             {{{"name", "fire"},
-               {"path", volumePath},
-               {"grid", "flames"},
-               {"density_scale", 0.4},
-               {"after", "loop"}}}}};
+            {"volumes", {volume}}};
 }
 
 fs::path writeScene(const fs::path& path, const nlohmann::json& doc) {
