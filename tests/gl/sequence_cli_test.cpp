@@ -209,6 +209,16 @@ TEST(SequenceCliTest, MissingOrCorruptMiddleFrameIsOneLineNamingTheFile) {
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
     EXPECT_TRUE(fs::exists(d / "c.0001.png"));
     EXPECT_FALSE(fs::exists(d / "c.0002.png"));
+
+    // A regression case of frame 2 fails naming the file (frame 1 would render and pass).
+    std::ofstream(d / "suite.json") << R"({"name": "seq", "cases": [{"name": "frame2",
+        "scene": "missing.json", "frame": 2, "reference": "cpu", "metrics": {"nrmse": 0.5}}]})";
+    r = veil("regress " + shellQuote(d / "suite.json") + " -o " + shellQuote(d / "report"));
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("FAIL frame2"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find((d / "f_2.vdb").string() + "' (truncated or corrupt?)"),
+              std::string::npos)
+        << r.output;
 }
 
 TEST(SequenceCliTest, VideoWithoutFfmpegIsAClearError) {
