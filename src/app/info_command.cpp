@@ -58,11 +58,9 @@ void printSequence(const scene::FileSequence& s, const std::string& grid, const 
     std::cout << indent << "  missing  " << (missing.empty() ? "none" : frameList(missing)) << "\n";
     openvdb::BBoxd bounds;
     bool any = false;
-    for (long long i = 0; i < s.count(); ++i) {
-        const int f = int(s.first + i * s.step);
+    for (int f : found) { // the files that exist, in the range and on its steps
+        if (f < s.first || f > s.last || (f - s.first) % s.step != 0) continue;
         const fs::path file = s.pattern.fileFor(f);
-        std::error_code ec;
-        if (!fs::is_regular_file(file, ec)) continue;
         std::string names, voxels = "-";
         try {
             for (const volume::GridSummary& g : volume::listGrids(file)) {

@@ -151,23 +151,30 @@ SequenceFrame resolveSequenceFrame(const FileSequence& s, int sceneFrame, const 
                "step {}; \"missing\": \"hold\" holds the nearest frame instead)",
                what, out.fileFrame, sceneFrame, out.path.string(), s.pattern.written, s.first,
                s.last, s.step);
-    for (long long d = 1; d < count; ++d)
-        for (long long i : {index - d, index + d}) {
-            if (i < 0 || i >= count || !isFile(s.pattern.fileFor(frameAt(i)))) continue;
-            out.fileFrame = frameAt(i);
-            out.path = s.pattern.fileFor(out.fileFrame);
-            out.held = true;
-            return out;
-        }
+    // The nearest earlier file of the sequence's frames, else the nearest later one (from one
+    // scan of the folder: a long range with few files is no long loop).
+    std::optional<int> earlier, later;
+    for (int f : existingFrames(s.pattern)) {
+        if (f < s.first || f > s.last || (f - s.first) % s.step != 0) continue;
+        if (f < out.fileFrame) earlier = f;
+        if (f > out.fileFrame && !later) later = f;
+    }
+    if (earlier || later) {
+        out.fileFrame = earlier ? *earlier : *later;
+        out.path = s.pattern.fileFor(out.fileFrame);
+        out.held = true;
+        return out;
+    }
     throw Error(fmt::format("{}: no file of sequence '{}' exists (frames {}-{} step {})", what,
                             s.pattern.written, s.first, s.last, s.step));
 }
 
-std::vector<int> missingFrames(const FileSequence& s) {
+std::vector<int> missingFrames(const FileSequence& s, std::size_t limit) {
+    const std::vector<int> found = existingFrames(s.pattern);
     std::vector<int> out;
-    for (long long i = 0; i < s.count(); ++i) {
+    for (long long i = 0; i < s.count() && out.size() < limit; ++i) {
         const int f = int(s.first + i * s.step);
-        if (!isFile(s.pattern.fileFor(f))) out.push_back(f);
+        if (!std::binary_search(found.begin(), found.end(), f)) out.push_back(f);
     }
     return out;
 }

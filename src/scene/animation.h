@@ -66,8 +66,8 @@ struct SequenceFrame {
 // holdMissing is off) or when no file of the sequence exists. `what` names the volume.
 SequenceFrame resolveSequenceFrame(const FileSequence& s, int sceneFrame, const std::string& what);
 
-// The frames of the sequence's range whose files do not exist.
-std::vector<int> missingFrames(const FileSequence& s);
+// The frames of the sequence's range whose files do not exist (the first `limit`).
+std::vector<int> missingFrames(const FileSequence& s, std::size_t limit = 1000);
 
 enum class Interpolation { Linear, CatmullRom };
 
