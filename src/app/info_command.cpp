@@ -6,6 +6,7 @@
 #include "base/error.h"
 #include "base/text.h"
 #include "scene/scene.h"
+#include "scene/timeline.h"
 #include "volume/density_grid.h"
 #include "volume/gpu_volume.h"
 #include "volume/vdb_file.h"
@@ -15,6 +16,7 @@
 
 #include <iostream>
 #include <memory>
+#include <numeric>
 
 namespace veil::app {
 
@@ -34,8 +36,61 @@ const char* lightTypeName(scene::LightType t) {
     return "?";
 }
 
+std::string frameList(const std::vector<int>& frames) {
+    std::string out;
+    for (std::size_t i = 0; i < frames.size() && i < 40; ++i)
+        out += (i ? " " : "") + std::to_string(frames[i]);
+    if (frames.size() > 40) out += fmt::format(" ... ({} in all)", frames.size());
+    return out;
+}
+
+// A file sequence: its range, the files found and missing, per frame the grids (names, active
+// voxels of `grid`), and the union of `grid`'s world bounds over the frames.
+void printSequence(const scene::FileSequence& s, const std::string& grid, const char* indent) {
+    const std::vector<int> found = scene::existingFrames(s.pattern);
+    const std::vector<int> missing = scene::missingFrames(s);
+    std::cout << fmt::format("{}sequence   {}\n{}  range    {}-{} step {} ({} frames{}), {} "
+                             "files found{}\n",
+                             indent, s.pattern.written, indent, s.first, s.last, s.step, s.count(),
+                             s.framesGiven ? ", as given" : ", from the files", found.size(),
+                             found.empty() ? std::string()
+                                           : fmt::format(" ({}-{})", found.front(), found.back()));
+    std::cout << indent << "  missing  " << (missing.empty() ? "none" : frameList(missing)) << "\n";
+    openvdb::BBoxd bounds;
+    bool any = false;
+    for (int f : found) { // the files that exist, in the range and on its steps
+        if (f < s.first || f > s.last || (f - s.first) % s.step != 0) continue;
+        const fs::path file = s.pattern.fileFor(f);
+        std::string names, voxels = "-";
+        try {
+            for (const volume::GridSummary& g : volume::listGrids(file)) {
+                names += (names.empty() ? "" : ", ") + g.name;
+                if (g.name == grid && voxels == "-") {
+                    voxels = fmt::format("{}", g.activeVoxels);
+                    if (g.activeVoxels > 0) {
+                        if (!any) bounds = g.worldBounds;
+                        bounds.expand(g.worldBounds);
+                        any = true;
+                    }
+                }
+            }
+        } catch (const Error& e) {
+            names = std::string("unreadable: ") + e.what();
+        }
+        std::cout << fmt::format("{}  frame {:<5} {} ('{}': {} active voxels)\n", indent, f, names,
+                                 grid, voxels);
+    }
+    if (any)
+        std::cout << fmt::format("{}  bounds   ({:.4g} {:.4g} {:.4g})..({:.4g} {:.4g} {:.4g}) "
+                                 "world, union of '{}' over the frames\n",
+                                 indent, bounds.min().x(), bounds.min().y(), bounds.min().z(),
+                                 bounds.max().x(), bounds.max().y(), bounds.max().z(), grid);
+}
+
 void printScene(const fs::path& path) {
-    const scene::Scene s = scene::loadScene(path);
+    const scene::AnimatedScene animated = scene::loadAnimatedScene(path);
+    const scene::Scene& s = animated.scene;
+    const scene::Timeline& t = animated.timeline;
     std::size_t triangles = 0;
     for (const auto& o : s.objects)
         triangles += s.meshes.at(o.mesh).triangleCount();
@@ -60,8 +115,35 @@ void printScene(const fs::path& path) {
         std::cout << "  light      " << (l.name.empty() ? "-" : l.name) << " ("
                   << lightTypeName(l.type) << ", intensity " << l.intensity
                   << (l.castShadows ? ", shadows" : "") << ")\n";
-    for (const auto& v : s.volumes)
+    static const char* outside[] = {"hold", "loop", "blank"};
+    for (std::size_t i = 0; i < s.volumes.size(); ++i) {
+        const scene::VolumeRef& v = s.volumes[i];
         std::cout << "  volume     " << v.path.string() << " grid '" << v.grid << "'\n";
+        if (const auto& q = t.volumes[i]) {
+            std::cout << fmt::format("             frame_offset {}, before {}, after {}, "
+                                     "missing {}\n",
+                                     q->frameOffset, outside[int(q->before)],
+                                     outside[int(q->after)], q->holdMissing ? "hold" : "error");
+            printSequence(*q, v.grid, "             ");
+        }
+    }
+    if (t.animated()) {
+        const scene::FrameRange r = scene::sceneFrameRange(t);
+        std::cout << fmt::format("  time       frames {}-{}{}, {} fps, still frame {}\n", r.first,
+                                 r.last, t.time.rangeGiven ? " (time.frame_range)" : "", t.time.fps,
+                                 scene::defaultFrame(t));
+        for (std::size_t i = 0; i < s.cameras.size(); ++i) {
+            const scene::CameraAnimation& a = t.cameras[i];
+            if (a.animated())
+                std::cout << fmt::format(
+                    "  animated   camera {}: {} position, {} target, {} fov keys{}\n",
+                    s.cameras[i].name, a.position.frames.size(), a.target.frames.size(),
+                    a.fov.frames.size(),
+                    a.turntable.enabled ? fmt::format(", turntable {} degrees per {} frames",
+                                                      a.turntable.degrees, a.turntable.frames)
+                                        : "");
+        }
+    }
 }
 
 std::string formatBytes(std::size_t bytes) {
@@ -154,9 +236,25 @@ void addInfoCommand(CLI::App& app) {
         // OpenVDB would block on a FIFO and read /dev/zero forever.
         std::error_code ec;
         const fs::file_status st = fs::status(path, ec);
-        VEIL_CHECK(!fs::exists(st) || fs::is_regular_file(st),
+        // A .vdb name that is no file but holds a frame pattern is a sequence.
+        const bool sequence =
+            !fs::exists(st) && lowerExtension(*file) == ".vdb" && scene::parseFilePattern(path);
+        VEIL_CHECK(sequence || !fs::exists(st) || fs::is_regular_file(st),
                    "cannot read '{}': not a regular file", *file);
-        if (lowerExtension(*file) == ".vdb")
+        if (sequence) {
+            // A sequence by its pattern: every file it finds.
+            scene::FileSequence s;
+            s.pattern = *scene::parseFilePattern(path);
+            const std::vector<int> found = scene::existingFrames(s.pattern);
+            VEIL_CHECK(!found.empty(), "no file matches the sequence '{}'", *file);
+            s.first = found.front();
+            s.last = found.back();
+            int step = 0;
+            for (std::size_t i = 1; i < found.size(); ++i)
+                step = std::gcd(step, found[i] - found[i - 1]);
+            s.step = std::max(step, 1);
+            printSequence(s, grid->empty() ? "density" : *grid, "");
+        } else if (lowerExtension(*file) == ".vdb")
             printVdb(path, *grid);
         else {
             VEIL_CHECK(grid->empty(), "--grid is for .vdb files, not '{}'", *file);

@@ -3,6 +3,7 @@
 #include "app/commands.h"
 
 #include "app/progress.h"
+#include "app/render_frames.h"
 #include "capture/dump.h"
 #include "capture/exr_output.h"
 #include "compare/compare.h"
@@ -19,6 +20,7 @@
 #include "oit/technique.h"
 #include "scene/scene.h"
 #include "scene/scene_values.h"
+#include "scene/timeline.h"
 #include "shadows/technique.h"
 
 #include <nlohmann/json.hpp>
@@ -56,7 +58,21 @@ struct RenderArgs {
     std::string dump;              // folder for every frame resource (capture/dump.h)
     std::string grid;              // file.vdb: the density grid (name or index)
     bool progress = false;         // progress on stderr even when it is not a terminal
+    std::string frames;            // frame range (render_frames.h)
+    std::optional<int> frame;      // one frame of an animated scene
+    bool resume = false;
 };
+
+// --frames / --frame: the options that go with one still frame are refused.
+void renderFrames(const RenderArgs& a) {
+    VEIL_CHECK(a.compareTo.empty() && a.dump.empty() && a.aovs.empty() && a.grid.empty() &&
+                   a.oit != "all" && lowerExtension(a.scene) != ".vdb",
+               "--frames/--frame render a scene file's frames; --compare-to, --dump, --aov, "
+               "--grid, --oit all and .vdb inputs are for one still frame");
+    runRenderFrames({a.scene, a.output, a.report, a.camera, a.oit, a.shadows, a.width, a.height,
+                     a.device, a.glDebug, a.half, a.progress, a.resume, a.overrides, a.frames,
+                     a.frame});
+}
 
 // One frame of the scene with one technique, kept for writing and comparing.
 struct Rendered {
@@ -482,7 +498,30 @@ void addRenderCommand(CLI::App& app) {
                     "EGL device index (default: $VEIL_EGL_DEVICE, else the first that works)")
         ->check(CLI::Range(0, 1023));
     cmd->add_flag("--gl-debug", args->glDebug, "Debug context; GL messages go to the log");
-    cmd->callback([args] { runRender(*args); });
+    cmd->add_option("--frames", args->frames,
+                    "Render frames FIRST-LAST[:STEP] of an animated scene (sequences, camera "
+                    "keys, turntable) in one process; -o needs a frame pattern "
+                    "(out.####.exr, out.%04d.png, out.$F4.exr) or ends in .mp4 (ffmpeg)")
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                try {
+                    scene::parseFrameRange(text);
+                } catch (const Error& e) {
+                    return e.what();
+                }
+                return {};
+            },
+            "FIRST-LAST[:STEP]"));
+    cmd->add_option("--frame", args->frame, "Render this one frame of an animated scene");
+    cmd->add_flag("--resume", args->resume, "--frames: skip frames whose output image is complete");
+    cmd->callback([args] {
+        if (!args->frames.empty() || args->frame)
+            renderFrames(*args);
+        else {
+            VEIL_CHECK(!args->resume, "--resume goes with --frames");
+            runRender(*args);
+        }
+    });
 }
 
 } // namespace veil::app

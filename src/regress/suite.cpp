@@ -38,7 +38,8 @@ const std::vector<std::string> kCaseKeys{"name",
                                          "reference_seeds",
                                          "alpha",
                                          "correction",
-                                         "note"};
+                                         "note",
+                                         "frame"};
 
 // Errors name the suite file and the JSON pointer of the value.
 struct Where {
@@ -138,6 +139,10 @@ RegressCase parseCase(const Where& w, const fs::path& dir, const nlohmann::json&
         if (merged.contains(key))
             derived.push_back(std::string("render.") + key + "=" +
                               std::to_string(intIn(w, ptr(key), merged[key], 1, 16384)));
+    // Animated scenes: the frame to render (time.frame).
+    if (merged.contains("frame"))
+        derived.push_back("time.frame=" + std::to_string(intIn(w, ptr("frame"), merged["frame"],
+                                                               -(1 << 30), 1 << 30)));
     if (merged.contains("seeds")) k.seeds = intIn(w, ptr("seeds"), merged["seeds"], 1, 1024);
     if (merged.contains("reference_seeds"))
         k.referenceSeeds = intIn(w, ptr("reference_seeds"), merged["reference_seeds"], 1, 1024);

@@ -7,6 +7,7 @@
 #include "base/text.h"
 #include "scene/json_text.h"
 #include "scene/scene_json.h"
+#include "scene/timeline.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
@@ -138,11 +139,36 @@ void applyOverrides(nlohmann::json& doc, const std::vector<std::string>& overrid
     }
 }
 
+namespace {
+
+// An animated scene as one frame: time.frame, else its first.
+Scene atDefaultFrame(AnimatedScene&& s, const std::string& source) {
+    if (!s.timeline.animated()) return std::move(s.scene);
+    try {
+        return sceneAtFrame(s, defaultFrame(s.timeline));
+    } catch (const Error& e) {
+        throw Error(fmt::format("{}: {}", source, e.what()));
+    }
+}
+
+} // namespace
+
+AnimatedScene parseAnimatedScene(const nlohmann::json& doc, const std::filesystem::path& baseDir) {
+    AnimatedScene s;
+    s.scene = detail::parseSceneDocument(doc, baseDir, "<scene>", &s.timeline);
+    return s;
+}
+
 Scene parseScene(const nlohmann::json& doc, const std::filesystem::path& baseDir) {
-    return detail::parseSceneDocument(doc, baseDir, "<scene>");
+    return atDefaultFrame(parseAnimatedScene(doc, baseDir), "<scene>");
 }
 
 Scene loadScene(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
+    return atDefaultFrame(loadAnimatedScene(path, overrides), path.string());
+}
+
+AnimatedScene loadAnimatedScene(const std::filesystem::path& path,
+                                const std::vector<std::string>& overrides) {
     // /dev/zero or a FIFO would be read forever: only regular files of a sane size.
     constexpr std::uintmax_t kMaxSceneBytes = std::uintmax_t(256) << 20;
     std::error_code ec;
@@ -193,14 +219,15 @@ Scene loadScene(const std::filesystem::path& path, const std::vector<std::string
         throw Error(fmt::format("{}: --set: {}", path.string(), jsonProblem(e)));
     }
     std::filesystem::path absolute = std::filesystem::absolute(path);
-    Scene scene;
+    AnimatedScene scene;
     try {
-        scene = detail::parseSceneDocument(doc, absolute.parent_path(), path.string());
+        scene.scene =
+            detail::parseSceneDocument(doc, absolute.parent_path(), path.string(), &scene.timeline);
     } catch (const nlohmann::json::exception& e) {
         // The parser checks types before reading values; this is a last line, not the plan.
         throw Error(fmt::format("{}: {}", path.string(), jsonProblem(e)));
     }
-    scene.sourcePath = absolute;
+    scene.scene.sourcePath = absolute;
     return scene;
 }
 

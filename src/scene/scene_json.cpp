@@ -5,6 +5,7 @@
 
 #include "base/error.h"
 #include "base/log.h"
+#include "scene/animation_json.h"
 #include "scene/json_reader.h"
 #include "scene/json_text.h"
 #include "scene/scene_values.h"
@@ -152,7 +153,8 @@ void parseRender(const Obj& o, RenderSettings& r) {
     }
 }
 
-Camera parseCamera(const Context& ctx, const json& j, const std::string& ptr, std::size_t i) {
+Camera parseCamera(const Context& ctx, const json& j, const std::string& ptr, std::size_t i,
+                   CameraAnimation& animation) {
     Camera c;
     c.name = fmt::format("camera{}", i);
     std::string type = j.is_object() && j.contains("type") && j["type"].is_string()
@@ -160,12 +162,15 @@ Camera parseCamera(const Context& ctx, const json& j, const std::string& ptr, st
                            : "perspective";
     const CameraType peeked =
         type == "orthographic" ? CameraType::Orthographic : CameraType::Perspective;
-    Obj o(ctx, j, ptr, keysOf(cameraValueDecls(), int(peeked), {"name", "type"}));
+    std::vector<std::string> known = keysOf(cameraValueDecls(), int(peeked), {"name", "type"});
+    known.insert(known.end(), cameraAnimationKeys().begin(), cameraAnimationKeys().end());
+    Obj o(ctx, j, ptr, known);
     c.name = o.str("name", c.name);
     c.type = o.str("type", "perspective", {"perspective", "orthographic"}) == "orthographic"
                  ? CameraType::Orthographic
                  : CameraType::Perspective;
     readValues(o, cameraValueDecls(), c, int(c.type));
+    parseCameraAnimation(o, c, animation);
     if (c.farPlane <= c.nearPlane)
         fail(ctx, o.ptr("far"),
              fmt::format("far ({}) must be greater than near ({})", c.farPlane, c.nearPlane));
@@ -191,7 +196,8 @@ glm::vec3 unitDirection(const Context& ctx, glm::vec3 d, const std::string& ptr,
     return glm::vec3(dd / len);
 }
 
-Light parseLight(const Context& ctx, const json& j, const std::string& ptr, std::size_t i) {
+Light parseLight(const Context& ctx, const json& j, const std::string& ptr, std::size_t i,
+                 LightAnimation& animation) {
     Light l;
     l.name = fmt::format("light{}", i);
     std::string type = j.is_object() && j.contains("type") && j["type"].is_string()
@@ -202,7 +208,9 @@ Light parseLight(const Context& ctx, const json& j, const std::string& ptr, std:
                                                : LightType::Directional;
     std::vector<std::pair<std::string, std::vector<std::string>>> aim;
     if (peeked != LightType::Point) aim.push_back({"position", {"direction", "target"}});
-    Obj o(ctx, j, ptr, keysOf(lightValueDecls(), int(peeked), {"name", "type"}, aim));
+    std::vector<std::string> known = keysOf(lightValueDecls(), int(peeked), {"name", "type"}, aim);
+    known.insert(known.end(), lightAnimationKeys().begin(), lightAnimationKeys().end());
+    Obj o(ctx, j, ptr, known);
     l.name = o.str("name", l.name);
     std::string t = o.str("type", "directional", {"directional", "spot", "point"});
     l.type = t == "spot"    ? LightType::Spot
@@ -224,6 +232,7 @@ Light parseLight(const Context& ctx, const json& j, const std::string& ptr, std:
         fail(ctx, o.ptr("outer_cone"),
              fmt::format("outer_cone ({}) must be >= inner_cone ({})", l.outerConeDegrees,
                          l.innerConeDegrees));
+    parseLightAnimation(o, l, animation);
     return l;
 }
 
@@ -417,11 +426,13 @@ void parseObject(const Context& ctx, const json& j, const std::string& ptr, std:
     }
 }
 
-VolumeRef parseVolume(const Context& ctx, const json& j, const std::string& ptr, std::size_t i) {
-    Obj o(
-        ctx, j, ptr,
+VolumeRef parseVolume(const Context& ctx, const json& j, const std::string& ptr, std::size_t i,
+                      std::optional<FileSequence>& sequence) {
+    std::vector<std::string> known =
         keysOf(volumeValueDecls(), 0,
-               {"name", "path", "procedural", "size", "voxel_size", "seed", "grid", "transform"}));
+               {"name", "path", "procedural", "size", "voxel_size", "seed", "grid", "transform"});
+    known.insert(known.end(), sequenceKeys().begin(), sequenceKeys().end());
+    Obj o(ctx, j, ptr, known);
     VolumeRef v;
     v.name = o.str("name", fmt::format("volume{}", i));
     if (o.get("path") && o.get("procedural"))
@@ -437,7 +448,7 @@ VolumeRef parseVolume(const Context& ctx, const json& j, const std::string& ptr,
         v.seed = static_cast<std::uint32_t>(o.integer("seed", 1, 0, 1 << 30));
     } else {
         o.require("path");
-        v.path = resolvePath(o, "path", "volume file");
+        if (!parseVolumeSequence(o, v, sequence)) v.path = resolvePath(o, "path", "volume file");
     }
     v.grid = o.str("grid", v.grid);
     if (v.grid.empty()) fail(ctx, o.ptr("grid"), "grid name must not be empty");
@@ -458,10 +469,15 @@ void checkUniqueNames(const Context& ctx, const std::vector<T>& items, const std
 
 } // namespace
 
-Scene parseSceneDocument(const json& doc, const fs::path& baseDir, const std::string& source) {
+Scene parseSceneDocument(const json& doc, const fs::path& baseDir, const std::string& source,
+                         Timeline* timeline) {
     Context ctx{source, baseDir};
     Scene scene;
-    Obj root(ctx, doc, "", {"render", "cameras", "lights", "materials", "objects", "volumes"});
+    Obj root(ctx, doc, "",
+             {"render", "time", "cameras", "lights", "materials", "objects", "volumes"});
+    Timeline time;
+    if (const json* t = root.get("time"))
+        parseTime(Obj(ctx, *t, root.ptr("time"), timeKeys()), time.time);
 
     if (const json* r = root.get("render"))
         parseRender(Obj(ctx, *r, root.ptr("render"),
@@ -471,7 +487,7 @@ Scene parseSceneDocument(const json& doc, const fs::path& baseDir, const std::st
                     scene.render);
 
     forEach(root, "cameras", [&](const json& j, const std::string& p, std::size_t i) {
-        scene.cameras.push_back(parseCamera(ctx, j, p, i));
+        scene.cameras.push_back(parseCamera(ctx, j, p, i, time.cameras.emplace_back()));
     });
     if (scene.cameras.empty())
         fail(ctx, root.ptr("cameras"), "the scene needs at least one camera");
@@ -490,7 +506,7 @@ Scene parseSceneDocument(const json& doc, const fs::path& baseDir, const std::st
     }
 
     forEach(root, "lights", [&](const json& j, const std::string& p, std::size_t i) {
-        scene.lights.push_back(parseLight(ctx, j, p, i));
+        scene.lights.push_back(parseLight(ctx, j, p, i, time.lights.emplace_back()));
     });
 
     Builder builder{scene, {}, {}, 0};
@@ -510,11 +526,12 @@ Scene parseSceneDocument(const json& doc, const fs::path& baseDir, const std::st
         parseObject(ctx, j, p, i, builder);
     });
     forEach(root, "volumes", [&](const json& j, const std::string& p, std::size_t i) {
-        scene.volumes.push_back(parseVolume(ctx, j, p, i));
+        scene.volumes.push_back(parseVolume(ctx, j, p, i, time.volumes.emplace_back()));
     });
     log::debug("{}: {} cameras, {} lights, {} materials, {} objects, {} meshes, {} volumes", source,
                scene.cameras.size(), scene.lights.size(), scene.materials.size(),
                scene.objects.size(), scene.meshes.size(), scene.volumes.size());
+    if (timeline) *timeline = std::move(time);
     return scene;
 }
 

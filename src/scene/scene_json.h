@@ -2,6 +2,7 @@
 #pragma once
 
 #include "scene/scene.h"
+#include "scene/timeline.h"
 
 #include <nlohmann/json.hpp>
 
@@ -10,8 +11,9 @@
 
 namespace veil::scene::detail {
 
-// Like parseScene; errors read "<source>: <json-pointer>: <problem>".
+// Like parseScene, without choosing a frame: the time keys go into `timeline` (a sequence
+// volume's path is its pattern); errors read "<source>: <json-pointer>: <problem>".
 Scene parseSceneDocument(const nlohmann::json& doc, const std::filesystem::path& baseDir,
-                         const std::string& source);
+                         const std::string& source, Timeline* timeline);
 
 } // namespace veil::scene::detail

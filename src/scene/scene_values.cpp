@@ -216,6 +216,38 @@ const std::vector<ValueDecl<Camera>>& cameraValueDecls() {
     return decls;
 }
 
+const std::vector<ValueDecl<TimeSettings>>& timeValueDecls() {
+    static const std::vector<ValueDecl<TimeSettings>> decls =
+        Decls<TimeSettings>()
+            .real("fps", &TimeSettings::fps, {0.0, 1000.0, true, false}, 1.0, 120.0,
+                  "frames per second of playback and of encoded video")
+            .integer("frame", &TimeSettings::frame, -(1LL << 30), 1LL << 30,
+                     "the frame a still render, the viewer and regression cases show (default: "
+                     "the first of the scene's frames)")
+            .integer("prefetch_budget_mib", &TimeSettings::prefetchBudgetMiB, 1, 1 << 20,
+                     "frame ranges: memory for the grids of frames read ahead of the one "
+                     "rendered, MiB (the next frame is always read)")
+            .done();
+    return decls;
+}
+
+const std::vector<ValueDecl<SequenceValues>>& sequenceValueDecls() {
+    using Q = SequenceValues;
+    static const std::vector<ValueDecl<Q>> decls =
+        Decls<Q>()
+            .integer("frame_offset", &Q::frameOffset, -(1 << 30), 1 << 30,
+                     "file frame = scene frame + frame_offset")
+            .choice("before", &Q::before, {"hold", "loop", "blank"},
+                    "before the first frame: hold it, loop the range, or no volume")
+            .choice("after", &Q::after, {"hold", "loop", "blank"},
+                    "after the last frame: hold it, loop the range, or no volume")
+            .choice("missing", &Q::missing, {"error", "hold"},
+                    "a missing file inside the range: an error naming it, or hold the nearest "
+                    "earlier (else later) frame")
+            .done();
+    return decls;
+}
+
 const std::vector<ValueDecl<Material>>& materialValueDecls() {
     using M = Material;
     static const std::vector<ValueDecl<M>> decls =

@@ -12,6 +12,7 @@
 #pragma once
 
 #include "base/properties.h"
+#include "scene/animation.h"
 #include "scene/scene.h"
 
 #include <nlohmann/json.hpp>
@@ -69,6 +70,9 @@ const std::vector<ValueDecl<VolumeRef>>& volumeValueDecls();
 const std::vector<ValueDecl<Light>>& lightValueDecls();
 const std::vector<ValueDecl<Camera>>& cameraValueDecls();
 const std::vector<ValueDecl<Material>>& materialValueDecls();
+// The time block and a sequence volume's values (scene/animation.h).
+const std::vector<ValueDecl<TimeSettings>>& timeValueDecls();
+const std::vector<ValueDecl<SequenceValues>>& sequenceValueDecls();
 
 inline unsigned typeBit(int typeIndex) { return 1u << unsigned(typeIndex); }
 

@@ -1,4 +1,5 @@
 #include "volume/density_grid.h"
+#include "volume/grid_preload.h"
 
 #include "base/atomic_file.h"
 #include "base/error.h"
@@ -241,6 +242,7 @@ openvdb::FloatGrid::Ptr loadVolume(const scene::VolumeRef& ref) {
                ref.name);
     if (!ref.procedural.empty())
         return makeProceduralGrid(ref.procedural, ref.size, ref.voxelSize, ref.seed);
+    if (openvdb::FloatGrid::Ptr preloaded = findPreloadedGrid(ref.path, ref.grid)) return preloaded;
     return loadDensityGrid(ref.path, ref.grid);
 }
 

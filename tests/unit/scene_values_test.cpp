@@ -67,19 +67,20 @@ TEST(SceneValuesTest, UnknownKeyListsTheAcceptedKeysInOrder) {
     doc["lights"][0]["cone"] = 3;
     EXPECT_NE(parseError(doc).find("/lights/0/cone: unknown key (known: name, type, color, "
                                    "intensity, shadows, position, direction, target, "
-                                   "inner_cone, outer_cone)"),
+                                   "inner_cone, outer_cone, keys, interpolation)"),
               std::string::npos)
         << parseError(doc);
     doc = document();
     doc["lights"][1]["direction"] = json::array({0, -1, 0}); // a point light has no aim
     EXPECT_NE(parseError(doc).find("/lights/1/direction: unknown key (known: name, type, color, "
-                                   "intensity, shadows, position)"),
+                                   "intensity, shadows, position, keys, interpolation)"),
               std::string::npos)
         << parseError(doc);
     doc = document();
     doc["cameras"][1]["fov_y"] = 30;
     EXPECT_NE(parseError(doc).find("/cameras/1/fov_y: unknown key (known: name, type, position, "
-                                   "target, up, near, far, ortho_height)"),
+                                   "target, up, near, far, ortho_height, keys, interpolation, "
+                                   "turntable)"),
               std::string::npos)
         << parseError(doc);
     doc = document();

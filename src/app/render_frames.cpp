@@ -1,0 +1,210 @@
+// `veil render --frames` (render_frames.h): argument checks, signals, progress, the report,
+// video through ffmpeg.
+#include "app/render_frames.h"
+
+#include "app/progress.h"
+#include "base/atomic_file.h"
+#include "base/error.h"
+#include "base/text.h"
+#include "gpu/context.h"
+#include "scene/scene.h"
+#include "scene/scene_values.h"
+#include "scene/timeline.h"
+#include "sequence/range_render.h"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+namespace veil::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::atomic<bool> gStop{false};
+std::atomic<int> gSignal{0};
+struct sigaction gOld[2]{};
+
+// The first signal stops the range after the frame being rendered; a second one gets the
+// handler that was there before (base/atomic_file.h: temporaries removed, then death).
+extern "C" void onSignal(int sig) {
+    if (gStop.exchange(true)) {
+        const struct sigaction& old = gOld[sig == SIGINT ? 0 : 1];
+        sigaction(sig, &old, nullptr);
+        ::raise(sig);
+        return;
+    }
+    gSignal.store(sig);
+}
+
+// Restores the previous handlers when the range ends.
+class SignalGuard {
+public:
+    SignalGuard() {
+        gStop = false;
+        int i = 0;
+        for (int sig : {SIGINT, SIGTERM}) {
+            struct sigaction sa {};
+            sa.sa_handler = onSignal;
+            sigemptyset(&sa.sa_mask);
+            sigaction(sig, &sa, &gOld[i++]);
+        }
+    }
+    ~SignalGuard() {
+        sigaction(SIGINT, &gOld[0], nullptr);
+        sigaction(SIGTERM, &gOld[1], nullptr);
+    }
+};
+
+std::optional<fs::path> findOnPath(const std::string& program) {
+    const char* path = std::getenv("PATH");
+    std::stringstream dirs(path ? path : "");
+    for (std::string dir; std::getline(dirs, dir, ':');) {
+        if (dir.empty()) continue;
+        const fs::path candidate = fs::path(dir) / program;
+        if (::access(candidate.c_str(), X_OK) == 0) return candidate;
+    }
+    return std::nullopt;
+}
+
+// ffmpeg -framerate FPS -i frames/%06d.png ... out.mp4 (H.264, yuv420p for players).
+void encodeVideo(const fs::path& ffmpeg, const fs::path& pattern, int firstFrame, double fps,
+                 const fs::path& output) {
+    const std::string rate = fmt::format("{}", fps), start = std::to_string(firstFrame);
+    const fs::path tmp =
+        output.parent_path() / fmt::format(".{}.tmp.mp4", output.filename().string());
+    std::vector<std::string> argv{
+        ffmpeg.string(), "-y",      "-loglevel", "error",          "-framerate", rate,
+        "-start_number", start,     "-i",        pattern.string(), "-c:v",       "libx264",
+        "-pix_fmt",      "yuv420p", tmp.string()};
+    std::vector<char*> cargv;
+    for (std::string& a : argv)
+        cargv.push_back(a.data());
+    cargv.push_back(nullptr);
+    const pid_t pid = ::fork();
+    VEIL_CHECK(pid >= 0, "cannot start ffmpeg");
+    if (pid == 0) {
+        ::execv(cargv[0], cargv.data());
+        ::_exit(127);
+    }
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+        std::error_code ec;
+        fs::remove(tmp, ec);
+        throw Error(fmt::format("ffmpeg failed encoding '{}' (exit status {})", output.string(),
+                                WIFEXITED(status) ? WEXITSTATUS(status) : -1));
+    }
+    fs::rename(tmp, output);
+}
+
+} // namespace
+
+void runRenderFrames(const RenderFramesArgs& args) {
+    VEIL_CHECK(args.frames.empty() || !args.frame, "give --frames or --frame, not both");
+    const std::string ext = lowerExtension(args.output);
+    VEIL_CHECK(ext == ".png" || ext == ".exr" || ext == ".mp4",
+               "output '{}' must end in .png, .exr or .mp4", args.output);
+    VEIL_CHECK(args.report.empty() || lowerExtension(args.report) == ".json",
+               "report '{}' must end in .json", args.report);
+    VEIL_CHECK(ext == ".exr" || !args.half, "--half needs an .exr output, not '{}'", args.output);
+    std::optional<fs::path> ffmpeg;
+    if (ext == ".mp4") {
+        ffmpeg = findOnPath("ffmpeg");
+        VEIL_CHECK(ffmpeg.has_value(),
+                   "output '{}': writing video needs ffmpeg, which is not installed (Debian "
+                   "package ffmpeg); write numbered images instead, e.g. -o frames.####.png",
+                   args.output);
+        VEIL_CHECK(!args.resume, "--resume is for numbered images, not a video");
+        VEIL_CHECK(args.frames.empty() || scene::parseFrameRange(args.frames).step == 1,
+                   "a video needs consecutive frames (no :STEP)");
+    }
+    std::vector<fs::path> inputs{args.scene};
+    if (!args.report.empty()) checkOutputPath(args.report, "report", inputs);
+
+    const scene::AnimatedScene scene = scene::loadAnimatedScene(args.scene, args.overrides);
+    const scene::FrameRange range = args.frame ? scene::FrameRange{*args.frame, *args.frame, 1}
+                                    : args.frames.empty() ? scene::sceneFrameRange(scene.timeline)
+                                                          : scene::parseFrameRange(args.frames);
+    const std::vector<int> frames = range.frames();
+
+    sequence::RangeJob job;
+    job.scenePath = fs::absolute(args.scene);
+    job.frames = frames;
+    job.output = args.output;
+    job.resume = args.resume;
+    job.half = args.half;
+    job.options =
+        frame::RendererOptions{args.width, args.height, args.camera, args.oit, {}, args.shadows};
+    job.stop = &gStop;
+    fs::path videoFolder;
+    if (ffmpeg) {
+        videoFolder = fs::path(args.output).parent_path() /
+                      fmt::format(".{}.frames", fs::path(args.output).filename().string());
+        fs::create_directories(videoFolder);
+        job.output = (videoFolder / "%06d.png").string();
+    } else {
+        // Every output path is checked before anything renders.
+        for (int f : frames)
+            checkOutputPath(sequence::outputFor(job.output, f, frames.size() == 1), "output",
+                            inputs);
+    }
+    const bool showProgress = progressWanted(args.progress);
+    const bool terminal = ::isatty(STDERR_FILENO) != 0;
+    job.progress = [&](const sequence::RangeProgress& p) {
+        if (!showProgress) return;
+        std::fprintf(stderr, "%sveil: frame %d/%d (frame %d) %.2f frames/s, %.0f s left%s",
+                     terminal ? "\r" : "", p.done, p.total, p.frame, p.framesPerSecond,
+                     p.secondsLeft, terminal ? "\033[K" : "\n");
+        std::fflush(stderr);
+    };
+
+    gpu::HeadlessContext context({args.device, args.glDebug});
+    sequence::RangeResult result;
+    {
+        SignalGuard signals;
+        result = sequence::renderRange(scene, job, context.info());
+    }
+    if (showProgress && terminal) std::fprintf(stderr, "\n");
+    int rendered = 0, skipped = 0;
+    for (const auto& f : result.frames)
+        (f.skipped ? skipped : rendered)++;
+    if (!args.report.empty()) {
+        nlohmann::json report = result.json();
+        report["scene"] = fs::absolute(args.scene).string();
+        report["output"] = fs::absolute(args.output).string();
+        report["renderer"] = context.info().renderer;
+        report["frame_range"] = {range.first, range.last, range.step};
+        report["scene_values"] = scene::sceneValues(scene.scene);
+        writeTextFileAtomically(args.report, report.dump(2) + "\n");
+    }
+    if (result.interrupted) {
+        throw Error(fmt::format("interrupted by signal {}: {} frames written, {} skipped, {} not "
+                                "rendered (complete frames only; --resume continues)",
+                                gSignal.load(), rendered, skipped,
+                                frames.size() - result.frames.size()));
+    }
+    if (ffmpeg) {
+        encodeVideo(*ffmpeg, videoFolder / "%06d.png", frames.front(), scene.timeline.time.fps,
+                    args.output);
+        fs::remove_all(videoFolder);
+    }
+    std::cout << fmt::format("wrote {} frames{} ({}-{}:{}) to {} in {:.2f} s ({})\n", rendered,
+                             skipped ? fmt::format(", skipped {} complete", skipped) : "",
+                             range.first, range.last, range.step, args.output, result.wallSeconds,
+                             context.info().renderer);
+    if (!args.report.empty()) std::cout << "wrote " << args.report << " (per-frame times)\n";
+}
+
+} // namespace veil::app

@@ -1,0 +1,64 @@
+// Reading a frame range's grids ahead of the frame being rendered: worker threads resolve each
+// frame's scene (scene/timeline.h) and read and sanitize its volumes' grids (OpenVDB decoding,
+// the CPU side of a frame), in frame order, while the caller renders earlier frames. Frames
+// are handed out in order; a worker does not start a frame more than one ahead of the caller
+// while the grids read and not yet taken use more than the memory budget.
+#pragma once
+
+#include "scene/timeline.h"
+#include "volume/grid_preload.h"
+
+#include <condition_variable>
+#include <cstddef>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace veil::sequence {
+
+struct PreparedFrame {
+    int frame = 0;
+    scene::Scene scene;                       // the scene at this frame
+    std::vector<volume::PreloadedGrid> grids; // its file volumes' grids
+    std::vector<std::string> notes;           // held missing files
+    std::string error;     // set: the frame could not be prepared (missing, corrupt)
+    double readMs = 0.0;   // wall time of resolving and reading on the worker
+    std::size_t bytes = 0; // memory of its grids
+    std::uint64_t activeVoxels = 0;
+};
+
+class FramePrefetcher {
+public:
+    // `threads` workers (at least 1); `budgetBytes` bounds the grids read ahead.
+    FramePrefetcher(const scene::AnimatedScene& scene, std::vector<int> frames,
+                    std::size_t budgetBytes, int threads = 2);
+    ~FramePrefetcher(); // stops the workers (frames in progress finish first)
+    FramePrefetcher(const FramePrefetcher&) = delete;
+    FramePrefetcher& operator=(const FramePrefetcher&) = delete;
+
+    // The next frame in order (blocks until it is ready); the caller owns it.
+    PreparedFrame take();
+    bool done() const { return next_ >= frames_.size(); }
+    // Most bytes of grids held read ahead at once (the budget test).
+    std::size_t peakBytes() const;
+
+private:
+    void work();
+    PreparedFrame prepare(int frame) const;
+
+    const scene::AnimatedScene& scene_;
+    std::vector<int> frames_;
+    std::size_t budget_;
+    // Grids of file volumes that are not sequences, read once and shared by every frame.
+    std::vector<volume::PreloadedGrid> staticGrids_;
+    mutable std::mutex mutex_;
+    std::condition_variable ready_, space_;
+    std::vector<std::unique_ptr<PreparedFrame>> slots_; // by position in frames_
+    std::size_t claimed_ = 0, next_ = 0, heldBytes_ = 0, peakBytes_ = 0;
+    bool stop_ = false;
+    std::vector<std::thread> workers_;
+};
+
+} // namespace veil::sequence

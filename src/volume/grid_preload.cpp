@@ -1,0 +1,30 @@
+// Thread-local scopes of grids read ahead (grid_preload.h).
+#include "volume/grid_preload.h"
+
+namespace veil::volume {
+
+namespace {
+thread_local const std::vector<PreloadedGrid>* tCurrent = nullptr;
+}
+
+PreloadedGridScope::PreloadedGridScope(const std::vector<PreloadedGrid>& grids)
+    : previous_(tCurrent) {
+    tCurrent = &grids;
+}
+
+PreloadedGridScope::~PreloadedGridScope() { tCurrent = previous_; }
+
+openvdb::FloatGrid::Ptr findPreloadedGridIn(const std::vector<PreloadedGrid>& grids,
+                                            const std::filesystem::path& path,
+                                            const std::string& grid) {
+    for (const PreloadedGrid& g : grids)
+        if (g.grid == grid && g.path == path) return g.value;
+    return nullptr;
+}
+
+openvdb::FloatGrid::Ptr findPreloadedGrid(const std::filesystem::path& path,
+                                          const std::string& grid) {
+    return tCurrent ? findPreloadedGridIn(*tCurrent, path, grid) : nullptr;
+}
+
+} // namespace veil::volume
