@@ -37,8 +37,13 @@ def main():
     ap.add_argument("--height", type=int, default=180)
     ap.add_argument("--frames", type=int, default=3, help="frames per technique (median time)")
     ap.add_argument("--json", help="also write the numbers here")
+    ap.add_argument("--replot", help="plot the numbers of an earlier --json file instead")
     args = ap.parse_args()
 
+    if args.replot:  # the numbers of an earlier --json, plotted again without rendering
+        saved = json.loads(pathlib.Path(args.replot).read_text())
+        plot(args, saved["rows"], saved["renderer"])
+        return
     renderer = veil.Renderer()
     scene = veil.Scene.load(args.scene)
     size = dict(width=args.width, height=args.height)
@@ -52,30 +57,38 @@ def main():
                      "ms": statistics.median(technique_ms(f) for f in frames),
                      "rmse": veil.compare(frames[0].rgb, reference.rgb, metric="rmse")})
         print(f"{t['name']:<28} {rows[-1]['ms']:9.3f} ms  rmse {rows[-1]['rmse']:.5f}")
+    plot(args, rows, renderer.gl_renderer)
+    if args.json:
+        pathlib.Path(args.json).write_text(json.dumps(
+            {"renderer": renderer.gl_renderer, "width": args.width, "height": args.height,
+             "rows": rows}, indent=1) + "\n")
 
-    fig, ax = plt.subplots(figsize=(7.5, 4.6), dpi=110)
-    for row in rows:
-        exact = row["technique"] == "reference"
-        ax.scatter(row["ms"], max(row["rmse"], 1e-5), s=36, color="black" if exact else "tab:blue",
-                   marker="*" if exact else "o", zorder=3)
-        ax.annotate(row["technique"], (row["ms"], max(row["rmse"], 1e-5)), fontsize=7,
-                    xytext=(4, 3), textcoords="offset points")
+
+def plot(args, rows, renderer_name):
+    fig, ax = plt.subplots(figsize=(8, 5), dpi=110)
+    exact = next((r for r in rows if r["technique"] == "reference"), None)
+    others = sorted((r for r in rows if r is not exact), key=lambda r: r["ms"])
+    if exact:  # RMSE 0: a vertical line at its time
+        ax.axvline(exact["ms"], color="black", linestyle="--", linewidth=1)
+        ax.annotate("reference (exact, RMSE 0)", (exact["ms"], 1), xycoords=("data", "axes fraction"),
+                    xytext=(3, -12), textcoords="offset points", fontsize=7)
+    families = {"moment": "tab:red", "stochastic": "tab:green", "phenomenological": "tab:purple"}
+    for i, row in enumerate(others):
+        color = next((c for k, c in families.items() if row["technique"].startswith(k)), "tab:blue")
+        ax.scatter(row["ms"], row["rmse"], s=30, color=color, zorder=3)
+        ax.annotate(row["technique"], (row["ms"], row["rmse"]), fontsize=6.5, color=color,
+                    xytext=(4, 4 if i % 2 == 0 else -9), textcoords="offset points")
     ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("technique GPU time, transparent + resolve (ms, median of "
-                  f"{args.frames}; {renderer.gl_renderer.split(' (')[0]})")
+    ax.set_xlabel("technique time, transparent + resolve (ms, median of "
+                  f"{args.frames}; {renderer_name.split(' (')[0]})")
     ax.set_ylabel("RMSE vs reference (linear HDR RGB)")
-    ax.set_title(f"OIT techniques on {pathlib.Path(args.scene).name}, "
-                 f"{args.width}x{args.height} (reference plotted at 1e-5)", fontsize=9)
+    ax.set_title(f"OIT techniques on {pathlib.Path(args.scene).name}, {args.width}x{args.height}",
+                 fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
     pathlib.Path(args.output).parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(args.output)
     print(f"wrote {args.output}")
-    if args.json:
-        pathlib.Path(args.json).write_text(json.dumps(
-            {"renderer": renderer.gl_renderer, "width": args.width, "height": args.height,
-             "rows": rows}, indent=1) + "\n")
 
 
 if __name__ == "__main__":

@@ -3,8 +3,10 @@
 
 #include "base/error.h"
 #include "base/text.h"
+#include "oit/technique.h"
 #include "vdb/vdb_scene.h"
 
+#include <fmt/ranges.h>
 #include <pybind11/stl.h>
 
 namespace veil::python {
@@ -42,6 +44,13 @@ PyScene PyScene::fromDict(py::handle dict, const fs::path& baseDir) {
 void PyScene::reparse(nlohmann::json candidate) {
     auto parsedScene =
         std::make_shared<scene::Scene>(scene::parseScene(candidate, baseDir, source));
+    // The scene's OIT technique and its properties, checked as `veil render` checks them
+    // before it renders.
+    const scene::RenderSettings& r = parsedScene->render;
+    const auto& registry = oit::Registry::instance();
+    VEIL_CHECK(registry.find(r.oit), "{}/type: unknown OIT technique '{}' (known: {})", r.oitWhere,
+               r.oit, fmt::join(registry.names(), ", "));
+    registry.resolve(r.oit, r.oitProperties, r.oitWhere);
     parsedScene->sourcePath = file;
     parsed = std::move(parsedScene);
     doc = std::move(candidate);

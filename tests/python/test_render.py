@@ -116,10 +116,14 @@ def test_render_errors(renderer, veil_exe, tmp_path):
     # A bad technique property: the command line's message.
     message, _ = cli_error(veil_exe, "render", SMOKE_GLASS, "-o", tmp_path / "x.png", "--set",
                            "render.oit.bogus=1")
-    scene.set("render.oit.bogus", 1)
     with pytest.raises(veil.Error) as e:
-        renderer.render(scene, width=16, height=16)
+        scene.set("render.oit.bogus", 1)
     assert str(e.value) == message
+    # A scene document that names an unknown technique fails when it is made.
+    doc = veil.Scene.load(SMOKE_GLASS).to_dict()
+    doc["render"]["oit"] = "bogus"
+    with pytest.raises(veil.Error, match="unknown OIT technique 'bogus'"):
+        veil.Scene(doc)
     # The renderer still works after each error.
     assert renderer.render(SMOKE_GLASS, width=16, height=16).rgb.shape == (16, 16, 3)
 
