@@ -1,5 +1,6 @@
 """A contact sheet of the fog's density scale x Henyey-Greenstein anisotropy on fog.json's
-smoke volume: one row per density scale, one column per anisotropy g.
+homogeneous haze (volume 1; --volume 0 is the smoke): one row per density scale, one column
+per anisotropy g (positive: forward scattering, so the shafts seen against the light brighten).
 
     PYTHONPATH=build/release/python /usr/bin/python3 examples/fog_sweep.py -o fog-sweep.png
 
@@ -23,9 +24,9 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("-o", "--output", default="fog-sweep.png")
     ap.add_argument("--scene", default=str(ROOT / "datasets/scenes/fog.json"))
-    ap.add_argument("--volume", type=int, default=0, help="index of the volume to vary")
-    ap.add_argument("--density", type=float, nargs="+", default=[0.5, 2.5, 8.0])
-    ap.add_argument("--anisotropy", type=float, nargs="+", default=[-0.6, 0.0, 0.35, 0.8])
+    ap.add_argument("--volume", type=int, default=1, help="index of the volume to vary")
+    ap.add_argument("--density", type=float, nargs="+", default=[0.02, 0.06, 0.18])
+    ap.add_argument("--anisotropy", type=float, nargs="+", default=[-0.5, 0.0, 0.5, 0.85])
     ap.add_argument("--width", type=int, default=192)
     ap.add_argument("--height", type=int, default=108)
     args = ap.parse_args()
@@ -48,7 +49,7 @@ def main():
             if i == 0:
                 ax.set_title(f"g = {g:g}", fontsize=8)
             if j == 0:
-                ax.set_ylabel(f"density x {density:g}", fontsize=8)
+                ax.set_ylabel(f"density_scale {density:g}", fontsize=7)
     fig.suptitle(f"{pathlib.Path(args.scene).name}: volume {args.volume} density scale x "
                  "anisotropy", fontsize=9)
     fig.tight_layout()

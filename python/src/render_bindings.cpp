@@ -170,6 +170,14 @@ void bindRenderer(py::module_& m) {
             py::arg("scene"), py::arg("width") = 0, py::arg("height") = 0, py::arg("oit") = "",
             py::arg("shadows") = "", py::arg("camera") = "",
             py::arg("aovs") = std::vector<std::string>{})
+        .def(
+            "_render_loop",
+            [](PyRenderer& r, py::object scene, int frames, int width, int height) {
+                VEIL_CHECK(frames > 0 && width > 0 && height > 0,
+                           "frames, width and height must be > 0");
+                return r.renderLoop(sceneArgument(scene), frames, width, height);
+            },
+            py::arg("scene"), py::arg("frames"), py::arg("width"), py::arg("height"))
         .def_property_readonly(
             "gl_renderer", [](const PyRenderer& r) { return r.info().renderer; },
             "The GL renderer string, e.g. 'llvmpipe (LLVM 15.0.6, 256 bits)'.")
