@@ -67,13 +67,13 @@ SampledGrid sampleVdbGrid(const std::filesystem::path& input, const std::string&
         box = openvdb::CoordBBox(openvdb::Coord(corners[0], corners[1], corners[2]),
                                  openvdb::Coord(corners[3], corners[4], corners[5]));
         VEIL_CHECK(!box.empty(),
-                   "box: every minimum must be at most its maximum (got [{} {} "
+                   "--box: every minimum must be at most its maximum (got [{} {} "
                    "{}]..[{} {} {}])",
                    corners[0], corners[1], corners[2], corners[3], corners[4], corners[5]);
     } else {
         box = grid.evalActiveVoxelBoundingBox();
         VEIL_CHECK(!box.empty() && grid.activeVoxelCount() > 0,
-                   "{} has no active voxels (give a box)", what);
+                   "{} has no active voxels (give --box)", what);
     }
 
     // ImageData is axis-aligned: each index axis must map onto the same world axis.
@@ -102,8 +102,8 @@ SampledGrid sampleVdbGrid(const std::filesystem::path& input, const std::string&
     }
     const double points = double(dense.dims[0]) * dense.dims[1] * dense.dims[2];
     VEIL_CHECK(points <= kMaxSampledPoints,
-               "{}: {}x{}x{} = {:.3g} points exceed the limit of {:.3g} (use a box or a "
-               "resample factor below 1)",
+               "{}: {}x{}x{} = {:.3g} points exceed the limit of {:.3g} (use --box or a "
+               "--resample below 1)",
                what, dense.dims[0], dense.dims[1], dense.dims[2], points, kMaxSampledPoints);
     const openvdb::Vec3d origin = xf.indexToWorld(box.min());
     for (int a = 0; a < 3; ++a)
