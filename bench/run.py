@@ -202,6 +202,53 @@ def voxbench_group(tool, group, tmp):
     return records, info
 
 
+def python_interpreter():
+    """The interpreter for tool "python" groups: $VEIL_PYTHON, else Debian's /usr/bin/python3
+    (the one the module is built for, with NumPy), else this one."""
+    return os.environ.get("VEIL_PYTHON") or (
+        "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable)
+
+
+def python_group(group, tmp):
+    """Tool "python": the group's script (bench/python_overhead.py) once per case, with the
+    module from $VEIL_PYTHONPATH (default build/release/python); two records per case, the
+    Python loop and the C++ loop, metric = total wall ms of the frames."""
+    records, info = [], None
+    for case in expand_cases(group):
+        out = os.path.join(tmp, "py.json")
+        if os.path.exists(out):
+            os.remove(out)
+        frames = 2 if QUICK else case.get("frames", 100)
+        cmd = [python_interpreter(), group["script"], case["scene"],
+               "--width", str(case.get("width", 64)), "--height", str(case.get("height", 64)),
+               "--frames", str(frames), "--warmup", str(0 if QUICK else case.get("warmup", 3))]
+        cmd += case["args"] + ["--json", out]
+        env_path = os.environ.get("VEIL_PYTHONPATH", os.path.join(ROOT, "build", "release",
+                                                                 "python"))
+        old = os.environ.get("PYTHONPATH")
+        os.environ["PYTHONPATH"] = env_path
+        try:
+            rc, err, wall = run_process(cmd, case.get("timeout_s", 600))
+        finally:
+            if old is None:
+                os.environ.pop("PYTHONPATH")
+            else:
+                os.environ["PYTHONPATH"] = old
+        prefix = "" if case["name"] == "-" else case["name"] + "/"
+        if rc != 0 or not os.path.exists(out):
+            records.append({"name": prefix + "Python loop", "command": cmd[1:-2],
+                            "error": f"exit {rc}: {err.strip()}"})
+            continue
+        with open(out) as f:
+            raw = json.load(f)
+        info = info or raw
+        for label, key in (("Python loop", "python"), ("C++ loop", "cpp")):
+            records.append({"name": prefix + label, "command": cmd[1:-2],
+                            "wall_s": round(wall, 2), "metric_ms": 1e3 * raw[key]["total_s"],
+                            "median_ms": raw[key]["median_ms"], "detail": raw[key]})
+    return records, info
+
+
 def clock_warmup(tool, seconds):
     """Throwaway frames until `seconds` have passed: clocks ramp up at the start of a call."""
     if seconds <= 0:
@@ -234,7 +281,12 @@ def run_set(path, s, tools, args):
             tool_name = group.get("tool", "veil-bench")
             metric = group.get("metric", "frame")
             log(f"[{s['name']}] {group['name']}")
-            if tool_name == "veil-voxbench":
+            if tool_name == "python":
+                records, info = python_group(group, tmp)
+                if info:
+                    machine.setdefault("renderer", info["renderer"])
+                    machine.setdefault("gl_version", info["gl_version"])
+            elif tool_name == "veil-voxbench":
                 records, info = voxbench_group(tools[tool_name], group, tmp)
                 if info and "renderer" in info:
                     machine.setdefault("renderer", info["renderer"])
@@ -294,7 +346,7 @@ def dry_run(sets):
             cases = expand_cases(group)
             names = [c["name"] for c in cases]
             tool = group.get("tool", "veil-bench")
-            if tool not in ("veil-bench", "veil-voxbench"):
+            if tool not in ("veil-bench", "veil-voxbench", "python"):
                 log(f"{path}: group {group['name']}: unknown tool {tool}")
                 bad += 1
             base = group.get("baseline")
@@ -338,6 +390,7 @@ def main():
     out_dir = args.out or os.environ.get("OUT") or os.path.join(ROOT, "bench", "results")
     os.makedirs(out_dir, exist_ok=True)
     needed = {g.get("tool", "veil-bench") for _, s in sets for g in s["groups"]} | {"veil-bench"}
+    needed.discard("python")  # a script run by python_interpreter(), not a program
     tools = {t: find_tool(t, args.bin) for t in sorted(needed)}
     os.environ.setdefault("VEIL_SHADER_DIR", os.path.join(ROOT, "shaders"))
     failed = 0

@@ -12,15 +12,12 @@
 #include "app/commands.h"
 
 #include "app/cli_checks.h"
-#include "vdb/grid_select.h"
+#include "vdb/vdb_export.h"
 
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/text.h"
 #include "io/vtk_export.h"
-#include "volume/vdb_file.h"
-
-#include <openvdb/tools/Interpolation.h>
 
 #include <cmath>
 #include <iostream>
@@ -38,124 +35,23 @@ struct ExportArgs {
     double resample = 1.0;
 };
 
-// Most points written: 2^28 floats are 1 GiB before VTK's own copy.
-constexpr double kMaxPoints = 268435456.0;
-
-bool exportable(const openvdb::GridBase& g) {
-    return g.isType<openvdb::FloatGrid>() || g.isType<openvdb::DoubleGrid>() ||
-           g.isType<openvdb::Vec3SGrid>() || g.isType<openvdb::Vec3DGrid>();
-}
-
-template <typename GridT>
-void sample(const GridT& grid, const openvdb::CoordBBox& box, double factor, io::DenseGrid& out) {
-    constexpr bool vector = openvdb::VecTraits<typename GridT::ValueType>::IsVec;
-    out.components = vector ? 3 : 1;
-    const std::size_t n = std::size_t(out.dims[0]) * out.dims[1] * out.dims[2];
-    out.values.assign(n * out.components, 0.0f);
-    const auto acc = grid.getConstAccessor();
-    std::size_t i = 0;
-    for (int z = 0; z < out.dims[2]; ++z)
-        for (int y = 0; y < out.dims[1]; ++y)
-            for (int x = 0; x < out.dims[0]; ++x, ++i) {
-                typename GridT::ValueType v;
-                if (factor == 1.0) {
-                    v = acc.getValue(box.min() + openvdb::Coord(x, y, z));
-                } else {
-                    const openvdb::Vec3d p = box.min().asVec3d() + openvdb::Vec3d(x, y, z) / factor;
-                    v = openvdb::tools::BoxSampler::sample(acc, p);
-                }
-                if constexpr (vector) {
-                    for (int c = 0; c < 3; ++c)
-                        out.values[i * 3 + c] = static_cast<float>(v[c]);
-                } else {
-                    out.values[i] = static_cast<float>(v);
-                }
-            }
-}
-
 void runExport(const ExportArgs& args) {
     VEIL_CHECK(lowerExtension(args.input) == ".vdb", "input '{}' must be an OpenVDB file (.vdb)",
                args.input);
     if (lowerExtension(args.output) != ".vti")
         usageError(fmt::format("output '{}' must end in .vti", args.output));
     checkOutputPath(args.output, "output", {args.input});
-    const openvdb::GridPtrVecPtr grids = volume::readVdbFile(args.input);
-    const vdb::SelectedGrid sel =
-        vdb::selectGrid(*grids, args.input, args.grid, exportable, "a float or vec3 grid");
-    const openvdb::GridBase& grid = *sel.grid;
-    const std::string what =
-        fmt::format("'{}': grid {} '{}'", args.input, sel.index, grid.getName());
-
-    openvdb::CoordBBox box;
-    if (!args.box.empty()) {
-        box = openvdb::CoordBBox(openvdb::Coord(args.box[0], args.box[1], args.box[2]),
-                                 openvdb::Coord(args.box[3], args.box[4], args.box[5]));
-        VEIL_CHECK(!box.empty(),
-                   "--box: every minimum must be at most its maximum (got [{} {} "
-                   "{}]..[{} {} {}])",
-                   args.box[0], args.box[1], args.box[2], args.box[3], args.box[4], args.box[5]);
-    } else {
-        box = grid.evalActiveVoxelBoundingBox();
-        VEIL_CHECK(!box.empty() && grid.activeVoxelCount() > 0,
-                   "{} has no active voxels (give --box)", what);
-    }
-
-    // ImageData is axis-aligned: each index axis must map onto the same world axis.
-    const openvdb::math::Transform& xf = grid.transform();
-    VEIL_CHECK(xf.isLinear(), "{}: its transform ({}) is not linear; VTK ImageData cannot hold it",
-               what, xf.mapType());
-    const openvdb::Vec3d o = xf.indexToWorld(openvdb::Vec3d(0.0));
-    io::DenseGrid dense;
-    dense.name = grid.getName().empty() ? "values" : grid.getName();
-    for (int a = 0; a < 3; ++a) {
-        openvdb::Vec3d unit(0.0);
-        unit[a] = 1.0;
-        const openvdb::Vec3d d = xf.indexToWorld(unit) - o;
-        for (int b = 0; b < 3; ++b)
-            VEIL_CHECK(b == a || std::abs(d[b]) <= 1e-9 * d.length(),
-                       "{}: its transform rotates or shears the index axes; VTK ImageData "
-                       "needs an axis-aligned grid",
-                       what);
-        VEIL_CHECK(d[a] > 0.0,
-                   "{}: its transform flips index axis {}; VTK ImageData needs "
-                   "positive spacing",
-                   what, "xyz"[a]);
-        dense.spacing[a] = d[a] / args.resample;
-        const double extent = double(box.max()[a]) - double(box.min()[a]);
-        // In double first: a box spanning the int range has 2^32 points along an axis.
-        const double n = std::floor(extent * args.resample + 1e-9) + 1.0;
-        VEIL_CHECK(n <= kMaxPoints,
-                   "{}: {:.3g} points along {} (index box [{} {} {}]..[{} {} {}]) exceed the "
-                   "limit of {:.3g} points (use a smaller --box or a --resample below 1)",
-                   what, n, "xyz"[a], box.min().x(), box.min().y(), box.min().z(), box.max().x(),
-                   box.max().y(), box.max().z(), kMaxPoints);
-        dense.dims[a] = static_cast<int>(n);
-    }
-    const double points = double(dense.dims[0]) * dense.dims[1] * dense.dims[2];
-    VEIL_CHECK(points <= kMaxPoints,
-               "{}: {}x{}x{} = {:.3g} points exceed the limit of {:.3g} (use --box or a "
-               "--resample below 1)",
-               what, dense.dims[0], dense.dims[1], dense.dims[2], points, kMaxPoints);
-    const openvdb::Vec3d origin = xf.indexToWorld(box.min());
-    for (int a = 0; a < 3; ++a)
-        dense.origin[a] = origin[a];
-
-    if (grid.isType<openvdb::FloatGrid>())
-        sample(static_cast<const openvdb::FloatGrid&>(grid), box, args.resample, dense);
-    else if (grid.isType<openvdb::DoubleGrid>())
-        sample(static_cast<const openvdb::DoubleGrid&>(grid), box, args.resample, dense);
-    else if (grid.isType<openvdb::Vec3SGrid>())
-        sample(static_cast<const openvdb::Vec3SGrid&>(grid), box, args.resample, dense);
-    else
-        sample(static_cast<const openvdb::Vec3DGrid&>(grid), box, args.resample, dense);
+    const vdb::SampledGrid sampled =
+        vdb::sampleVdbGrid(args.input, args.grid, args.box, args.resample);
+    const io::DenseGrid& dense = sampled.dense;
     io::writeVti(args.output, dense);
     std::cout << fmt::format(
         "wrote {}: grid {} '{}' ({}) of {}, {}x{}x{} points over index box [{} {} {}]..[{} {} "
         "{}], spacing ({:.6g} {:.6g} {:.6g}), origin ({:.6g} {:.6g} {:.6g})\n",
-        args.output, sel.index, grid.getName(), vdb::gridTypeName(grid), args.input, dense.dims[0],
-        dense.dims[1], dense.dims[2], box.min().x(), box.min().y(), box.min().z(), box.max().x(),
-        box.max().y(), box.max().z(), dense.spacing[0], dense.spacing[1], dense.spacing[2],
-        dense.origin[0], dense.origin[1], dense.origin[2]);
+        args.output, sampled.index, sampled.name, sampled.type, args.input, dense.dims[0],
+        dense.dims[1], dense.dims[2], sampled.boxMin[0], sampled.boxMin[1], sampled.boxMin[2],
+        sampled.boxMax[0], sampled.boxMax[1], sampled.boxMax[2], dense.spacing[0], dense.spacing[1],
+        dense.spacing[2], dense.origin[0], dense.origin[1], dense.origin[2]);
 }
 
 } // namespace

@@ -1,7 +1,7 @@
 // `veil info <file>`: what a scene (.json) or OpenVDB (.vdb) file holds.
 #include "app/commands.h"
 
-#include "vdb/grid_select.h"
+#include "vdb/vdb_info.h"
 
 #include "base/error.h"
 #include "base/text.h"
@@ -151,75 +151,28 @@ std::string formatBytes(std::size_t bytes) {
     return fmt::format("{:.1f} KiB", bytes / 1024.0);
 }
 
-// "min 0, max 5.71" over the active values (vectors: their lengths); empty for other types.
-template <typename GridT>
-std::string valueRange(const openvdb::GridBase& base) {
-    const auto& grid = static_cast<const GridT&>(base);
-    if (grid.activeVoxelCount() == 0) return "no active values";
-    if constexpr (openvdb::VecTraits<typename GridT::ValueType>::IsVec) {
-        double lo = 1e300, hi = -1e300;
-        for (auto it = grid.cbeginValueOn(); it; ++it) {
-            const double l = it->length();
-            lo = std::min(lo, l);
-            hi = std::max(hi, l);
-        }
-        return fmt::format("|value| min {:.6g}, max {:.6g}", lo, hi);
-    } else {
-        const auto mm = openvdb::tools::minMax(grid.tree());
-        return fmt::format("min {:.6g}, max {:.6g}", double(mm.min()), double(mm.max()));
-    }
-}
-
-std::string valueRangeOf(const openvdb::GridBase& g) {
-    if (g.isType<openvdb::FloatGrid>()) return valueRange<openvdb::FloatGrid>(g);
-    if (g.isType<openvdb::DoubleGrid>()) return valueRange<openvdb::DoubleGrid>(g);
-    if (g.isType<openvdb::Int32Grid>()) return valueRange<openvdb::Int32Grid>(g);
-    if (g.isType<openvdb::Int64Grid>()) return valueRange<openvdb::Int64Grid>(g);
-    if (g.isType<openvdb::Vec3SGrid>()) return valueRange<openvdb::Vec3SGrid>(g);
-    if (g.isType<openvdb::Vec3DGrid>()) return valueRange<openvdb::Vec3DGrid>(g);
-    return "min/max n/a for " + g.valueType();
-}
-
 // Like `vdb_print -l`: per grid its index and name, type and class, active voxels, value
 // range, bounds, voxel size, memory, and every metadata entry. `selector` (a name or an
 // index, vdb/grid_select.h) prints one grid only.
 void printVdb(const fs::path& path, const std::string& selector) {
-    const openvdb::GridPtrVecPtr grids = volume::readVdbFile(path);
-    std::vector<std::size_t> which;
-    if (selector.empty()) {
-        for (std::size_t i = 0; i < grids->size(); ++i)
-            which.push_back(i);
-    } else {
-        which.push_back(
-            vdb::selectGrid(
-                *grids, path, selector, [](const openvdb::GridBase&) { return true; }, "a grid")
-                .index);
-    }
-    std::cout << "vdb " << path.string() << ": " << grids->size() << " grid(s)\n";
-    for (std::size_t i : which) {
-        const openvdb::GridBase& g = *(*grids)[i];
-        const openvdb::CoordBBox box = g.evalActiveVoxelBoundingBox();
-        const openvdb::Vec3d vs = g.voxelSize();
-        const openvdb::BBoxd world = g.transform().indexToWorld(box);
+    const vdb::FileInfo file = vdb::describeVdbFile(path, selector);
+    std::cout << "vdb " << path.string() << ": " << file.gridCount << " grid(s)\n";
+    for (const vdb::GridInfo& g : file.grids) {
         std::cout << fmt::format(
             "  {} '{}' {} ({}): {} active voxels, {}, index bounds [{} {} {}]..[{} {} {}], voxel "
             "size ({:.4g} {:.4g} {:.4g}), world bounds ({:.4g} {:.4g} {:.4g})..({:.4g} {:.4g} "
             "{:.4g}), transform {}",
-            i, g.getName(), g.valueType(), openvdb::GridBase::gridClassToString(g.getGridClass()),
-            g.activeVoxelCount(), valueRangeOf(g), box.min().x(), box.min().y(), box.min().z(),
-            box.max().x(), box.max().y(), box.max().z(), vs.x(), vs.y(), vs.z(), world.min().x(),
-            world.min().y(), world.min().z(), world.max().x(), world.max().y(), world.max().z(),
-            g.transform().mapType());
-        if (g.isType<openvdb::FloatGrid>() && g.activeVoxelCount() > 0) {
-            // What `veil render` would upload: brick atlas or dense texture (src/volume).
-            const auto& grid = static_cast<const openvdb::FloatGrid&>(g);
-            std::cout << ", grid " << formatBytes(grid.memUsage()) << ", GPU "
-                      << formatBytes(volume::estimateGpuBytes(grid, {}));
-        }
+            g.index, g.name, g.type, g.gridClass, g.activeVoxels, g.valueRange, g.indexMin[0],
+            g.indexMin[1], g.indexMin[2], g.indexMax[0], g.indexMax[1], g.indexMax[2],
+            g.voxelSize[0], g.voxelSize[1], g.voxelSize[2], g.worldMin[0], g.worldMin[1],
+            g.worldMin[2], g.worldMax[0], g.worldMax[1], g.worldMax[2], g.transform);
+        // What `veil render` would upload: brick atlas or dense texture (src/volume).
+        if (g.gridBytes > 0)
+            std::cout << ", grid " << formatBytes(g.gridBytes) << ", GPU "
+                      << formatBytes(g.gpuBytes);
         std::cout << "\n";
-        for (auto m = g.beginMeta(); m != g.endMeta(); ++m)
-            std::cout << fmt::format("      {}: {} = {}\n", m->first, m->second->typeName(),
-                                     printable(m->second->str(), 200));
+        for (const auto& m : g.metadata)
+            std::cout << fmt::format("      {}: {} = {}\n", m.name, m.type, m.value);
     }
 }
 

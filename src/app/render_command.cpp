@@ -6,6 +6,7 @@
 #include "app/render_frames.h"
 #include "capture/dump.h"
 #include "capture/exr_output.h"
+#include "capture/frame_capture.h"
 #include "compare/compare.h"
 #include "compare/target.h"
 #include "vdb/vdb_scene.h"
@@ -32,7 +33,6 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
-#include <optional>
 
 namespace veil::app {
 
@@ -74,84 +74,23 @@ void renderFrames(const RenderArgs& a) {
                      a.frame});
 }
 
-// One frame of the scene with one technique, kept for writing and comparing.
-struct Rendered {
-    std::string oit;
-    ImageF hdr, ldr;
-    nlohmann::json passes = nlohmann::json::array();
-    double totalMs = 0.0;
-    std::size_t gpuBytes = 0;
-    int width = 0, height = 0;
-    std::string camera;
-    gpu::GpuTimer::Mode timer = gpu::GpuTimer::Mode::CpuFinish;
-    nlohmann::json oitStats;      // technique-specific counters (reference: fragments, pool)
-    nlohmann::json oitProperties; // effective values of the technique's properties
-    std::string shadows;
-    nlohmann::json shadowStats, shadowProperties;          // the same for the shadow technique
-    nlohmann::json shadowLights = nlohmann::json::array(); // scene light indices with maps
-    nlohmann::json framePasses = nlohmann::json::array();  // the frame's passes and resources
-    nlohmann::json volumes = nlohmann::json::array();
-    capture::FrameExtras extras; // Z, AOVs and camera matrices (capture/exr_output.h)
-    nlohmann::json dumpManifest; // --dump
-};
+using Rendered = capture::RenderedFrame;
 
 // `shadows` / `shadowProperties` replace --shadows (the --compare-to shadows:ID frame).
 Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, const RenderArgs& args,
                     const std::string& oit, bool dump = false, const std::string& shadows = {},
                     const nlohmann::json& shadowProperties = {}) {
-    std::optional<frame::Renderer> frameRenderer;
-    const bool fogAov = std::find(args.aovs.begin(), args.aovs.end(), "fog") != args.aovs.end();
-    {
-        ProgressTicker ticker("rendering with " + oit, progressWanted(args.progress));
-        frameRenderer.emplace(scene, info,
-                              frame::RendererOptions{args.width,
-                                                     args.height,
-                                                     args.camera,
-                                                     oit,
-                                                     {},
-                                                     shadows.empty() ? args.shadows : shadows,
-                                                     shadowProperties});
-        // Readers of the fog's per-pixel march (skipped under piecewise fog otherwise).
-        frameRenderer->keepFogRadiance(fogAov || dump);
-        frameRenderer->render();
-        glFinish(); // the ticker measures the frame, not its submission
-    }
-    frame::Renderer& renderer = *frameRenderer;
-    Rendered r;
-    r.oit = renderer.oitName();
-    r.hdr = renderer.readHdr();
-    r.ldr = renderer.readLdr();
-    for (const auto& p : renderer.passTimes()) {
-        r.passes.push_back({{"name", p.name}, {"ms", p.milliseconds}});
-        r.totalMs += p.milliseconds;
-    }
-    r.gpuBytes = renderer.gpuBytes();
-    if (const volume::FogPass* fog = renderer.fog()) {
-        for (const auto& v : fog->stats())
-            r.volumes.push_back({{"gpu_bytes", v.gpuBytes},
-                                 {"grid_bytes", v.gridBytes},
-                                 {"active_voxels", v.activeVoxels},
-                                 {"layout", v.dense ? "dense" : "brick atlas"},
-                                 {"bricks", v.bricks},
-                                 {"coarsened", v.coarsened}});
-    }
-    r.width = renderer.width();
-    r.height = renderer.height();
-    r.camera = renderer.camera().name;
-    r.timer = renderer.timerMode();
-    if (nlohmann::json stats = renderer.technique().stats(); !stats.empty())
-        r.oitStats = std::move(stats);
-    r.oitProperties = renderer.technique().properties().values();
-    r.shadows = renderer.shadowTechnique().name();
-    if (nlohmann::json stats = renderer.shadowTechnique().stats(); !stats.empty())
-        r.shadowStats = std::move(stats);
-    r.shadowProperties = renderer.shadowTechnique().properties().values();
-    r.shadowLights = renderer.shadowLights().lights;
-    for (const frame::Pass& p : renderer.passes().passes())
-        r.framePasses.push_back({{"name", p.name}, {"reads", p.reads}, {"writes", p.writes}});
-    r.extras = capture::captureExtras(renderer, fogAov);
-    if (dump) r.dumpManifest = capture::dumpFrame(renderer, args.dump);
-    return r;
+    capture::FrameRequest request;
+    request.width = args.width;
+    request.height = args.height;
+    request.camera = args.camera;
+    request.oit = oit;
+    request.shadows = shadows.empty() ? args.shadows : shadows;
+    request.shadowProperties = shadowProperties;
+    request.fogAov = std::find(args.aovs.begin(), args.aovs.end(), "fog") != args.aovs.end();
+    if (dump) request.dumpDir = args.dump;
+    ProgressTicker ticker("rendering with " + oit, progressWanted(args.progress));
+    return capture::renderFrame(scene, info, request);
 }
 
 // Fails before any rendering, naming the known techniques and where the name came from.
@@ -388,17 +327,7 @@ void runRender(const RenderArgs& args) {
                                     : "EXR: reference in R,G,B,A,Z, the others as layers "
                                       "<oit>.R,G,B (header veil:layers)";
     } else {
-        report["gpu_bytes"] = main.gpuBytes;
-        report["passes"] = main.passes;
-        report["total_ms"] = main.totalMs;
-        if (!main.oitStats.is_null()) report["oit_stats"] = main.oitStats;
-        report["oit_properties"] = main.oitProperties;
-        report["frame_passes"] = main.framePasses;
-        report["shadows"] = main.shadows;
-        report["shadow_properties"] = main.shadowProperties;
-        report["shadow_lights"] = main.shadowLights;
-        if (!main.shadowStats.is_null()) report["shadow_stats"] = main.shadowStats;
-        if (!main.volumes.empty()) report["volumes"] = main.volumes;
+        report.update(capture::frameReport(main));
         if (!args.compareTo.empty()) {
             report["compare"] = errorJson(args.compareTo, errors.front().second);
             report["compare"]["error_image"] = fs::absolute(errorPath).string();

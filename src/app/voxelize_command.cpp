@@ -16,6 +16,7 @@
 #include "io/vtk_export.h"
 #include "scene/scene.h"
 #include "voxelize/gpu_voxelizer.h"
+#include "voxelize/grid_fit.h"
 #include "voxelize/triangles.h"
 #include "voxelize/vdb_convert.h"
 
@@ -67,27 +68,6 @@ private:
     int lastPercent_ = -1;
 };
 
-bool isMeshFile(const std::string& path) {
-    const std::string ext = lowerExtension(path);
-    return ext == ".obj" || ext == ".ply" || ext == ".glb" || ext == ".gltf";
-}
-
-// A scene of one object: the mesh file, with its own materials.
-scene::Scene sceneForMesh(const fs::path& mesh) {
-    std::error_code ec;
-    VEIL_CHECK(fs::is_regular_file(mesh, ec), "cannot read mesh '{}': no such file", mesh.string());
-    // The camera is required by the scene format; the orthographic grid does not use it.
-    const nlohmann::json doc = {{"cameras", {{{"name", "mesh"}, {"position", {0, 0, 1}}}}},
-                                {"objects", {{{"mesh", fs::absolute(mesh).string()}}}}};
-    try {
-        return scene::parseScene(doc, fs::absolute(mesh).parent_path());
-    } catch (const Error& e) {
-        const std::string what = e.what();
-        if (what.find(mesh.filename().string()) != std::string::npos) throw;
-        throw Error(fmt::format("mesh '{}': {}", mesh.string(), what));
-    }
-}
-
 void runVoxelize(const VoxelizeArgs& args) {
     using namespace veil::voxelize;
     const auto start = std::chrono::steady_clock::now();
@@ -104,7 +84,6 @@ void runVoxelize(const VoxelizeArgs& args) {
     if (mesh && (args.perspective || !args.overrides.empty()))
         usageError(
             fmt::format("'{}' is a mesh: --perspective and --set need a scene file", args.scene));
-    int slices = args.slices > 0 ? args.slices : args.res;
     const scene::Scene scene =
         mesh ? sceneForMesh(args.scene) : scene::loadScene(args.scene, args.overrides);
     // The scene's own .vdb volumes are inputs too: -o smoke.vdb would replace one.
@@ -113,47 +92,10 @@ void runVoxelize(const VoxelizeArgs& args) {
         if (!v.path.empty()) volumeFiles.push_back(v.path);
     checkOutputPath(args.output, "output", volumeFiles);
     const Triangles tris = flattenScene(scene);
-    glm::vec3 lo, hi;
-    tris.bounds(lo, hi);
 
-    SliceMap grid;
-    if (args.perspective) {
-        const scene::Camera& cam = scene.camera(args.camera);
-        // Near/far fitted to the scene bounds along the view axis (with a 2% margin).
-        const glm::dvec3 eye(cam.position), dir = glm::normalize(glm::dvec3(cam.target) - eye);
-        double dmin = 1e300, dmax = -1e300;
-        for (int i = 0; i < 8; ++i) {
-            const glm::dvec3 c(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
-            dmin = std::min(dmin, glm::dot(c - eye, dir));
-            dmax = std::max(dmax, glm::dot(c - eye, dir));
-        }
-        const double n = std::max(dmin * 0.98, 1e-3 * dmax), f = dmax * 1.02;
-        VEIL_CHECK(f > n && dmax > 0.0, "the scene lies behind camera '{}'", cam.name);
-        grid = makePerspectiveGrid(eye, glm::dvec3(cam.target), glm::dvec3(cam.up), cam.fovYDegrees,
-                                   n, f, args.res, args.res, slices);
-    } else if (mesh) {
-        // Cubic voxels: --res cells along the largest extent (with a 3% margin per side), as
-        // many as the bounds need along the others; --slices overrides the z count.
-        const glm::dvec3 e = glm::dvec3(hi - lo), c = 0.5 * glm::dvec3(lo + hi);
-        const double voxel = std::max({e.x, e.y, e.z, 1e-9}) * 1.06 / args.res;
-        glm::ivec3 dims;
-        for (int i = 0; i < 3; ++i)
-            dims[i] =
-                std::clamp(static_cast<int>(std::ceil(e[i] * 1.06 / voxel - 1e-9)), 1, args.res);
-        glm::dvec3 h = 0.5 * voxel * glm::dvec3(dims);
-        if (args.slices > 0) { // z fitted to the bounds, cut into the slices asked for
-            dims.z = args.slices;
-            h.z = 0.5 * std::max(e.z * 1.06, voxel);
-        }
-        slices = dims.z;
-        grid = makeOrthoGrid(c - h, c + h, dims.x, dims.y, slices);
-    } else {
-        // Orthographic along +z world, fitted to the bounds with a 3% margin.
-        const glm::dvec3 e = glm::dvec3(hi - lo), c = 0.5 * glm::dvec3(lo + hi);
-        const glm::dvec3 half = 0.5 * glm::max(e, glm::dvec3(1e-6 * glm::length(e))) * 1.06;
-        grid = makeOrthoGrid(c - half, c + half, args.res, args.res, slices);
-    }
-
+    SliceMap grid =
+        fitGrid(scene, tris, {args.res, args.slices, args.perspective, args.camera}, mesh);
+    const int slices = grid.slices;
     gpu::HeadlessContext context({args.device, false});
     GpuVoxelizer vox(context.info());
     const bool big = tris.count() > 200000 || double(args.res) * args.res * slices > 6.4e7;

@@ -1,6 +1,7 @@
 // Camera matrices, material classification, scene queries, command-line overrides and
 // loading a scene file. The JSON schema itself is parsed in scene_json.cpp.
 #include "scene/scene.h"
+#include "scene/scene_document.h"
 
 #include "base/error.h"
 #include "base/log.h"
@@ -163,12 +164,7 @@ Scene parseScene(const nlohmann::json& doc, const std::filesystem::path& baseDir
     return atDefaultFrame(parseAnimatedScene(doc, baseDir), "<scene>");
 }
 
-Scene loadScene(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
-    return atDefaultFrame(loadAnimatedScene(path, overrides), path.string());
-}
-
-AnimatedScene loadAnimatedScene(const std::filesystem::path& path,
-                                const std::vector<std::string>& overrides) {
+nlohmann::json readSceneDocument(const std::filesystem::path& path) {
     // /dev/zero or a FIFO would be read forever: only regular files of a sane size.
     constexpr std::uintmax_t kMaxSceneBytes = std::uintmax_t(256) << 20;
     std::error_code ec;
@@ -210,25 +206,53 @@ AnimatedScene loadAnimatedScene(const std::filesystem::path& path,
     text << in.rdbuf();
 
     // Comments (// and /* */) are allowed so example scenes can explain themselves.
-    nlohmann::json doc = parseJsonText(text.str(), path.string());
+    return parseJsonText(text.str(), path.string());
+}
+
+void applySceneOverrides(nlohmann::json& doc, const std::vector<std::string>& overrides,
+                         const std::string& source) {
     try {
         applyOverrides(doc, overrides);
     } catch (const Error& e) {
-        throw Error(fmt::format("{}: {}", path.string(), e.what()));
+        throw Error(fmt::format("{}: {}", source, e.what()));
     } catch (const nlohmann::json::exception& e) {
-        throw Error(fmt::format("{}: --set: {}", path.string(), jsonProblem(e)));
+        throw Error(fmt::format("{}: --set: {}", source, jsonProblem(e)));
     }
-    std::filesystem::path absolute = std::filesystem::absolute(path);
-    AnimatedScene scene;
+}
+
+namespace {
+
+AnimatedScene parseAnimated(const nlohmann::json& doc, const std::filesystem::path& baseDir,
+                            const std::string& source) {
+    AnimatedScene s;
     try {
-        scene.scene =
-            detail::parseSceneDocument(doc, absolute.parent_path(), path.string(), &scene.timeline);
+        s.scene = detail::parseSceneDocument(doc, baseDir, source, &s.timeline);
     } catch (const nlohmann::json::exception& e) {
         // The parser checks types before reading values; this is a last line, not the plan.
-        throw Error(fmt::format("{}: {}", path.string(), jsonProblem(e)));
+        throw Error(fmt::format("{}: {}", source, jsonProblem(e)));
     }
+    return s;
+}
+
+} // namespace
+
+Scene parseScene(const nlohmann::json& doc, const std::filesystem::path& baseDir,
+                 const std::string& source) {
+    return atDefaultFrame(parseAnimated(doc, baseDir, source), source);
+}
+
+AnimatedScene loadAnimatedScene(const std::filesystem::path& path,
+                                const std::vector<std::string>& overrides) {
+    nlohmann::json doc = readSceneDocument(path);
+    applySceneOverrides(doc, overrides, path.string());
+    const std::filesystem::path absolute = std::filesystem::absolute(path);
+    AnimatedScene scene = parseAnimated(doc, absolute.parent_path(), path.string());
     scene.scene.sourcePath = absolute;
     return scene;
+}
+
+Scene loadScene(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
+    return atDefaultFrame(loadAnimatedScene(path, overrides), path.string());
 }
 
 } // namespace veil::scene

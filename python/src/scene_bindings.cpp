@@ -1,0 +1,159 @@
+// veil.Scene (docs/python.md).
+#include "bindings.h"
+
+#include "base/error.h"
+#include "base/text.h"
+#include "oit/technique.h"
+#include "vdb/vdb_scene.h"
+
+#include <fmt/ranges.h>
+#include <pybind11/stl.h>
+
+namespace veil::python {
+
+namespace fs = std::filesystem;
+
+PyScene PyScene::load(const fs::path& path, const std::vector<std::string>& overrides) {
+    PyScene s;
+    s.source = path.string();
+    s.file = fs::absolute(path);
+    s.baseDir = s.file.parent_path();
+    nlohmann::json doc = scene::readSceneDocument(path);
+    scene::applySceneOverrides(doc, overrides, s.source);
+    s.reparse(std::move(doc));
+    return s;
+}
+
+PyScene PyScene::fromDict(py::handle dict, const fs::path& baseDir) {
+    VEIL_CHECK(py::isinstance<py::dict>(dict),
+               "Scene(): expected a dict (a scene document), got {}",
+               py::str(dict.get_type().attr("__name__")).cast<std::string>());
+    PyScene s;
+    s.source = "<scene>";
+    s.baseDir = baseDir.empty() ? fs::current_path() : fs::absolute(baseDir);
+    nlohmann::json doc;
+    try {
+        doc = fromPython(dict);
+    } catch (const Error& e) {
+        throw Error(fmt::format("<scene>: {}", e.what()));
+    }
+    s.reparse(std::move(doc));
+    return s;
+}
+
+void PyScene::reparse(nlohmann::json candidate) {
+    auto parsedScene =
+        std::make_shared<scene::Scene>(scene::parseScene(candidate, baseDir, source));
+    // The scene's OIT technique and its properties, checked as `veil render` checks them
+    // before it renders.
+    const scene::RenderSettings& r = parsedScene->render;
+    const auto& registry = oit::Registry::instance();
+    VEIL_CHECK(registry.find(r.oit), "{}/type: unknown OIT technique '{}' (known: {})", r.oitWhere,
+               r.oit, fmt::join(registry.names(), ", "));
+    registry.resolve(r.oit, r.oitProperties, r.oitWhere);
+    parsedScene->sourcePath = file;
+    parsed = std::move(parsedScene);
+    doc = std::move(candidate);
+}
+
+void PyScene::set(const std::string& key, py::handle value) {
+    VEIL_CHECK(key.find('=') == std::string::npos,
+               "override '{}': a key has no '=' (set(key, value))", printable(key, 200));
+    // The `--set key=value` string: a str value as typed on a command line (JSON when it
+    // parses as JSON, else a string), anything else as its JSON text.
+    const std::string text =
+        py::isinstance<py::str>(value) ? value.cast<std::string>() : fromPython(value).dump();
+    nlohmann::json candidate = doc;
+    scene::applySceneOverrides(candidate, {key + "=" + text}, source);
+    reparse(std::move(candidate));
+}
+
+PyScene sceneArgument(py::handle value) {
+    if (py::isinstance<PyScene>(value)) return value.cast<PyScene>();
+    if (py::isinstance<py::dict>(value)) return PyScene::fromDict(value, {});
+    const fs::path path = toPath(value, "scene");
+    if (lowerExtension(path.string()) == ".vdb") {
+        // A bare density volume, framed as `veil render file.vdb` frames it.
+        vdb::VdbScene v = vdb::sceneForVdb(path, "", {});
+        PyScene s;
+        s.source = path.string();
+        s.file = fs::absolute(path);
+        s.baseDir = s.file.parent_path();
+        s.parsed = std::make_shared<scene::Scene>(std::move(v.scene));
+        return s;
+    }
+    return PyScene::load(path, {});
+}
+
+void bindScene(py::module_& m) {
+    py::class_<PyScene>(
+        m, "Scene",
+        R"doc(A scene: the JSON document of docs/scene-format.md and the scene parsed from it.
+
+Scene(doc, base_dir=None) parses a dict (relative file paths resolve against
+base_dir, default the current folder); Scene.load(path) reads a scene file.
+Every change is checked at once, with the messages `veil render --set` gives.)doc")
+        .def(py::init([](py::dict doc, py::object baseDir) {
+                 return PyScene::fromDict(doc, baseDir.is_none() ? fs::path()
+                                                                 : toPath(baseDir, "base_dir"));
+             }),
+             py::arg("doc"), py::arg("base_dir") = py::none(),
+             "Parse a scene document (a dict as the JSON scene file holds it).")
+        .def_static(
+            "load",
+            [](py::object path, std::vector<std::string> overrides) {
+                return PyScene::load(toPath(path, "Scene.load"), overrides);
+            },
+            py::arg("path"), py::arg("overrides") = std::vector<std::string>{},
+            R"doc(Read a scene file (JSON, comments allowed).
+
+overrides: "key=value" strings applied first, exactly as `veil render --set`.)doc")
+        .def(
+            "set",
+            [](PyScene& s, const std::string& key, py::object value) -> PyScene& {
+                s.set(key, value);
+                return s;
+            },
+            py::arg("key"), py::arg("value"),
+            R"doc(Override a scene value by dotted path, as `--set key=value` does.
+
+scene.set("render.oit.type", "moment-p6"); scene.set("lights.0.intensity", 40).
+A str value is read as on a command line (JSON when it parses as JSON, else a
+string); other values as JSON. An unknown key or a bad value raises veil.Error
+with the command line's message and leaves the scene unchanged. Returns the
+scene, so calls chain.)doc")
+        .def(
+            "to_dict", [](const PyScene& s) { return toPython(s.doc); },
+            "The scene document with every set() applied, as a dict.")
+        .def(
+            "copy", [](const PyScene& s) { return s; }, "An independent copy.")
+        .def_property_readonly(
+            "path",
+            [](const PyScene& s) -> py::object {
+                if (s.file.empty()) return py::none();
+                return py::module_::import("pathlib").attr("Path")(s.file.string());
+            },
+            "The scene file (absolute), or None for a scene made from a dict.")
+        .def_property_readonly(
+            "cameras",
+            [](const PyScene& s) {
+                std::vector<std::string> names;
+                for (const auto& c : s.parsed->cameras)
+                    names.push_back(c.name);
+                return names;
+            },
+            "Camera names.")
+        .def_property_readonly(
+            "size",
+            [](const PyScene& s) {
+                return std::make_pair(s.parsed->render.width, s.parsed->render.height);
+            },
+            "(width, height) of render.width / render.height.")
+        .def("__repr__", [](const PyScene& s) {
+            return fmt::format("veil.Scene('{}', {} objects, {} volumes, oit {})", s.source,
+                               s.parsed->objects.size(), s.parsed->volumes.size(),
+                               s.parsed->render.oit);
+        });
+}
+
+} // namespace veil::python
