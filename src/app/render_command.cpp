@@ -4,6 +4,7 @@
 
 #include "app/progress.h"
 #include "app/render_frames.h"
+#include "app/render_pathtraced.h"
 #include "capture/dump.h"
 #include "capture/exr_output.h"
 #include "capture/frame_capture.h"
@@ -61,6 +62,7 @@ struct RenderArgs {
     std::string frames;            // frame range (render_frames.h)
     std::optional<int> frame;      // one frame of an animated scene
     bool resume = false;
+    std::string integrator = "raster"; // raster (the GPU frame) or pathtraced (render_pathtraced.h)
 };
 
 // --frames / --frame: the options that go with one still frame are refused.
@@ -151,6 +153,8 @@ void checkOutputPaths(const RenderArgs& args) {
         inputs.push_back(args.compareTo); // -o ref.exr --compare-to ref.exr
 
     checkOutputPath(args.output, "output", inputs);
+    if (args.integrator == "pathtraced")
+        checkOutputPath(pathTracedErrorPath(args.output), "standard-error image", inputs);
     if (!args.report.empty()) checkOutputPath(args.report, "report", inputs);
     if (!args.compareTo.empty())
         checkOutputPath(errorImagePath(args.output), "error image", inputs);
@@ -209,6 +213,21 @@ void runRender(const RenderArgs& args) {
         if (compareTarget.kind == compare::CompareTarget::Kind::Shadows)
             shadows::Registry::instance().get(compareTarget.shadows, "--compare-to");
         compare::checkCompareTarget(compareTarget, scene);
+        if (compareTarget.kind == compare::CompareTarget::Kind::PathTraced)
+            compare::pathTracedSettings(args.scene, args.overrides); // bad properties fail here
+    }
+    if (args.integrator == "pathtraced") {
+        VEIL_CHECK(args.compareTo.empty() && args.dump.empty() && args.aovs.empty() &&
+                       args.report.empty() && !args.half && !all,
+                   "--integrator pathtraced writes the path-traced image and its standard error "
+                   "only (no --compare-to, --dump, --aov, --half, --report or --oit all)");
+        VEIL_CHECK(!scene.volumes.empty(),
+                   "--integrator pathtraced: scene '{}' has no volumes (the path tracer renders "
+                   "volumes only)",
+                   args.scene);
+        renderPathTraced(scene, compare::pathTracedSettings(args.scene, args.overrides),
+                         args.camera, args.width, args.height, output, args.progress);
+        return;
     }
     gpu::HeadlessContext context({args.device, args.glDebug});
     const bool png = ext == ".png";
@@ -249,6 +268,12 @@ void runRender(const RenderArgs& args) {
             ProgressTicker ticker("CPU fog reference", progressWanted(args.progress));
             referenceHdr =
                 compare::cpuFogReference(scene, args.camera, f.width, f.height, compareNote);
+        } else if (compareTarget.kind == compare::CompareTarget::Kind::PathTraced) {
+            ProgressTicker ticker("path-traced reference", progressWanted(args.progress));
+            referenceHdr = compare::pathTracedReference(
+                               scene, compare::pathTracedSettings(args.scene, args.overrides),
+                               args.camera, f.width, f.height, compareNote)
+                               .radiance;
         }
         if (compareTarget.kind != compare::CompareTarget::Kind::None)
             errors.emplace_back(f.oit, compare::compareLinear(f.hdr, referenceHdr));
@@ -417,9 +442,15 @@ void addRenderCommand(CLI::App& app) {
         "--compare-to", args->compareTo,
         "Compare the output (linear HDR RGB) with: a technique (e.g. reference, "
         "rendered too), shadows:ID (the same frame with that shadow technique, e.g. "
-        "shadows:reference), an image file (e.g. ref.exr, same size), or cpu (the fog's "
-        "CPU reference over the background; scenes with volumes). Prints RMSE/PSNR, "
+        "shadows:reference), an image file (e.g. ref.exr, same size), cpu (the fog's "
+        "CPU reference over the background; scenes with volumes) or pathtraced (the volumetric "
+        "path tracer, render.pathtraced.*). Prints RMSE/PSNR, "
         "writes <output stem>-error.png (|error| x 4)");
+    cmd->add_option("--integrator", args->integrator,
+                    "raster: the GPU frame; pathtraced: the volumetric path tracer's image of the "
+                    "volumes (render.pathtraced.spp, max_bounces, seed, roulette_depth, batch), "
+                    "plus <output stem>-stderr.exr with the per-pixel standard error")
+        ->check(CLI::IsMember({"raster", "pathtraced"}));
     cmd->add_option("--set", args->overrides,
                     "Override a scene value: key=value, e.g. render.exposure=2 or "
                     "lights.0.intensity=5 (repeatable)");

@@ -3,11 +3,14 @@
 #include "base/error.h"
 #include "base/text.h"
 #include "io/image_io.h"
+#include "scene/json_text.h"
 #include "volume/cpu_reference.h"
 #include "volume/density_grid.h"
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 namespace veil::compare {
 
@@ -20,6 +23,8 @@ CompareTarget parseCompareTarget(const std::string& text) {
         t.kind = CompareTarget::Kind::None;
     else if (text == "cpu")
         t.kind = CompareTarget::Kind::Cpu;
+    else if (text == "pathtraced")
+        t.kind = CompareTarget::Kind::PathTraced;
     else if (text.rfind("shadows:", 0) == 0) {
         t.kind = CompareTarget::Kind::Shadows;
         t.shadows = text.substr(8);
@@ -41,11 +46,12 @@ void checkCompareTarget(const CompareTarget& target, const scene::Scene& scene) 
                        ext == ".tiff",
                    "--compare-to '{}': not an image (.exr; .png, .hdr and .tif are read too)",
                    target.text);
-    } else if (target.kind == CompareTarget::Kind::Cpu) {
+    } else if (target.kind == CompareTarget::Kind::Cpu ||
+               target.kind == CompareTarget::Kind::PathTraced) {
         VEIL_CHECK(!scene.volumes.empty(),
-                   "--compare-to cpu: scene '{}' has no volumes (the CPU reference is the "
-                   "fog's)",
-                   scene.sourcePath.string());
+                   "--compare-to {}: scene '{}' has no volumes (the reference renders the "
+                   "volumes only)",
+                   target.text, scene.sourcePath.string());
     }
 }
 
@@ -84,6 +90,45 @@ ImageF cpuFogReference(const scene::Scene& scene, const std::string& camera, int
                              "scene's {} object(s) are not in it",
                              scene.objects.size());
     return out;
+}
+
+volume::PathTracerSettings pathTracedSettings(const std::string& sceneFile,
+                                              const std::vector<std::string>& overrides) {
+    nlohmann::json properties;
+    std::string where = "render.pathtraced";
+    if (lowerExtension(sceneFile) != ".vdb") {
+        // The file was read and checked by scene::loadScene already.
+        std::ifstream in(sceneFile, std::ios::binary);
+        std::stringstream text;
+        text << in.rdbuf();
+        nlohmann::json doc = scene::parseJsonText(text.str(), sceneFile);
+        scene::applyOverrides(doc, overrides);
+        const nlohmann::json::json_pointer ptr("/render/pathtraced");
+        if (doc.contains(ptr)) properties = doc.at(ptr);
+        where = sceneFile + ": /render/pathtraced";
+    }
+    return volume::pathTracerSettings(
+        volume::pathTracerSchema().resolve(properties, where, "the path tracer"));
+}
+
+volume::PathTracedImage pathTracedReference(const scene::Scene& scene,
+                                            const volume::PathTracerSettings& settings,
+                                            const std::string& camera, int width, int height,
+                                            std::string& note,
+                                            const std::function<void(int, int)>& progress) {
+    std::vector<openvdb::FloatGrid::ConstPtr> grids;
+    for (const scene::VolumeRef& v : scene.volumes)
+        grids.push_back(v.procedural == "homogeneous" ? nullptr : volume::loadVolume(v));
+    const volume::VolumePathTracer tracer(scene, grids, settings);
+    note = scene.objects.empty()
+               ? std::string()
+               : fmt::format("note: the path-traced reference has the volumes only; the "
+                             "scene's {} object(s) are not in it",
+                             scene.objects.size());
+    return tracer.render(scene.camera(camera), width, height, [&](int done) {
+        if (progress) progress(done, settings.spp);
+        return true;
+    });
 }
 
 } // namespace veil::compare

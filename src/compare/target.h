@@ -1,19 +1,23 @@
 // What `veil render --compare-to X` compares the frame with: another OIT technique of the
 // same frame (a technique id), the same frame with another shadow technique (`shadows:ID`,
 // e.g. shadows:reference, at the frame's map size), a stored image (a path: anything with '/' or
-// '.', e.g. ref.exr), or `cpu`: the fog's double-precision CPU reference
-// (src/volume/cpu_reference.h) composited over the scene's background, for scenes with volumes.
+// '.', e.g. ref.exr), `cpu`: the fog's double-precision CPU reference
+// (src/volume/cpu_reference.h) composited over the scene's background, for scenes with volumes,
+// or `pathtraced`: the volumetric path tracer (src/volume/path_tracer.h) with render.pathtraced.*.
 #pragma once
 
 #include "base/image.h"
 #include "scene/scene.h"
+#include "volume/path_tracer.h"
+
+#include <functional>
 
 #include <string>
 
 namespace veil::compare {
 
 struct CompareTarget {
-    enum class Kind { None, Technique, Shadows, File, Cpu };
+    enum class Kind { None, Technique, Shadows, File, Cpu, PathTraced };
     Kind kind = Kind::None;
     std::string text;
     std::string shadows; // Kind::Shadows: the shadow technique id
@@ -42,5 +46,20 @@ ImageF cpuFogOverBackground(const scene::Scene& scene, const scene::Camera& came
 // Surfaces are not part of it (cpu_reference.h): `note` says so when the scene has objects.
 ImageF cpuFogReference(const scene::Scene& scene, const std::string& camera, int width, int height,
                        std::string& note);
+
+// The path tracer's settings from the scene file's "render": {"pathtraced": {...}} after the
+// `overrides` (--set render.pathtraced.spp=16), validated against volume::pathTracerSchema();
+// defaults for a .vdb input or a scene without the block.
+volume::PathTracerSettings pathTracedSettings(const std::string& sceneFile,
+                                              const std::vector<std::string>& overrides);
+
+// The volumetric path tracer's image of the scene's volumes: per pixel the mean radiance
+// (background included) and its standard error. `progress(samplesSoFar, spp)` after each pass.
+// Surfaces are not part of it: `note` says so when the scene has objects.
+volume::PathTracedImage pathTracedReference(const scene::Scene& scene,
+                                            const volume::PathTracerSettings& settings,
+                                            const std::string& camera, int width, int height,
+                                            std::string& note,
+                                            const std::function<void(int, int)>& progress = {});
 
 } // namespace veil::compare

@@ -136,6 +136,12 @@ void parseRender(const Obj& o, RenderSettings& r) {
         r.aoProperties = *ao;
         r.aoWhere = fmt::format("{}: {}", o.ctx().source, o.ptr("ao"));
     }
+    if (const json* pt = o.get("pathtraced")) {
+        if (!pt->is_object())
+            fail(o.ctx(), o.ptr("pathtraced"), "expected an object of path tracer properties");
+        // The path tracer's properties (src/volume/path_tracer.h) are read from the document
+        // by its caller (compare::pathTracedProperties) and checked there.
+    }
     // Legacy keys of the opaque shadow map, kept as aliases of the shadow technique's
     // properties (every technique has an opaque map: src/shadows/opaque/opaque.h).
     for (const auto& [legacy, key] :
@@ -482,7 +488,7 @@ Scene parseSceneDocument(const json& doc, const fs::path& baseDir, const std::st
     if (const json* r = root.get("render"))
         parseRender(Obj(ctx, *r, root.ptr("render"),
                         keysOf(renderValueDecls(), 0, {},
-                               {{"height", {"camera", "oit", "shadows", "ao"}},
+                               {{"height", {"camera", "oit", "shadows", "ao", "pathtraced"}},
                                 {"tonemap", {"shadow_map_size", "shadow_bias", "pcf_radius"}}})),
                     scene.render);
 

@@ -1,0 +1,44 @@
+// Blackbody colour (src/volume/blackbody.h) against the Planckian locus of Krystek's rational
+// approximation in CIE 1960 UCS [Krystek85] (|du|, |dv| < 1e-4 over 1000..15000 K), which
+// shares nothing with the table integration.
+#include "volume/blackbody.h"
+
+#include <gtest/gtest.h>
+
+namespace veil::test {
+
+namespace {
+glm::dvec2 krystekXy(double t) {
+    const double u = (0.860117757 + 1.54118254e-4 * t + 1.28641212e-7 * t * t) /
+                     (1.0 + 8.42420235e-4 * t + 7.08145163e-7 * t * t);
+    const double v = (0.317398726 + 4.22806245e-5 * t + 4.20481691e-8 * t * t) /
+                     (1.0 - 2.89741816e-5 * t + 1.61456053e-7 * t * t);
+    const double d = 2.0 * u - 8.0 * v + 4.0;
+    return {3.0 * u / d, 2.0 * v / d};
+}
+glm::dvec2 chromaticity(const glm::dvec3& xyz) {
+    const double s = xyz.x + xyz.y + xyz.z;
+    return {xyz.x / s, xyz.y / s};
+}
+} // namespace
+
+TEST(Blackbody, ChromaticityIsOnThePlanckianLocus) {
+    for (double t : {1500.0, 2500.0, 4000.0, 6500.0, 10000.0}) {
+        // Through linear sRGB and back, as a renderer's pixel is read.
+        const glm::dvec2 xy = chromaticity(volume::linearSrgbToXyz(volume::blackbodyRgb(t)));
+        const glm::dvec2 ref = krystekXy(t);
+        EXPECT_NEAR(xy.x, ref.x, 0.005) << t << " K";
+        EXPECT_NEAR(xy.y, ref.y, 0.005) << t << " K";
+    }
+}
+
+TEST(Blackbody, RadianceFollowsPlanck) {
+    // Wien's displacement: hotter is brighter at every wavelength; Y(2T) / Y(T) is large at
+    // low T (visible band in Wien's tail) and tends to 2 (Rayleigh-Jeans) at very high T.
+    EXPECT_GT(volume::blackbodyXyz(3000.0).y / volume::blackbodyXyz(1500.0).y, 50.0);
+    const double hot = volume::blackbodyXyz(4e6).y / volume::blackbodyXyz(2e6).y;
+    EXPECT_NEAR(hot, 2.0, 0.01);
+    EXPECT_EQ(volume::blackbodyXyz(0.0), glm::dvec3(0.0));
+}
+
+} // namespace veil::test

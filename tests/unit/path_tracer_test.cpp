@@ -1,0 +1,198 @@
+// The volumetric path tracer (src/volume/path_tracer.h) against what it did not produce:
+// the adding-doubling slab solver (itself checked against Chandrasekhar's H-function and
+// energy conservation), Beer-Lambert, and the single-scattering CPU fog reference.
+#include "volume/adding_doubling.h"
+#include "volume/cpu_reference.h"
+#include "volume/path_tracer.h"
+
+#include <gtest/gtest.h>
+#include <openvdb/openvdb.h>
+
+#include <cmath>
+
+namespace veil::test {
+
+using volume::addingDoublingSlab;
+using volume::traceSlab;
+
+TEST(AddingDoubling, ConservesEnergyWithoutAbsorption) {
+    for (double tau : {0.1, 1.0, 4.0, 16.0}) {
+        const auto s = addingDoublingSlab(tau, 1.0);
+        EXPECT_NEAR(s.reflectance + s.diffuseTransmittance + s.directTransmittance, 1.0, 1e-6)
+            << "tau " << tau;
+    }
+}
+
+TEST(AddingDoubling, ThinLayerIsSingleScattering) {
+    // tau -> 0: half of the scattered fraction a tau goes up, half down.
+    const double tau = 1e-4, a = 0.7;
+    const auto s = addingDoublingSlab(tau, a);
+    EXPECT_NEAR(s.reflectance, 0.5 * a * tau, 1e-3 * a * tau);
+    EXPECT_NEAR(s.diffuseTransmittance, 0.5 * a * tau, 1e-3 * a * tau);
+}
+
+TEST(AddingDoubling, ThickSlabIsChandrasekharsPlaneAlbedo) {
+    // Semi-infinite medium, normal incidence: R = 1 - H(1) sqrt(1 - a).
+    for (double a : {0.5, 0.9, 0.99}) {
+        const double expected = 1.0 - volume::chandrasekharH(1.0, a) * std::sqrt(1.0 - a);
+        EXPECT_NEAR(addingDoublingSlab(256.0, a).reflectance, expected, 2e-5) << "albedo " << a;
+    }
+}
+
+// The slab's total diffuse reflectance and transmittance against adding-doubling, to within 3
+// standard errors of the Monte Carlo estimate plus 1 % of the reference value. The standard
+// error used is the larger of the sample's and that of a binomial tally of the reference value
+// (rare events, e.g. transmission through tau = 16, may not occur at all in n paths).
+TEST(PathTracerSlab, MatchesAddingDoubling) {
+    const std::uint64_t n = 8000;
+    auto tolerance = [&](double se, double ref) {
+        return 3.0 * std::max(se, std::sqrt(ref * (1.0 - ref) / double(n))) + 0.01 * ref;
+    };
+    for (double tau : {1.0, 4.0, 16.0})
+        for (double a : {0.9, 0.99, 1.0}) {
+            const auto ref = addingDoublingSlab(tau, a);
+            const auto mc = traceSlab(tau, a, 0.0, n, 7);
+            const std::string what = "tau " + std::to_string(tau) + " albedo " + std::to_string(a);
+            EXPECT_NEAR(mc.reflectance, ref.reflectance,
+                        tolerance(mc.reflectanceError, ref.reflectance))
+                << what;
+            EXPECT_NEAR(mc.diffuseTransmittance, ref.diffuseTransmittance,
+                        tolerance(mc.diffuseTransmittanceError, ref.diffuseTransmittance))
+                << what;
+            EXPECT_NEAR(mc.directTransmittance, std::exp(-tau),
+                        tolerance(mc.directTransmittanceError, std::exp(-tau)))
+                << what;
+        }
+}
+
+TEST(PathTracerSlab, AlbedoZeroIsBeerLambert) {
+    for (double tau : {0.5, 1.0, 4.0}) {
+        const auto mc = traceSlab(tau, 0.0, 0.0, 40000, 3);
+        EXPECT_EQ(mc.reflectance, 0.0); // nothing scatters: exactly zero
+        EXPECT_EQ(mc.diffuseTransmittance, 0.0);
+        // Binomial estimate of exp(-tau): its standard error is sqrt(T (1 - T) / n).
+        const double t = std::exp(-tau), se = std::sqrt(t * (1.0 - t) / 40000.0);
+        EXPECT_NEAR(mc.directTransmittance, t, 4.0 * se) << "tau " << tau;
+    }
+}
+
+TEST(PathTracerSlab, AlbedoOneConservesEnergy) {
+    for (double tau : {1.0, 16.0}) {
+        const auto mc = traceSlab(tau, 1.0, 0.6, 4000, 5);
+        const double total = mc.reflectance + mc.diffuseTransmittance + mc.directTransmittance;
+        // Roulette never cuts a weight of 1: every path leaves through a face with weight 1.
+        EXPECT_NEAR(total, 1.0, 1e-12) << "tau " << tau;
+    }
+}
+
+namespace {
+
+// A dense box of density 1 with n^3 voxels of size h, centred at the origin.
+openvdb::FloatGrid::Ptr boxGrid(int n, double h) {
+    auto grid = openvdb::FloatGrid::create(0.0f);
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(h));
+    grid->transform().postTranslate(openvdb::Vec3d(-0.5 * h * (n - 1)));
+    grid->tree().fill(openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(n - 1)), 1.0f, true);
+    grid->setGridClass(openvdb::GRID_FOG_VOLUME);
+    return grid;
+}
+
+scene::Scene boxScene(float scale, glm::vec3 albedo) {
+    scene::Scene s;
+    scene::Camera cam;
+    cam.type = scene::CameraType::Orthographic;
+    cam.position = {0.0f, 0.0f, 4.0f};
+    cam.orthoHeight = 1.6f;
+    s.cameras.push_back(cam);
+    scene::VolumeRef v;
+    v.name = "box";
+    v.densityScale = scale;
+    v.albedo = albedo;
+    s.volumes.push_back(v);
+    s.render.ambient = glm::vec3(0.0f);
+    return s;
+}
+
+} // namespace
+
+TEST(PathTracer, AlbedoZeroBoxIsBeerLambert) {
+    openvdb::initialize();
+    const int n = 20;
+    const double h = 0.05; // 1 x 1 x 1
+    scene::Scene s = boxScene(2.0f, glm::vec3(0.0f));
+    s.render.background = glm::vec3(1.0f);
+    volume::PathTracerSettings settings;
+    settings.spp = 400;
+    const volume::VolumePathTracer tracer(s, {boxGrid(n, h)}, settings);
+    // Rays along -z through the box's inner part cross n voxels: the trilinear ramps at both
+    // faces add up to one voxel, so tau = scale x n x h.
+    const double expected = std::exp(-2.0 * n * h);
+    const auto img = tracer.render(s.cameras[0], 8, 8);
+    for (int y = 2; y < 6; ++y)
+        for (int x = 2; x < 6; ++x) {
+            const double se = std::sqrt(expected * (1.0 - expected) / settings.spp);
+            EXPECT_NEAR(img.radiance.at(x, y, 0), expected, 4.0 * se) << x << "," << y;
+            EXPECT_NEAR(img.standardError.at(x, y, 0), se, 0.2 * se);
+        }
+}
+
+TEST(PathTracer, SingleScatteringMatchesCpuFogReference) {
+    openvdb::initialize();
+    scene::Scene s = boxScene(3.0f, glm::vec3(0.9f, 0.6f, 0.3f));
+    s.volumes[0].anisotropy = 0.4f;
+    scene::Light sun;
+    sun.direction = glm::normalize(glm::vec3(0.5f, -1.0f, -0.3f));
+    sun.intensity = 2.0f;
+    s.lights.push_back(sun);
+    openvdb::FloatGrid::ConstPtr grid = boxGrid(16, 0.05);
+    volume::PathTracerSettings settings;
+    settings.spp = 256;
+    settings.maxBounces = 1;
+    const volume::VolumePathTracer tracer(s, {grid}, settings);
+    const volume::CpuFogReference marcher(s, {grid});
+    const int w = 8, hgt = 8;
+    const auto pt = tracer.render(s.cameras[0], w, hgt);
+    const ImageF ref = marcher.render(s.cameras[0], w, hgt, 1024);
+    double sumPt = 0.0, sumRef = 0.0, var = 0.0;
+    int outliers = 0;
+    for (int y = 0; y < hgt; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const double a = pt.radiance.at(x, y, c), b = ref.at(x, y, c),
+                             se = pt.standardError.at(x, y, c);
+                sumPt += a;
+                sumRef += b;
+                var += se * se;
+                if (std::abs(a - b) > 4.0 * se + 0.01 * b + 1e-6) ++outliers;
+            }
+    EXPECT_GT(sumRef, 1.0);
+    EXPECT_NEAR(sumPt, sumRef, 3.0 * std::sqrt(var) + 0.005 * sumRef);
+    EXPECT_LE(outliers, 1);
+}
+
+TEST(PathTracer, ProgressiveAndDeterministic) {
+    openvdb::initialize();
+    scene::Scene s = boxScene(3.0f, glm::vec3(0.95f));
+    scene::Light sun;
+    s.lights.push_back(sun);
+    openvdb::FloatGrid::ConstPtr grid = boxGrid(8, 0.1);
+    volume::PathTracerSettings settings;
+    settings.spp = 8;
+    settings.batch = 3;
+    const volume::VolumePathTracer tracer(s, {grid}, settings);
+    std::vector<int> passes;
+    const auto a = tracer.render(s.cameras[0], 4, 4, [&](int done) {
+        passes.push_back(done);
+        return true;
+    });
+    EXPECT_EQ(passes, (std::vector<int>{3, 6, 8}));
+    settings.batch = 8;
+    const auto b = volume::VolumePathTracer(s, {grid}, settings).render(s.cameras[0], 4, 4);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x)
+            EXPECT_NEAR(a.radiance.at(x, y, 1), b.radiance.at(x, y, 1), 1e-6);
+    const auto stopped = tracer.render(s.cameras[0], 4, 4, [](int) { return false; });
+    EXPECT_EQ(stopped.samples, 3);
+}
+
+} // namespace veil::test
