@@ -137,11 +137,30 @@ void applyOverrides(nlohmann::json& doc, const std::vector<std::string>& overrid
     }
 }
 
+void applyTechniqueChoice(nlohmann::json& doc, const TechniqueChoice& choice) {
+    const RenderSettings defaults;
+    const auto choose = [&doc](const char* key, const std::string& name,
+                               const std::string& fallback) {
+        if (name.empty() || !doc.is_object()) return;
+        nlohmann::json& render = doc["render"];
+        if (!render.is_object() && !render.is_null()) return; // the parser names the problem
+        nlohmann::json& current = render[key];
+        std::string named = fallback; // absent, or properties without "type": the default
+        if (current.is_string()) named = current.get<std::string>();
+        if (current.is_object() && current.contains("type") && current["type"].is_string())
+            named = current["type"].get<std::string>();
+        if (named != name) current = name;
+    };
+    choose("oit", choice.oit, defaults.oit);
+    choose("shadows", choice.shadows, defaults.shadows);
+}
+
 Scene parseScene(const nlohmann::json& doc, const std::filesystem::path& baseDir) {
     return detail::parseSceneDocument(doc, baseDir, "<scene>");
 }
 
-Scene loadScene(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
+Scene loadScene(const std::filesystem::path& path, const std::vector<std::string>& overrides,
+                const TechniqueChoice& choice) {
     // /dev/zero or a FIFO would be read forever: only regular files of a sane size.
     constexpr std::uintmax_t kMaxSceneBytes = std::uintmax_t(256) << 20;
     std::error_code ec;
@@ -161,6 +180,7 @@ Scene loadScene(const std::filesystem::path& path, const std::vector<std::string
     // Comments (// and /* */) are allowed so example scenes can explain themselves.
     nlohmann::json doc = parseJsonText(text.str(), path.string());
     try {
+        applyTechniqueChoice(doc, choice);
         applyOverrides(doc, overrides);
     } catch (const Error& e) {
         throw Error(fmt::format("{}: {}", path.string(), e.what()));

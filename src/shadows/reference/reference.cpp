@@ -71,6 +71,27 @@ public:
                                     static_cast<float>(maxList_), 0.0f);
     }
     bool attenuatesMedia() const override { return true; }
+    // Mesa's llvmpipe ends all loops of one shader invocation after 65535 iterations in all
+    // (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS, one counter per invocation): the march would then
+    // stop short and light the receiver, silently. visibility.glsl takes eight samples per
+    // iteration; a surface marches once per light, a fog sample of the marcher once per light
+    // and step. What is left of the budget (a quarter) is for the marcher's own loop, the
+    // lists and PCF. Other drivers have no such limit.
+    void checkReceiverWork(const gpu::ContextInfo& context, int fogSteps, int lights,
+                           const std::string& where) const override {
+        if (!context.softwareRenderer) return;
+        constexpr long long kLimit = 65535, kBudget = kLimit * 3 / 4;
+        const long long march = (mediaSteps_ + 7) / 8 + 1;
+        const long long surface = lights * march, fog = std::max(fogSteps, 1) * surface;
+        VEIL_CHECK(fog <= kBudget,
+                   "{}: reference shadows march media_steps = {} per light ({} loop iterations) "
+                   "for each of the fog's {} steps and {} light(s): {} loop iterations per "
+                   "invocation, over {} of the {} that Mesa's {} allows (the march would stop "
+                   "short and light the fog); lower render.shadows.media_steps or "
+                   "render.fog_steps",
+                   where, mediaSteps_, march, fogSteps, lights, fog, kBudget, kLimit,
+                   context.renderer);
+    }
     const gpu::Texture* resourceTexture(const std::string& name) const override {
         if (name == "shadow.depth") return &depth_.texture();
         if (name == "shadow.lists") return &heads_;
