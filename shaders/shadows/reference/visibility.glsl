@@ -54,16 +54,7 @@ vec3 referenceMediaTransmittance(int i, vec3 P) {
     int steps = int(shadows.params[1].y);
     float dt = (t1 - t0) / float(steps);
     float tau = 0.0;
-    // Eight midpoint samples per iteration (a constant inner loop the compiler unrolls): Mesa's
-    // llvmpipe ends a shader invocation's loops after 65535 iterations in all, so fewer
-    // iterations keep long marches exact there; ReferenceTechnique::checkReceiverWork refuses
-    // what would still exceed it.
-    int s = 0;
-    for (; s + 8 <= steps; s += 8)
-        for (int k = 0; k < 8; ++k)
-            tau += volumeExtinction(P + L * (t0 + (float(s + k) + 0.5) * dt));
-    for (int k = 0; k < 7; ++k)
-        if (s + k < steps) tau += volumeExtinction(P + L * (t0 + (float(s + k) + 0.5) * dt));
+    for (int s = 0; s < steps; ++s) tau += volumeExtinction(P + L * (t0 + (float(s) + 0.5) * dt));
     return vec3(exp(-tau * dt));
 }
 
