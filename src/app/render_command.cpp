@@ -197,7 +197,10 @@ void runRender(const RenderArgs& args) {
     VEIL_CHECK(bareVdb || args.grid.empty(), "--grid is for a .vdb input, not '{}'", args.scene);
     std::string vdbNote;
     scene::Scene scene;
-    // --oit / --shadows choose before --set, so render.oit.* / render.shadows.* reach them.
+    // --oit / --shadows choose before --set, so render.oit.* / render.shadows.* reach them; an
+    // unknown name is named as the option's.
+    if (!args.oit.empty() && args.oit != "all") checkKnown(args.oit, "--oit");
+    if (!args.shadows.empty()) shadows::Registry::instance().get(args.shadows, "--shadows");
     const scene::TechniqueChoice choice{args.oit == "all" ? std::string() : args.oit, args.shadows};
     if (bareVdb) {
         vdb::VdbScene v = vdb::sceneForVdb(args.scene, args.grid, args.overrides, choice);
