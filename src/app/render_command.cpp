@@ -188,12 +188,17 @@ void runRender(const RenderArgs& args) {
     VEIL_CHECK(bareVdb || args.grid.empty(), "--grid is for a .vdb input, not '{}'", args.scene);
     std::string vdbNote;
     scene::Scene scene;
+    // --oit / --shadows choose before --set, so render.oit.* / render.shadows.* reach them; an
+    // unknown name is named as the option's.
+    if (!args.oit.empty() && args.oit != "all") checkKnown(args.oit, "--oit");
+    if (!args.shadows.empty()) shadows::Registry::instance().get(args.shadows, "--shadows");
+    const scene::TechniqueChoice choice{args.oit == "all" ? std::string() : args.oit, args.shadows};
     if (bareVdb) {
-        vdb::VdbScene v = vdb::sceneForVdb(args.scene, args.grid, args.overrides);
+        vdb::VdbScene v = vdb::sceneForVdb(args.scene, args.grid, args.overrides, choice);
         scene = std::move(v.scene);
         vdbNote = std::move(v.description);
     } else {
-        scene = scene::loadScene(args.scene, args.overrides);
+        scene = scene::loadScene(args.scene, args.overrides, choice);
     }
     const std::string oitName = args.oit.empty() ? scene.render.oit : args.oit;
     const bool all = oitName == "all";
@@ -204,6 +209,8 @@ void runRender(const RenderArgs& args) {
             oit::Registry::instance().resolve(oitName, scene.render.oitProperties,
                                               scene.render.oitWhere);
     }
+    shadows::Registry::instance().resolve(scene.render.shadows, scene.render.shadowProperties,
+                                          scene.render.shadowsWhere);
     const compare::CompareTarget compareTarget = compare::parseCompareTarget(args.compareTo);
     if (!args.compareTo.empty()) {
         VEIL_CHECK(!all, "--compare-to cannot be combined with --oit all (which compares "

@@ -3,6 +3,8 @@
 #include "base/error.h"
 #include "base/log.h"
 
+#include <limits>
+
 namespace veil::frame {
 
 namespace {
@@ -67,7 +69,18 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
         // A technique whose maps hold the volumes' absorbance replaces the fog's own
         // self-shadowing volumes (one answer for every receiver, counted once).
         fog_->setSelfShadowing(!(shadows_->attenuatesMedia() && shadowSet_.viewCount > 0));
+        // The light views hold the volumes too: they cast (into maps that replace the
+        // marcher's self-shadowing) and receive (every fog sample asks the maps).
+        if (scene.objects.empty()) {
+            boundsLo_ = glm::vec3(std::numeric_limits<float>::max());
+            boundsHi_ = glm::vec3(std::numeric_limits<float>::lowest());
+        }
+        fog_->extendBounds(boundsLo_, boundsHi_);
+        if (boundsLo_.x > boundsHi_.x) boundsLo_ = boundsHi_ = glm::vec3(0.0f); // global fog only
     }
+    if (fog_ && fog_->hasGridVolumes() && shadowSet_.viewCount > 0)
+        shadows_->checkReceiverWork(context_, scene.render.fogSteps,
+                                    static_cast<int>(shadowSet_.lights.size()), shadowsWhere);
     const std::size_t passMark = programs_.size();
     transparency_ = buildTransparencyPrograms(*oit_, fog_.get(), programs_, visibility);
     for (gpu::ProgramHandle h : programs_.handlesFrom(passMark))

@@ -140,6 +140,24 @@ void applyOverrides(nlohmann::json& doc, const std::vector<std::string>& overrid
     }
 }
 
+void applyTechniqueChoice(nlohmann::json& doc, const TechniqueChoice& choice) {
+    const RenderSettings defaults;
+    const auto choose = [&doc](const char* key, const std::string& name,
+                               const std::string& fallback) {
+        if (name.empty() || !doc.is_object()) return;
+        nlohmann::json& render = doc["render"];
+        if (!render.is_object() && !render.is_null()) return; // the parser names the problem
+        nlohmann::json& current = render[key];
+        std::string named = fallback; // absent, or properties without "type": the default
+        if (current.is_string()) named = current.get<std::string>();
+        if (current.is_object() && current.contains("type") && current["type"].is_string())
+            named = current["type"].get<std::string>();
+        if (named != name) current = name;
+    };
+    choose("oit", choice.oit, defaults.oit);
+    choose("shadows", choice.shadows, defaults.shadows);
+}
+
 namespace {
 
 // An animated scene as one frame: time.frame, else its first.
@@ -210,8 +228,9 @@ nlohmann::json readSceneDocument(const std::filesystem::path& path) {
 }
 
 void applySceneOverrides(nlohmann::json& doc, const std::vector<std::string>& overrides,
-                         const std::string& source) {
+                         const std::string& source, const TechniqueChoice& choice) {
     try {
+        applyTechniqueChoice(doc, choice);
         applyOverrides(doc, overrides);
     } catch (const Error& e) {
         throw Error(fmt::format("{}: {}", source, e.what()));
@@ -242,17 +261,19 @@ Scene parseScene(const nlohmann::json& doc, const std::filesystem::path& baseDir
 }
 
 AnimatedScene loadAnimatedScene(const std::filesystem::path& path,
-                                const std::vector<std::string>& overrides) {
+                                const std::vector<std::string>& overrides,
+                                const TechniqueChoice& choice) {
     nlohmann::json doc = readSceneDocument(path);
-    applySceneOverrides(doc, overrides, path.string());
+    applySceneOverrides(doc, overrides, path.string(), choice);
     const std::filesystem::path absolute = std::filesystem::absolute(path);
     AnimatedScene scene = parseAnimated(doc, absolute.parent_path(), path.string());
     scene.scene.sourcePath = absolute;
     return scene;
 }
 
-Scene loadScene(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
-    return atDefaultFrame(loadAnimatedScene(path, overrides), path.string());
+Scene loadScene(const std::filesystem::path& path, const std::vector<std::string>& overrides,
+                const TechniqueChoice& choice) {
+    return atDefaultFrame(loadAnimatedScene(path, overrides, choice), path.string());
 }
 
 } // namespace veil::scene

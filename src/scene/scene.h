@@ -141,7 +141,18 @@ void applyOverrides(nlohmann::json& doc, const std::vector<std::string>& overrid
 // and bad values throw veil::Error naming the JSON path (e.g. "/objects/2/material").
 Scene parseScene(const nlohmann::json& doc, const std::filesystem::path& baseDir);
 
-// Reads and parses a scene file, applying overrides first.
-Scene loadScene(const std::filesystem::path& path, const std::vector<std::string>& overrides = {});
+// Techniques chosen on the command line (`--oit NAME`, `--shadows NAME`; empty: the scene's).
+// Applied to the document before the overrides, so `--shadows moment --set
+// render.shadows.storage=quantized16` sets a property of the chosen technique and an unknown
+// key is the technique's error. The document's properties are kept when it already names the
+// same technique and dropped when it names another (they are that technique's).
+struct TechniqueChoice {
+    std::string oit, shadows;
+};
+void applyTechniqueChoice(nlohmann::json& doc, const TechniqueChoice& choice);
+
+// Reads and parses a scene file, applying the technique choice and the overrides first.
+Scene loadScene(const std::filesystem::path& path, const std::vector<std::string>& overrides = {},
+                const TechniqueChoice& choice = {});
 
 } // namespace veil::scene

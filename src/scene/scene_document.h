@@ -15,9 +15,10 @@ namespace veil::scene {
 
 // The file's JSON (comments allowed; only regular files up to 256 MiB).
 nlohmann::json readSceneDocument(const std::filesystem::path& path);
-// applyOverrides with its errors prefixed by `source` ("<source>: override '...': ...").
+// applyTechniqueChoice, then applyOverrides, with errors prefixed by `source`
+// ("<source>: override '...': ...").
 void applySceneOverrides(nlohmann::json& doc, const std::vector<std::string>& overrides,
-                         const std::string& source);
+                         const std::string& source, const TechniqueChoice& choice = {});
 // parseScene with errors reading "<source>: <json-pointer>: <problem>".
 Scene parseScene(const nlohmann::json& doc, const std::filesystem::path& baseDir,
                  const std::string& source);

@@ -29,7 +29,8 @@ struct AnimatedScene {
 };
 
 AnimatedScene loadAnimatedScene(const std::filesystem::path& path,
-                                const std::vector<std::string>& overrides = {});
+                                const std::vector<std::string>& overrides = {},
+                                const TechniqueChoice& choice = {});
 AnimatedScene parseAnimatedScene(const nlohmann::json& doc, const std::filesystem::path& baseDir);
 
 struct FrameRange {

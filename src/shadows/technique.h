@@ -77,6 +77,17 @@ public:
     // must not multiply its own self-shadowing volumes (src/volume) in again. (Global
     // homogeneous fog stays analytic in the marcher.)
     virtual bool attenuatesMedia() const { return false; }
+    // Throws veil::Error naming the limit when the receivers' work on this driver would exceed
+    // one of its limits and come out silently wrong (e.g. `reference`'s media march against
+    // Mesa's loop iterations per invocation); `fogSteps` is the fog marcher's steps per pixel
+    // (0 without grid volumes), `lights` the shadowed lights, `where` the scene.
+    virtual void checkReceiverWork(const gpu::ContextInfo& context, int fogSteps, int lights,
+                                   const std::string& where) const {
+        (void)context;
+        (void)fogSteps;
+        (void)lights;
+        (void)where;
+    }
     // Whether the maps depend on the camera (context width/height, viewProjection,
     // orthographicCamera, the camera block in the technique's passes). A technique that says
     // false promises that its passes write the same maps for every camera as long as the

@@ -17,7 +17,8 @@ namespace veil::vdb {
 namespace fs = std::filesystem;
 
 VdbScene sceneForVdb(const fs::path& vdb, const std::string& selector,
-                     const std::vector<std::string>& overrides) {
+                     const std::vector<std::string>& overrides,
+                     const scene::TechniqueChoice& choice) {
     const openvdb::GridPtrVecPtr grids = volume::readVdbFile(vdb);
     const SelectedGrid sel = selectGrid(
         *grids, vdb, selector,
@@ -73,6 +74,7 @@ VdbScene sceneForVdb(const fs::path& vdb, const std::string& selector,
            {"grid", grid.getName().empty() ? std::string("density") : grid.getName()},
            {"density_scale", densityScale},
            {"albedo", 0.9}}}}};
+    scene::applyTechniqueChoice(doc, choice);
     scene::applyOverrides(doc, overrides);
     VdbScene out;
     try {

@@ -26,6 +26,7 @@ struct VdbScene {
 //    has an optical depth of a few units whatever the grid's units, albedo 0.9;
 //  - render 512 x 512 unless overridden; `overrides` (--set) apply to this document.
 VdbScene sceneForVdb(const std::filesystem::path& vdb, const std::string& selector,
-                     const std::vector<std::string>& overrides);
+                     const std::vector<std::string>& overrides,
+                     const scene::TechniqueChoice& choice = {});
 
 } // namespace veil::vdb

@@ -310,4 +310,13 @@ void FogPass::drawEmit() const {
     glBindVertexArray(0);
 }
 
+void FogPass::extendBounds(glm::vec3& lo, glm::vec3& hi) const {
+    for (const Entry& e : volumes_) {
+        glm::vec3 vlo, vhi;
+        e.gpu->worldBounds(vlo, vhi);
+        lo = glm::min(lo, vlo);
+        hi = glm::max(hi, vhi);
+    }
+}
+
 } // namespace veil::volume

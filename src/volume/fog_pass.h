@@ -108,6 +108,9 @@ public:
     // on `program` (for other passes that sample the density: shadow techniques).
     void bindVolumes(const gpu::Program& program) const { setVolumeUniforms(program); }
     bool hasGridVolumes() const { return !volumes_.empty(); }
+    // Widens [lo, hi] to the world bounds of every grid volume (the shadow views must hold the
+    // media they attenuate and the fog samples they shade; global fog has no bounds).
+    void extendBounds(glm::vec3& lo, glm::vec3& hi) const;
     // False when the shadow technique's maps already hold the volumes' absorbance toward
     // every light: the marcher then skips its own self-shadowing volumes.
     void setSelfShadowing(bool on) { selfShadowing_ = on; }

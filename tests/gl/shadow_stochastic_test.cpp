@@ -202,7 +202,8 @@ TEST_F(StochasticShadowTest, StainedGlassColourRatio) {
 // (instead of 0.5 without caustics). Noise: rho S = 3.33, 4 binomial SE over the tent of
 // radius 5 (79 effective texels) = 0.084.
 TEST_F(StochasticShadowTest, CausticDensityFollowsEq12) {
-    nlohmann::json doc = ss::base(technique("stochastic-vsm", {{"blur_radius", 10}}));
+    nlohmann::json doc =
+        ss::base(technique("stochastic-vsm", {{"blur_radius", 10}, {"caustics", true}}));
     ss::addPane(doc, "glass", 1.0, 1.0, {0.5, 0.5, 0.5});
     doc["materials"]["glass"]["ior"] = 1.5;
     const scene::Scene sc = scene::parseScene(doc, sourceDir()); // the renderer keeps a reference

@@ -35,15 +35,17 @@ uint stochHash(uint v) {
     return (word >> 22u) ^ word;
 }
 
-// [McGuire16 Eq. 10-12] with the paper's eta = eta_before / eta_after = 1 / ior for light entering
-// the material from air: s = clamp((ior - 1) / 2), g = 2 clamp(1 - |n.w|^(128 s^2)) - 1, rho
-// scaled by 1 + g s^0.2 (less shadow at normal incidence, more at grazing).
+// [McGuire16 Eq. 10-12] with the paper's eta = eta_before / eta_after: 1 / ior where light enters
+// the material from air (the normal faces the light), s = clamp((ior - 1) / 2); ior where it
+// leaves (the back face of a closed mesh), where Eq. 10 gives s = 0 and rho is left as it is.
+// g = 2 clamp(1 - |n.w|^(128 s^2)) - 1, rho scaled by 1 + g s^0.2 (less shadow at normal
+// incidence, more at grazing).
 float causticScale(vec3 P) {
-    float s = clamp((ior - 1.0) * 0.5, 0.0, 1.0);
-    if (s <= 0.0) return 1.0;
     vec3 w = lightOrthographic ? -lightDirection : normalize(lightPosition - P);
-    float g = 2.0 * clamp(1.0 - pow(abs(dot(normalize(vNormal), w)), 128.0 * s * s), 0.0, 1.0)
-            - 1.0;
+    float cosI = dot(normalize(vNormal), w);
+    float s = cosI > 0.0 ? clamp((ior - 1.0) * 0.5, 0.0, 1.0) : 0.0;
+    if (s <= 0.0) return 1.0;
+    float g = 2.0 * clamp(1.0 - pow(abs(cosI), 128.0 * s * s), 0.0, 1.0) - 1.0;
     return 1.0 + g * pow(s, 0.2);
 }
 

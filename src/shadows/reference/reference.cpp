@@ -71,6 +71,29 @@ public:
                                     static_cast<float>(maxList_), 0.0f);
     }
     bool attenuatesMedia() const override { return true; }
+    // Mesa's llvmpipe ends all loops of one shader invocation after 65535 iterations in all
+    // (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS, one counter per invocation): the march then stops
+    // short and lights the receiver, silently. Measured there on the fog slab (one light): the
+    // surfaces' march is exact at 8192 steps and stops short at 12288, i.e. up to 8 iterations
+    // per step (their programs loop over all four volume slots); the fog marcher's programs
+    // declare only the scene's grid volumes, and fog.json's 160 x 256 steps are exact: one per
+    // step. A frame over the limit less 1024 (the lists, PCF, the marcher's own loop) is refused.
+    // Other drivers have no such limit.
+    void checkReceiverWork(const gpu::ContextInfo& context, int fogSteps, int lights,
+                           const std::string& where) const override {
+        if (!context.softwareRenderer) return;
+        constexpr long long kLimit = 65535, kBudget = kLimit - 1024;
+        const long long surface = 8LL * mediaSteps_ * lights;
+        const long long fog = static_cast<long long>(fogSteps) * lights * (mediaSteps_ + 1);
+        VEIL_CHECK(surface <= kBudget && fog <= kBudget,
+                   "{}: reference shadows march media_steps = {} toward {} light(s): about {} "
+                   "loop iterations per surface and {} per fog pixel ({} fog steps), over the "
+                   "{} per shader invocation that {} allows less 1024 (Mesa's loop limit of "
+                   "{}: the march would stop short and light the shadow); lower "
+                   "render.shadows.media_steps or render.fog_steps",
+                   where, mediaSteps_, lights, surface, fog, fogSteps, kBudget, context.renderer,
+                   kLimit);
+    }
     const gpu::Texture* resourceTexture(const std::string& name) const override {
         if (name == "shadow.depth") return &depth_.texture();
         if (name == "shadow.lists") return &heads_;
