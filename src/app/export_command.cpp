@@ -9,6 +9,7 @@
 // position of the box's first index (the grid's own index-to-world transform), so ParaView
 // shows the volume where OpenVDB puts it. Transforms that are not axis-aligned scales and
 // translations cannot be ImageData and are refused.
+#include "app/command_line.h"
 #include "app/commands.h"
 
 #include "app/cli_checks.h"
@@ -140,6 +141,11 @@ void runExport(const ExportArgs& args) {
         sample(static_cast<const openvdb::Vec3SGrid&>(grid), box, args.resample, dense);
     else
         sample(static_cast<const openvdb::Vec3DGrid&>(grid), box, args.resample, dense);
+    dense.fieldData = {{"veil_source", args.input},
+                       {"veil_grid", fmt::format("{} '{}' ({})", sel.index, grid.getName(),
+                                                 vdb::gridTypeName(grid))},
+                       {"veil_version", versionWithCommit()},
+                       {"veil_command", commandLine()}};
     io::writeVti(args.output, dense);
     std::cout << fmt::format(
         "wrote {}: grid {} '{}' ({}) of {}, {}x{}x{} points over index box [{} {} {}]..[{} {} "

@@ -60,8 +60,22 @@ void printScene(const fs::path& path) {
         std::cout << "  light      " << (l.name.empty() ? "-" : l.name) << " ("
                   << lightTypeName(l.type) << ", intensity " << l.intensity
                   << (l.castShadows ? ", shadows" : "") << ")\n";
-    for (const auto& v : s.volumes)
-        std::cout << "  volume     " << v.path.string() << " grid '" << v.grid << "'\n";
+    for (const auto& v : s.volumes) {
+        const std::string name = v.name.empty() ? "-" : v.name;
+        const std::string optics =
+            fmt::format("density_scale {:.4g}, albedo ({:.3g} {:.3g} {:.3g}), g {:.3g}",
+                        v.densityScale, v.albedo.x, v.albedo.y, v.albedo.z, v.anisotropy);
+        if (v.procedural == "homogeneous")
+            std::cout << "  volume     " << name << " (homogeneous haze filling the scene, "
+                      << optics << ")\n";
+        else if (!v.procedural.empty())
+            std::cout << "  volume     " << name << " (procedural " << v.procedural << ", size "
+                      << fmt::format("{:.4g} {:.4g} {:.4g}", v.size.x, v.size.y, v.size.z) << ", "
+                      << optics << ")\n";
+        else
+            std::cout << "  volume     " << name << " (" << v.path.string() << " grid '" << v.grid
+                      << "', " << optics << ")\n";
+    }
 }
 
 std::string formatBytes(std::size_t bytes) {

@@ -10,6 +10,7 @@
 
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "base/suggest.h"
 #include "base/text.h"
 #include "frame/renderer.h"
 #include "gpu/context.h"
@@ -140,8 +141,9 @@ Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, con
 // Fails before any rendering, naming the known techniques and where the name came from.
 void checkKnown(const std::string& name, const std::string& where) {
     const auto& registry = oit::Registry::instance();
-    VEIL_CHECK(registry.find(name), "{}: unknown OIT technique '{}' (known: {}{})", where, name,
-               fmt::join(registry.names(), ", "), where == "--oit" ? ", or all" : "");
+    VEIL_CHECK(registry.find(name), "{}: unknown OIT technique '{}'{} (known: {}{})", where, name,
+               didYouMean(name, registry.names()), fmt::join(registry.names(), ", "),
+               where == "--oit" ? ", or all" : "");
 }
 
 nlohmann::json errorJson(const std::string& against, const compare::ImageError& e) {
@@ -190,7 +192,8 @@ void runRender(const RenderArgs& args) {
                "--half and --aov need an .exr output, not '{}'", args.output);
     checkOutputPaths(args);
     if (!args.dump.empty()) {
-        VEIL_CHECK(args.oit != "all", "--dump needs one technique, not --oit all");
+        VEIL_CHECK(args.oit != "all" && args.shadows != "all",
+                   "--dump needs one technique, not all");
         capture::checkDumpDirectory(args.dump);
     }
     const bool bareVdb = lowerExtension(args.scene) == ".vdb";
@@ -206,6 +209,9 @@ void runRender(const RenderArgs& args) {
     }
     const std::string oitName = args.oit.empty() ? scene.render.oit : args.oit;
     const bool all = oitName == "all";
+    // --shadows all: every shadow technique with the same OIT, against the reference shadows.
+    const bool allShadows = args.shadows == "all";
+    VEIL_CHECK(!all || !allShadows, "--oit all and --shadows all: one sheet at a time");
     if (!all) {
         checkKnown(oitName, args.oit.empty() ? scene.render.oitWhere + "/type" : "--oit");
         // Bad property names or values fail here, before a context or an output exists.
@@ -213,10 +219,15 @@ void runRender(const RenderArgs& args) {
             oit::Registry::instance().resolve(oitName, scene.render.oitProperties,
                                               scene.render.oitWhere);
     }
+    if (const auto& known = shadows::Registry::instance(); !args.shadows.empty() && !allShadows)
+        VEIL_CHECK(known.find(args.shadows),
+                   "--shadows: unknown shadow technique '{}'{} (known: {})", args.shadows,
+                   didYouMean(args.shadows, known.names()), fmt::join(known.names(), ", "));
     const compare::CompareTarget compareTarget = compare::parseCompareTarget(args.compareTo);
     if (!args.compareTo.empty()) {
-        VEIL_CHECK(!all, "--compare-to cannot be combined with --oit all (which compares "
-                         "every technique with reference)");
+        VEIL_CHECK(!all && !allShadows,
+                   "--compare-to cannot be combined with --oit all or --shadows all (which "
+                   "compare every technique with reference)");
         if (compareTarget.kind == compare::CompareTarget::Kind::Technique)
             checkKnown(args.compareTo, "--compare-to");
         if (compareTarget.kind == compare::CompareTarget::Kind::Shadows)
@@ -230,6 +241,7 @@ void runRender(const RenderArgs& args) {
     std::vector<Rendered> frames;
     std::vector<std::pair<std::string, compare::ImageError>> errors;
     ImageF referenceHdr; // what --compare-to compares with
+    ImageF comparedHdr;  // what is compared with it: the frame, or for cpu its fog only
     std::string compareNote;
     if (all) {
         frames.push_back(renderWith(scene, context.info(), args, "reference"));
@@ -244,6 +256,22 @@ void runRender(const RenderArgs& args) {
         }
         for (const Rendered& f : frames)
             errors.emplace_back(f.oit, compare::compareLinear(f.hdr, frames.front().hdr));
+    } else if (allShadows) {
+        frames.push_back(renderWith(scene, context.info(), args, oitName, false, "reference"));
+        // Every technique at the reference's map size (other properties at their defaults).
+        const nlohmann::json size = {{"size", frames.front().shadowProperties.at("size")}};
+        for (const auto& t : shadows::Registry::instance().all()) {
+            if (t.name == "reference") continue;
+            if (t.isAvailable && !t.isAvailable(context.info())) {
+                std::cout << "skipping shadows " << t.name << " (not available on "
+                          << context.info().renderer << ")\n";
+                continue;
+            }
+            frames.push_back(renderWith(scene, context.info(), args, oitName, false, t.name, size));
+        }
+        for (const Rendered& f : frames)
+            errors.emplace_back("shadows:" + f.shadows,
+                                compare::compareLinear(f.hdr, frames.front().hdr));
     } else {
         frames.push_back(renderWith(scene, context.info(), args, oitName, !args.dump.empty()));
         const Rendered& f = frames.front();
@@ -259,12 +287,32 @@ void runRender(const RenderArgs& args) {
         else if (compareTarget.kind == compare::CompareTarget::Kind::File)
             referenceHdr = compare::loadReferenceImage(compareTarget, f.width, f.height);
         else if (compareTarget.kind == compare::CompareTarget::Kind::Cpu) {
-            ProgressTicker ticker("CPU fog reference", progressWanted(args.progress));
-            referenceHdr =
-                compare::cpuFogReference(scene, args.camera, f.width, f.height, compareNote);
+            // The CPU reference holds the fog only: a scene with surfaces is rendered a second
+            // time without them (nor the shadows they cast), and that frame is compared.
+            if (!scene.objects.empty()) {
+                scene::Scene fogOnly = scene;
+                fogOnly.objects.clear();
+                comparedHdr = renderWith(fogOnly, context.info(), args, oitName).hdr;
+                ProgressTicker ticker("CPU fog reference", progressWanted(args.progress));
+                std::string unused;
+                referenceHdr =
+                    compare::cpuFogReference(fogOnly, args.camera, f.width, f.height, unused);
+                compareNote = fmt::format(
+                    "compared: the fog alone (the frame rendered again without the scene's {} "
+                    "object(s) and their shadows) against the CPU fog reference; {} is the "
+                    "whole scene",
+                    scene.objects.size(), args.output);
+            } else {
+                ProgressTicker ticker("CPU fog reference", progressWanted(args.progress));
+                referenceHdr =
+                    compare::cpuFogReference(scene, args.camera, f.width, f.height, compareNote);
+                compareNote = "compared: the fog (the scene has no surfaces) against the CPU fog "
+                              "reference";
+            }
         }
+        if (comparedHdr.pixels.empty()) comparedHdr = f.hdr;
         if (compareTarget.kind != compare::CompareTarget::Kind::None)
-            errors.emplace_back(f.oit, compare::compareLinear(f.hdr, referenceHdr));
+            errors.emplace_back(f.oit, compare::compareLinear(comparedHdr, referenceHdr));
     }
     const Rendered& main = frames.front();
     const capture::RenderMetadata metadata = capture::describeRender(
@@ -273,11 +321,17 @@ void runRender(const RenderArgs& args) {
 
     // PNG gets the tone-mapped sRGB image, EXR the linear HDR radiance.
     fs::path errorPath;
-    if (all) {
+    if (all || allShadows) {
         std::vector<ImageF> tiles;
-        for (const Rendered& f : frames)
-            tiles.push_back(png ? f.ldr : f.hdr);
-        io::writeImage(output, compare::contactSheet(tiles));
+        std::vector<std::vector<std::string>> labels;
+        for (std::size_t i = 0; i < frames.size(); ++i) {
+            tiles.push_back(png ? frames[i].ldr : frames[i].hdr);
+            labels.push_back({allShadows ? "shadows " + frames[i].shadows : frames[i].oit,
+                              i == 0 ? std::string("RMSE 0 (exact)")
+                                     : fmt::format("RMSE {:.4f}", errors[i].second.rmse),
+                              fmt::format("GPU {:.1f} ms", frames[i].totalMs)});
+        }
+        io::writeImage(output, compare::labelledContactSheet(tiles, labels));
     } else {
         if (png)
             io::writeImage(output, main.ldr);
@@ -285,7 +339,7 @@ void runRender(const RenderArgs& args) {
             io::writeExr(output, capture::makeExr(main.hdr, main.extras, metadata, args.half));
         if (!args.compareTo.empty()) {
             errorPath = errorImagePath(output);
-            io::writeImage(errorPath, compare::errorImage(main.hdr, referenceHdr));
+            io::writeImage(errorPath, compare::errorImage(comparedHdr, referenceHdr));
         }
     }
 
@@ -296,6 +350,7 @@ void runRender(const RenderArgs& args) {
     report["height"] = main.height;
     report["camera"] = main.camera;
     report["oit"] = all ? std::string("all") : main.oit;
+    if (allShadows) report["shadows"] = "all";
     report["renderer"] = context.info().renderer;
     report["gl_version"] = context.info().version;
     report["vendor"] = context.info().vendor;
@@ -307,20 +362,24 @@ void runRender(const RenderArgs& args) {
     report["timer"] = main.timer == gpu::GpuTimer::Mode::Query
                           ? "GL_TIME_ELAPSED"
                           : "glFinish + CPU clock (driver timer unusable)";
-    if (all) {
+    if (all || allShadows) {
         nlohmann::json techniques = nlohmann::json::array();
         for (std::size_t i = 0; i < frames.size(); ++i) {
             const Rendered& f = frames[i];
-            techniques.push_back({{"oit", f.oit},
-                                  {"gpu_bytes", f.gpuBytes},
-                                  {"passes", f.passes},
-                                  {"total_ms", f.totalMs},
-                                  {"oit_stats", f.oitStats},
-                                  {"oit_properties", f.oitProperties},
-                                  {"compare", errorJson("reference", errors[i].second)}});
+            techniques.push_back(
+                {{"oit", f.oit},
+                 {"shadows", f.shadows},
+                 {"gpu_bytes", f.gpuBytes},
+                 {"passes", f.passes},
+                 {"total_ms", f.totalMs},
+                 {"oit_stats", f.oitStats},
+                 {"oit_properties", f.oitProperties},
+                 {"compare",
+                  errorJson(allShadows ? "shadows:reference" : "reference", errors[i].second)}});
         }
         report["techniques"] = techniques;
-        report["sheet_order"] = "left to right as in techniques[]";
+        report["sheet_order"] = "in rows, left to right, as in techniques[]; each tile labelled "
+                                "with its technique, RMSE against reference and GPU time";
     } else {
         report["gpu_bytes"] = main.gpuBytes;
         report["passes"] = main.passes;
@@ -337,6 +396,7 @@ void runRender(const RenderArgs& args) {
             report["compare"] = errorJson(args.compareTo, errors.front().second);
             report["compare"]["error_image"] = fs::absolute(errorPath).string();
             report["compare"]["error_image_scale"] = compare::kErrorImageScale;
+            if (!compareNote.empty()) report["compare"]["note"] = compareNote;
         }
     }
     const fs::path reportPath = args.report;
@@ -344,11 +404,12 @@ void runRender(const RenderArgs& args) {
         writeTextFileAtomically(
             reportPath,
             report.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
-    if (all) {
+    if (all || allShadows) {
         std::cout << "wrote " << args.output << " (contact sheet, " << frames.size() << " tiles of "
                   << main.width << "x" << main.height << ", " << context.info().renderer << ")\n";
         for (const auto& [name, e] : errors)
-            std::cout << fmt::format("  {:<12} vs reference: {}\n", name, formatError(e));
+            std::cout << fmt::format("  {:<12} vs {}reference: {}\n", name,
+                                     allShadows ? "shadows:" : "", formatError(e));
     } else {
         if (!vdbNote.empty()) std::cout << vdbNote << "\n";
         std::cout << "wrote " << args.output << " (" << main.width << "x" << main.height << ", oit "
@@ -357,7 +418,10 @@ void runRender(const RenderArgs& args) {
         if (!args.compareTo.empty())
             std::cout << fmt::format("{} vs {}: {} (linear HDR)\nwrote {} (|error| x {} in "
                                      "linear, sRGB-encoded)\n",
-                                     main.oit, args.compareTo, formatError(errors.front().second),
+                                     compareTarget.kind == compare::CompareTarget::Kind::Shadows
+                                         ? "shadows:" + main.shadows
+                                         : main.oit,
+                                     args.compareTo, formatError(errors.front().second),
                                      errorPath.string(), compare::kErrorImageScale);
     }
     if (!args.report.empty())
@@ -406,8 +470,9 @@ void addRenderCommand(CLI::App& app) {
                     "Transparency technique (default: the scene's); 'all' renders every "
                     "available one into a contact sheet and prints each one's error vs reference");
     cmd->add_option("--shadows", args->shadows,
-                    "Shadow technique (default: the scene's render.shadows); see `veil "
-                    "techniques`");
+                    "Shadow technique (default: the scene's render.shadows; see `veil "
+                    "techniques`); 'all' renders every available one into a contact sheet and "
+                    "prints each one's error vs the reference shadows");
     cmd->add_option(
         "--compare-to", args->compareTo,
         "Compare the output (linear HDR RGB) with: a technique (e.g. reference, "
