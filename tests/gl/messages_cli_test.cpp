@@ -78,9 +78,9 @@ TEST(MessagesCli, MisspeltShadowTechniqueGetsTheNearestName) {
               std::string::npos)
         << r.output;
     EXPECT_FALSE(fs::exists(dir() / "momnet.png"));
-    const CommandResult o =
-        veil("render " + scene("fog.json") + " --oit wboti -o " + shellQuote(dir() / "wboti.png"));
-    EXPECT_NE(o.output.find("unknown OIT technique 'wboti' (did you mean 'wboit'?)"),
+    const CommandResult o = veil("render " + scene("fog.json") + " --oit refrence -o " +
+                                 shellQuote(dir() / "refrence.png"));
+    EXPECT_NE(o.output.find("unknown OIT technique 'refrence' (did you mean 'reference'?)"),
               std::string::npos)
         << o.output;
 }
@@ -141,7 +141,7 @@ TEST(MessagesCli, UsageErrorsExitTwoAsTheDocsSay) {
 
 TEST(MessagesCli, BareVdbDensityScaleFromTheDataAndAsOverridden) {
     // A ball of radius R and density rho: the median line of sight has optical depth
-    // sqrt(2) R rho (tests/unit/optical_depth_test.cpp), so the scale is 1.5 / that.
+    // 2 sqrt(R^2 - (R + h)^2 / 2) rho (tests/unit/optical_depth_test.cpp), the scale 1.5 / that.
     const double radiusVoxels = 12.0, rho = 4.0;
     const fs::path vdb = ballVdb("ball.vdb", radiusVoxels, float(rho));
     const std::string out = shellQuote(dir() / "ball.png");
@@ -151,7 +151,8 @@ TEST(MessagesCli, BareVdbDensityScaleFromTheDataAndAsOverridden) {
     std::smatch m;
     ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(density_scale ([0-9.e+-]+) \()")))
         << r.output;
-    const double expected = 1.5 / (std::sqrt(2.0) * (radiusVoxels + 0.5) * 0.05 * rho);
+    const double radius = radiusVoxels * 0.05, rh = radius + 0.05;
+    const double expected = 1.5 / (2.0 * std::sqrt(radius * radius - rh * rh / 2.0) * rho);
     EXPECT_NEAR(std::stod(m[1].str()), expected, 0.04 * expected) << r.output;
     EXPECT_NE(r.output.find("median optical depth 1.5 along the view"), std::string::npos)
         << r.output;
