@@ -15,6 +15,7 @@ packages=(
   xvfb xauth
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
   munge slurmctld slurmd slurm-client
+  fonts-dejavu-core
 )
 
 missing=()

@@ -9,6 +9,7 @@
 // position of the box's first index (the grid's own index-to-world transform), so ParaView
 // shows the volume where OpenVDB puts it. Transforms that are not axis-aligned scales and
 // translations cannot be ImageData and are refused.
+#include "app/command_line.h"
 #include "app/commands.h"
 
 #include "app/cli_checks.h"
@@ -41,9 +42,13 @@ void runExport(const ExportArgs& args) {
     if (lowerExtension(args.output) != ".vti")
         usageError(fmt::format("output '{}' must end in .vti", args.output));
     checkOutputPath(args.output, "output", {args.input});
-    const vdb::SampledGrid sampled =
-        vdb::sampleVdbGrid(args.input, args.grid, args.box, args.resample);
-    const io::DenseGrid& dense = sampled.dense;
+    vdb::SampledGrid sampled = vdb::sampleVdbGrid(args.input, args.grid, args.box, args.resample);
+    io::DenseGrid& dense = sampled.dense;
+    dense.fieldData = {{"veil_source", args.input},
+                       {"veil_grid", fmt::format("{} '{}' ({})", sampled.index, sampled.name,
+                                                 sampled.type)},
+                       {"veil_version", versionWithCommit()},
+                       {"veil_command", commandLine()}};
     io::writeVti(args.output, dense);
     std::cout << fmt::format(
         "wrote {}: grid {} '{}' ({}) of {}, {}x{}x{} points over index box [{} {} {}]..[{} {} "

@@ -118,7 +118,20 @@ void printScene(const fs::path& path) {
     static const char* outside[] = {"hold", "loop", "blank"};
     for (std::size_t i = 0; i < s.volumes.size(); ++i) {
         const scene::VolumeRef& v = s.volumes[i];
-        std::cout << "  volume     " << v.path.string() << " grid '" << v.grid << "'\n";
+        const std::string name = v.name.empty() ? "-" : v.name;
+        const std::string optics =
+            fmt::format("density_scale {:.4g}, albedo ({:.3g} {:.3g} {:.3g}), g {:.3g}",
+                        v.densityScale, v.albedo.x, v.albedo.y, v.albedo.z, v.anisotropy);
+        if (v.procedural == "homogeneous")
+            std::cout << "  volume     " << name << " (homogeneous haze filling the scene, "
+                      << optics << ")\n";
+        else if (!v.procedural.empty())
+            std::cout << "  volume     " << name << " (procedural " << v.procedural << ", size "
+                      << fmt::format("{:.4g} {:.4g} {:.4g}", v.size.x, v.size.y, v.size.z) << ", "
+                      << optics << ")\n";
+        else
+            std::cout << "  volume     " << name << " (" << v.path.string() << " grid '" << v.grid
+                      << "', " << optics << ")\n";
         if (const auto& q = t.volumes[i]) {
             std::cout << fmt::format("             frame_offset {}, before {}, after {}, "
                                      "missing {}\n",

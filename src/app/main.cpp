@@ -1,8 +1,9 @@
 // veil: render, inspect and (later) voxelize volumetric and transparent scenes.
+#include "app/command_line.h"
 #include "app/commands.h"
-#include "app/suggest.h"
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "base/suggest.h"
 #include "base/text.h"
 
 #include <algorithm>
@@ -29,9 +30,7 @@ int fail(const std::string& message, int status = kExitError) {
     return status;
 }
 
-// " (did you mean '--width'?)" for the first option word of argv that `command` does not know
-// and that is near one it does; empty when there is none.
-std::string suggestOption(const CLI::App& command, int argc, char** argv) {
+std::vector<std::string> optionNames(const CLI::App& command) {
     std::vector<std::string> names;
     for (const CLI::Option* o : command.get_options()) {
         for (const std::string& l : o->get_lnames())
@@ -39,13 +38,31 @@ std::string suggestOption(const CLI::App& command, int argc, char** argv) {
         for (const std::string& s : o->get_snames())
             names.push_back("-" + s);
     }
+    return names;
+}
+
+// For the first option word of argv that `command` does not know: " (did you mean
+// '--width'?)" when it is near one of the command's options; else the same for an option of
+// another command that it is near, naming that command; else the command's options.
+std::string suggestOption(const CLI::App& app, const CLI::App& command, int argc, char** argv) {
+    const std::vector<std::string> names = optionNames(command);
     for (int i = 2; i < argc; ++i) {
         std::string word = argv[i];
         if (word.size() < 2 || word[0] != '-' || word == "--") continue;
         word = word.substr(0, word.find('='));
         if (std::find(names.begin(), names.end(), word) != names.end()) continue;
-        if (const std::string near = veil::app::nearestWord(word, names); !near.empty())
+        if (const std::string near = veil::nearestWord(word, names); !near.empty())
             return " (did you mean '" + near + "'?)";
+        for (const CLI::App* other : app.get_subcommands({}))
+            if (other != &command)
+                if (const std::string near = veil::nearestWord(word, optionNames(*other));
+                    !near.empty())
+                    return " ('" + word + "' is not an option of " + command.get_name() +
+                           "; did you mean '" + near + "' of veil " + other->get_name() + "?)";
+        std::string list;
+        for (const std::string& n : names)
+            if (n.rfind("--", 0) == 0 && n != "--help") list += (list.empty() ? "" : " ") + n;
+        return " ('" + word + "' is not an option of " + command.get_name() + ": " + list + ")";
     }
     return {};
 }
@@ -75,8 +92,9 @@ std::string emptyArgument(int argc, char** argv) {
 int main(int argc, char** argv) {
     // An interrupted write leaves no temporary behind (base/atomic_file.h).
     veil::installTemporaryFileCleanup();
+    veil::app::setCommandLine(argc, argv);
     CLI::App app{"Veil: volumetric and transparent real-time rendering"};
-    app.set_version_flag("--version", std::string("veil ") + VEIL_VERSION);
+    app.set_version_flag("--version", "veil " + veil::app::versionWithCommit());
     app.require_subcommand(1);
     app.footer("Exit status: 0 success; 1 error while running (bad input file, failed render, "
                "I/O); 2 usage error (unknown command or option, missing or invalid argument).");
@@ -99,7 +117,7 @@ int main(int argc, char** argv) {
             names += (names.empty() ? "" : ", ") + sub->get_name();
             list.push_back(sub->get_name());
         }
-        const std::string near = veil::app::nearestWord(argv[1], list);
+        const std::string near = veil::nearestWord(argv[1], list);
         if (!known)
             return fail("unknown command '" + std::string(argv[1]) + "'" +
                             (near.empty() ? "" : " (did you mean '" + near + "'?)") +
@@ -119,7 +137,7 @@ int main(int argc, char** argv) {
         const bool named = argc > 1 && argv[1][0] != '-';
         if (named)
             for (const CLI::App* sub : app.get_subcommands({}))
-                if (sub->check_name(argv[1])) hint = suggestOption(*sub, argc, argv);
+                if (sub->check_name(argv[1])) hint = suggestOption(app, *sub, argc, argv);
         return fail(std::string(e.what()) + hint +
                         (named ? " (see veil " + std::string(argv[1]) + " --help)"
                                : std::string(" (see veil --help)")),

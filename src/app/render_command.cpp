@@ -14,6 +14,7 @@
 
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "base/suggest.h"
 #include "base/text.h"
 #include "frame/renderer.h"
 #include "gpu/context.h"
@@ -98,8 +99,9 @@ Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, con
 // Fails before any rendering, naming the known techniques and where the name came from.
 void checkKnown(const std::string& name, const std::string& where) {
     const auto& registry = oit::Registry::instance();
-    VEIL_CHECK(registry.find(name), "{}: unknown OIT technique '{}' (known: {}{})", where, name,
-               fmt::join(registry.names(), ", "), where == "--oit" ? ", or all" : "");
+    VEIL_CHECK(registry.find(name), "{}: unknown OIT technique '{}'{} (known: {}{})", where, name,
+               didYouMean(name, registry.names()), fmt::join(registry.names(), ", "),
+               where == "--oit" ? ", or all" : "");
 }
 
 nlohmann::json errorJson(const std::string& against, const compare::ImageError& e) {
@@ -181,7 +183,8 @@ void runRender(const RenderArgs& args) {
         usageError(fmt::format("--grid is for a .vdb input, not '{}'", args.scene));
     checkOutputPaths(args);
     if (!args.dump.empty()) {
-        VEIL_CHECK(args.oit != "all", "--dump needs one technique, not --oit all");
+        VEIL_CHECK(args.oit != "all" && args.shadows != "all",
+                   "--dump needs one technique, not all");
         capture::checkDumpDirectory(args.dump);
     }
     const bool bareVdb = lowerExtension(args.scene) == ".vdb";
@@ -191,8 +194,10 @@ void runRender(const RenderArgs& args) {
     // --oit / --shadows choose before --set, so render.oit.* / render.shadows.* reach them; an
     // unknown name is named as the option's.
     if (!args.oit.empty() && args.oit != "all") checkKnown(args.oit, "--oit");
-    if (!args.shadows.empty()) shadows::Registry::instance().get(args.shadows, "--shadows");
-    const scene::TechniqueChoice choice{args.oit == "all" ? std::string() : args.oit, args.shadows};
+    if (!args.shadows.empty() && args.shadows != "all")
+        shadows::Registry::instance().get(args.shadows, "--shadows");
+    const scene::TechniqueChoice choice{args.oit == "all" ? std::string() : args.oit,
+                                        args.shadows == "all" ? std::string() : args.shadows};
     if (bareVdb) {
         vdb::VdbScene v = vdb::sceneForVdb(args.scene, args.grid, args.overrides, choice);
         scene = std::move(v.scene);
@@ -202,6 +207,9 @@ void runRender(const RenderArgs& args) {
     }
     const std::string oitName = args.oit.empty() ? scene.render.oit : args.oit;
     const bool all = oitName == "all";
+    // --shadows all: every shadow technique with the same OIT, against the reference shadows.
+    const bool allShadows = args.shadows == "all";
+    VEIL_CHECK(!all || !allShadows, "--oit all and --shadows all: one sheet at a time");
     if (!all) {
         checkKnown(oitName, args.oit.empty() ? scene.render.oitWhere + "/type" : "--oit");
         // Bad property names or values fail here, before a context or an output exists.
@@ -213,8 +221,9 @@ void runRender(const RenderArgs& args) {
                                           scene.render.shadowsWhere);
     const compare::CompareTarget compareTarget = compare::parseCompareTarget(args.compareTo);
     if (!args.compareTo.empty()) {
-        VEIL_CHECK(!all, "--compare-to cannot be combined with --oit all (which compares "
-                         "every technique with reference)");
+        VEIL_CHECK(!all && !allShadows,
+                   "--compare-to cannot be combined with --oit all or --shadows all (which "
+                   "compare every technique with reference)");
         if (compareTarget.kind == compare::CompareTarget::Kind::Technique)
             checkKnown(args.compareTo, "--compare-to");
         if (compareTarget.kind == compare::CompareTarget::Kind::Shadows)
@@ -243,6 +252,7 @@ void runRender(const RenderArgs& args) {
     std::vector<Rendered> frames;
     std::vector<std::pair<std::string, compare::ImageError>> errors;
     ImageF referenceHdr; // what --compare-to compares with
+    ImageF comparedHdr;  // what is compared with it: the frame, or for cpu its fog only
     std::string compareNote;
     if (all) {
         frames.push_back(renderWith(scene, context.info(), args, "reference"));
@@ -257,6 +267,22 @@ void runRender(const RenderArgs& args) {
         }
         for (const Rendered& f : frames)
             errors.emplace_back(f.oit, compare::compareLinear(f.hdr, frames.front().hdr));
+    } else if (allShadows) {
+        frames.push_back(renderWith(scene, context.info(), args, oitName, false, "reference"));
+        // Every technique at the reference's map size (other properties at their defaults).
+        const nlohmann::json size = {{"size", frames.front().shadowProperties.at("size")}};
+        for (const auto& t : shadows::Registry::instance().all()) {
+            if (t.name == "reference") continue;
+            if (t.isAvailable && !t.isAvailable(context.info())) {
+                std::cout << "skipping shadows " << t.name << " (not available on "
+                          << context.info().renderer << ")\n";
+                continue;
+            }
+            frames.push_back(renderWith(scene, context.info(), args, oitName, false, t.name, size));
+        }
+        for (const Rendered& f : frames)
+            errors.emplace_back("shadows:" + f.shadows,
+                                compare::compareLinear(f.hdr, frames.front().hdr));
     } else {
         frames.push_back(renderWith(scene, context.info(), args, oitName, !args.dump.empty()));
         const Rendered& f = frames.front();
@@ -272,9 +298,28 @@ void runRender(const RenderArgs& args) {
         else if (compareTarget.kind == compare::CompareTarget::Kind::File)
             referenceHdr = compare::loadReferenceImage(compareTarget, f.width, f.height);
         else if (compareTarget.kind == compare::CompareTarget::Kind::Cpu) {
-            ProgressTicker ticker("CPU fog reference", progressWanted(args.progress));
-            referenceHdr =
-                compare::cpuFogReference(scene, args.camera, f.width, f.height, compareNote);
+            // The CPU reference holds the fog only: a scene with surfaces is rendered a second
+            // time without them (nor the shadows they cast), and that frame is compared.
+            if (!scene.objects.empty()) {
+                scene::Scene fogOnly = scene;
+                fogOnly.objects.clear();
+                comparedHdr = renderWith(fogOnly, context.info(), args, oitName).hdr;
+                ProgressTicker ticker("CPU fog reference", progressWanted(args.progress));
+                std::string unused;
+                referenceHdr =
+                    compare::cpuFogReference(fogOnly, args.camera, f.width, f.height, unused);
+                compareNote = fmt::format(
+                    "compared: the fog alone (the frame rendered again without the scene's {} "
+                    "object(s) and their shadows) against the CPU fog reference; {} is the "
+                    "whole scene",
+                    scene.objects.size(), args.output);
+            } else {
+                ProgressTicker ticker("CPU fog reference", progressWanted(args.progress));
+                referenceHdr =
+                    compare::cpuFogReference(scene, args.camera, f.width, f.height, compareNote);
+                compareNote = "compared: the fog (the scene has no surfaces) against the CPU fog "
+                              "reference";
+            }
         } else if (compareTarget.kind == compare::CompareTarget::Kind::PathTraced) {
             ProgressTicker ticker("path-traced reference", progressWanted(args.progress));
             referenceHdr = compare::pathTracedReference(
@@ -282,8 +327,9 @@ void runRender(const RenderArgs& args) {
                                args.camera, f.width, f.height, compareNote)
                                .radiance;
         }
+        if (comparedHdr.pixels.empty()) comparedHdr = f.hdr;
         if (compareTarget.kind != compare::CompareTarget::Kind::None)
-            errors.emplace_back(f.oit, compare::compareLinear(f.hdr, referenceHdr));
+            errors.emplace_back(f.oit, compare::compareLinear(comparedHdr, referenceHdr));
     }
     const Rendered& main = frames.front();
     const capture::RenderMetadata metadata = capture::describeRender(
@@ -293,20 +339,29 @@ void runRender(const RenderArgs& args) {
     // PNG gets the tone-mapped sRGB image, EXR the linear HDR radiance.
     fs::path errorPath;
     RunOutputs outputs;
-    if (all && png) {
+    if ((all || allShadows) && png) {
         std::vector<ImageF> tiles;
-        for (const Rendered& f : frames)
-            tiles.push_back(f.ldr);
-        io::writeImage(output, compare::contactSheet(tiles));
+        std::vector<std::vector<std::string>> labels;
+        for (std::size_t i = 0; i < frames.size(); ++i) {
+            tiles.push_back(frames[i].ldr);
+            labels.push_back({allShadows ? "shadows " + frames[i].shadows : frames[i].oit,
+                              i == 0 ? std::string("RMSE 0 (exact)")
+                                     : fmt::format("RMSE {:.4f}", errors[i].second.rmse),
+                              fmt::format("GPU {:.1f} ms", frames[i].totalMs)});
+        }
+        io::writeImage(output, compare::labelledContactSheet(tiles, labels));
         outputs.wrote(output);
-    } else if (all) {
+    } else if (all || allShadows) {
         // EXR: the reference frame as R, G, B, A, Z (and --aov channels, --half), every other
         // technique as a layer <technique>.R/.G/.B of the same size, not a contact sheet.
         io::ExrImage exr = capture::makeExr(main.hdr, main.extras, metadata, args.half);
-        std::string layers = "R,G,B,A,Z: " + main.oit;
+        const auto name = [&](const Rendered& f) {
+            return allShadows ? "shadows-" + f.shadows : f.oit;
+        };
+        std::string layers = "R,G,B,A,Z: " + name(main);
         for (std::size_t i = 1; i < frames.size(); ++i) {
-            capture::addRgbLayer(exr, frames[i].oit, frames[i].hdr);
-            layers += "; " + frames[i].oit + ".R,G,B: " + frames[i].oit;
+            capture::addRgbLayer(exr, name(frames[i]), frames[i].hdr);
+            layers += "; " + name(frames[i]) + ".R,G,B: " + name(frames[i]);
         }
         exr.strings.emplace_back("veil:layers", layers);
         io::writeExr(output, exr);
@@ -319,7 +374,7 @@ void runRender(const RenderArgs& args) {
         outputs.wrote(output);
         if (!args.compareTo.empty()) {
             errorPath = errorImagePath(output);
-            io::writeImage(errorPath, compare::errorImage(main.hdr, referenceHdr));
+            io::writeImage(errorPath, compare::errorImage(comparedHdr, referenceHdr));
             outputs.wrote(errorPath);
         }
     }
@@ -331,6 +386,7 @@ void runRender(const RenderArgs& args) {
     report["height"] = main.height;
     report["camera"] = main.camera;
     report["oit"] = all ? std::string("all") : main.oit;
+    if (allShadows) report["shadows"] = "all";
     report["renderer"] = context.info().renderer;
     report["gl_version"] = context.info().version;
     report["vendor"] = context.info().vendor;
@@ -342,28 +398,34 @@ void runRender(const RenderArgs& args) {
     report["timer"] = main.timer == gpu::GpuTimer::Mode::Query
                           ? "GL_TIME_ELAPSED"
                           : "glFinish + CPU clock (driver timer unusable)";
-    if (all) {
+    if (all || allShadows) {
         nlohmann::json techniques = nlohmann::json::array();
         for (std::size_t i = 0; i < frames.size(); ++i) {
             const Rendered& f = frames[i];
-            techniques.push_back({{"oit", f.oit},
-                                  {"gpu_bytes", f.gpuBytes},
-                                  {"passes", f.passes},
-                                  {"total_ms", f.totalMs},
-                                  {"oit_stats", f.oitStats},
-                                  {"oit_properties", f.oitProperties},
-                                  {"compare", errorJson("reference", errors[i].second)}});
+            techniques.push_back(
+                {{"oit", f.oit},
+                 {"shadows", f.shadows},
+                 {"gpu_bytes", f.gpuBytes},
+                 {"passes", f.passes},
+                 {"total_ms", f.totalMs},
+                 {"oit_stats", f.oitStats},
+                 {"oit_properties", f.oitProperties},
+                 {"compare",
+                  errorJson(allShadows ? "shadows:reference" : "reference", errors[i].second)}});
         }
         report["techniques"] = techniques;
-        report["sheet_order"] = png ? "left to right as in techniques[]"
-                                    : "EXR: reference in R,G,B,A,Z, the others as layers "
-                                      "<oit>.R,G,B (header veil:layers)";
+        report["sheet_order"] =
+            png ? "in rows, left to right, as in techniques[]; each tile labelled with its "
+                  "technique, RMSE against reference and GPU time"
+                : "EXR: reference in R,G,B,A,Z, the others as layers <technique>.R,G,B (header "
+                  "veil:layers)";
     } else {
         report.update(capture::frameReport(main));
         if (!args.compareTo.empty()) {
             report["compare"] = errorJson(args.compareTo, errors.front().second);
             report["compare"]["error_image"] = fs::absolute(errorPath).string();
             report["compare"]["error_image_scale"] = compare::kErrorImageScale;
+            if (!compareNote.empty()) report["compare"]["note"] = compareNote;
         }
     }
     const fs::path reportPath = args.report;
@@ -373,18 +435,20 @@ void runRender(const RenderArgs& args) {
             report.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
     }
     outputs.commit();
-    if (all && !png) {
+    if ((all || allShadows) && !png) {
         std::cout << "wrote " << args.output << " (" << frames.size()
                   << " techniques as EXR layers "
                   << "of " << main.width << "x" << main.height << ", " << context.info().renderer
                   << ")\n";
         for (const auto& [name, e] : errors)
-            std::cout << fmt::format("  {:<12} vs reference: {}\n", name, formatError(e));
-    } else if (all) {
+            std::cout << fmt::format("  {:<12} vs {}reference: {}\n", name,
+                                     allShadows ? "shadows:" : "", formatError(e));
+    } else if (all || allShadows) {
         std::cout << "wrote " << args.output << " (contact sheet, " << frames.size() << " tiles of "
                   << main.width << "x" << main.height << ", " << context.info().renderer << ")\n";
         for (const auto& [name, e] : errors)
-            std::cout << fmt::format("  {:<12} vs reference: {}\n", name, formatError(e));
+            std::cout << fmt::format("  {:<12} vs {}reference: {}\n", name,
+                                     allShadows ? "shadows:" : "", formatError(e));
     } else {
         if (!vdbNote.empty()) std::cout << vdbNote << "\n";
         std::cout << "wrote " << args.output << " (" << main.width << "x" << main.height << ", oit "
@@ -393,7 +457,10 @@ void runRender(const RenderArgs& args) {
         if (!args.compareTo.empty())
             std::cout << fmt::format("{} vs {}: {} (linear HDR)\nwrote {} (|error| x {} in "
                                      "linear, sRGB-encoded)\n",
-                                     main.oit, args.compareTo, formatError(errors.front().second),
+                                     compareTarget.kind == compare::CompareTarget::Kind::Shadows
+                                         ? "shadows:" + main.shadows
+                                         : main.oit,
+                                     args.compareTo, formatError(errors.front().second),
                                      errorPath.string(), compare::kErrorImageScale);
     }
     if (!args.report.empty())
@@ -443,8 +510,9 @@ void addRenderCommand(CLI::App& app) {
                     "available one into a contact sheet (PNG) or EXR layers <technique>.R/G/B "
                     "beside the reference's R,G,B,A,Z, and prints each one's error vs reference");
     cmd->add_option("--shadows", args->shadows,
-                    "Shadow technique (default: the scene's render.shadows); see `veil "
-                    "techniques`");
+                    "Shadow technique (default: the scene's render.shadows; see `veil "
+                    "techniques`); 'all' renders every available one into a contact sheet and "
+                    "prints each one's error vs the reference shadows");
     cmd->add_option(
         "--compare-to", args->compareTo,
         "Compare the output (linear HDR RGB) with: a technique (e.g. reference, "

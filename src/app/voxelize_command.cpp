@@ -5,6 +5,7 @@
 // "mask") and optionally as a VTK image for ParaView. A mesh file is voxelized without a
 // scene: cubic voxels of (largest extent x 1.06) / res, the grid fitted to the mesh bounds on
 // every axis (so a flat mesh gets few slices).
+#include "app/command_line.h"
 #include "app/commands.h"
 
 #include "app/cli_checks.h"
@@ -129,13 +130,25 @@ void runVoxelize(const VoxelizeArgs& args) {
             dense.spacing[i] = grids.voxel[i];
         }
         dense.values.assign(std::size_t(grids.dims.x) * grids.dims.y * grids.dims.z, 0.0f);
-        for (auto it = grids.density->cbeginValueOn(); it; ++it) {
-            const openvdb::Coord c = it.getCoord();
+        // Point index of a voxel in the grid's box; -1 outside (smoothing spills past the box;
+        // the .vti keeps the grid's box).
+        const auto point = [&grids](const openvdb::Coord& c) -> std::ptrdiff_t {
             if (c.x() < 0 || c.y() < 0 || c.z() < 0 || c.x() >= grids.dims.x ||
                 c.y() >= grids.dims.y || c.z() >= grids.dims.z)
-                continue; // smoothing spills past the box; the .vti keeps the grid's box
-            dense.values[(std::size_t(c.z()) * grids.dims.y + c.y()) * grids.dims.x + c.x()] = *it;
-        }
+                return -1;
+            return (std::ptrdiff_t(c.z()) * grids.dims.y + c.y()) * grids.dims.x + c.x();
+        };
+        for (auto it = grids.density->cbeginValueOn(); it; ++it)
+            if (const std::ptrdiff_t i = point(it.getCoord()); i >= 0) dense.values[i] = *it;
+        // The occupancy itself (the .vdb's "mask" grid) as a second array, 1 in a set voxel.
+        std::vector<float> mask(dense.values.size(), 0.0f);
+        for (auto it = grids.mask->cbeginValueOn(); it; ++it)
+            if (const std::ptrdiff_t i = point(it.getCoord()); i >= 0) mask[i] = 1.0f;
+        dense.moreScalars.emplace_back("mask", std::move(mask));
+        dense.fieldData = {{"veil_source", args.scene},
+                           {"veil_grids", "density, mask (as in " + args.output + ")"},
+                           {"veil_version", versionWithCommit()},
+                           {"veil_command", commandLine()}};
         io::writeVti(args.vti, dense);
     }
     const double seconds =

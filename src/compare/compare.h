@@ -5,6 +5,7 @@
 
 #include "base/image.h"
 
+#include <string>
 #include <vector>
 
 namespace veil::compare {
@@ -28,5 +29,12 @@ ImageF errorImage(const ImageF& image, const ImageF& reference, float scale = kE
 
 // Tiles of the same height side by side, separated by `gap` black columns; RGB.
 ImageF contactSheet(const std::vector<ImageF>& tiles, int gap = 2);
+
+// Tiles of one size in a grid, each with its lines of `labels` burnt into a black strip under
+// it (DejaVu Sans Mono, io/text_overlay.h, `labelValue` on every channel), `gap` black pixels
+// between cells. `columns` 0 picks the count whose sheet is nearest 16:9. RGB.
+ImageF labelledContactSheet(const std::vector<ImageF>& tiles,
+                            const std::vector<std::vector<std::string>>& labels, int columns = 0,
+                            int gap = 4, float labelValue = 1.0f);
 
 } // namespace veil::compare

@@ -5,10 +5,12 @@
 
 #include <vtkDataArray.h>
 #include <vtkErrorCode.h>
+#include <vtkFieldData.h>
 #include <vtkFloatArray.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkStringArray.h>
 #include <vtkXMLImageDataReader.h>
 #include <vtkXMLImageDataWriter.h>
 
@@ -36,6 +38,21 @@ void writeVti(const std::filesystem::path& path, const DenseGrid& grid) {
         image->GetPointData()->SetVectors(values);
     else
         image->GetPointData()->SetScalars(values);
+    for (const auto& [name, more] : grid.moreScalars) {
+        VEIL_CHECK(more.size() == n, "vti '{}': array '{}' has {} values for {} points",
+                   path.string(), name, more.size(), n);
+        vtkNew<vtkFloatArray> a;
+        a->SetName(name.c_str());
+        a->SetNumberOfTuples(static_cast<vtkIdType>(n));
+        std::copy(more.begin(), more.end(), a->GetPointer(0));
+        image->GetPointData()->AddArray(a);
+    }
+    for (const auto& [key, value] : grid.fieldData) {
+        vtkNew<vtkStringArray> a;
+        a->SetName(key.c_str());
+        a->InsertNextValue(value);
+        image->GetFieldData()->AddArray(a);
+    }
     writeFileAtomically(path, [&](const std::filesystem::path& tmp) {
         vtkNew<vtkXMLImageDataWriter> writer;
         writer->SetFileName(tmp.string().c_str());
@@ -85,6 +102,19 @@ DenseGrid readVti(const std::filesystem::path& path) {
         for (int c = 0; c < g.components; ++c)
             g.values[static_cast<std::size_t>(i) * g.components + c] =
                 static_cast<float>(a->GetComponent(i, c));
+    for (int k = 1; k < image->GetPointData()->GetNumberOfArrays(); ++k) {
+        vtkDataArray* more = image->GetPointData()->GetArray(k);
+        if (!more || more->GetNumberOfComponents() != 1) continue;
+        std::vector<float> v(static_cast<std::size_t>(more->GetNumberOfTuples()));
+        for (vtkIdType i = 0; i < more->GetNumberOfTuples(); ++i)
+            v[static_cast<std::size_t>(i)] = static_cast<float>(more->GetComponent(i, 0));
+        g.moreScalars.emplace_back(more->GetName() ? more->GetName() : "", std::move(v));
+    }
+    vtkFieldData* fields = image->GetFieldData();
+    for (int k = 0; fields && k < fields->GetNumberOfArrays(); ++k)
+        if (auto* s = vtkStringArray::SafeDownCast(fields->GetAbstractArray(k));
+            s && s->GetNumberOfValues() > 0)
+            g.fieldData.emplace_back(s->GetName() ? s->GetName() : "", s->GetValue(0));
     return g;
 }
 

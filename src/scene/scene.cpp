@@ -19,6 +19,7 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <string_view>
 
 namespace veil::scene {
 
@@ -76,6 +77,33 @@ void Scene::bounds(glm::vec3& lo, glm::vec3& hi) const {
 }
 
 namespace {
+
+// A scene is JSON text: its first byte after white space and comments opens an object. Other
+// files (a NanoVDB grid, an OpenVDB file without its extension, a mesh, an image) are named
+// by their format rather than reported as a JSON parse error at line 1.
+void checkSceneFormat(std::string_view text, const std::filesystem::path& path) {
+    const std::size_t first = text.find_first_not_of(" \t\r\n");
+    if (first == std::string_view::npos || text[first] == '{' || text[first] == '/') return;
+    const auto startsWith = [&](std::string_view magic) {
+        return text.substr(0, magic.size()) == magic;
+    };
+    const std::string ext = lowerExtension(path.string());
+    std::string format;
+    if (startsWith("NanoVDB") || ext == ".nvdb")
+        format = "a NanoVDB grid (.nvdb), which veil does not read: convert it to OpenVDB "
+                 "(.vdb, e.g. with nanovdb_convert) and give the .vdb";
+    else if (startsWith(std::string_view("\x20\x42\x44\x56", 4)))
+        format = "an OpenVDB file: name it *.vdb so veil reads it as a grid";
+    else if (startsWith("\x89PNG") || startsWith("\x76\x2f\x31\x01") || ext == ".png" ||
+             ext == ".exr")
+        format = "an image, not a scene";
+    else if (startsWith("glTF") || ext == ".obj" || ext == ".ply" || ext == ".glb")
+        format = "a mesh: reference it from a scene's objects, or voxelize it with veil voxelize";
+    if (!format.empty())
+        throw Error(fmt::format("'{}' is {} (veil reads scenes as .json and density grids as "
+                                ".vdb)",
+                                path.string(), format));
+}
 
 bool parseIndex(const std::string& s, std::size_t& out) {
     if (s.empty()) return false;
@@ -223,6 +251,7 @@ nlohmann::json readSceneDocument(const std::filesystem::path& path) {
     std::stringstream text;
     text << in.rdbuf();
 
+    checkSceneFormat(text.str(), path);
     // Comments (// and /* */) are allowed so example scenes can explain themselves.
     return parseJsonText(text.str(), path.string());
 }

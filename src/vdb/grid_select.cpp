@@ -29,7 +29,7 @@ SelectedGrid selectGrid(const openvdb::GridPtrVec& grids, const std::filesystem:
     if (selector.empty()) {
         for (std::size_t i = 0; i < grids.size() && index == grids.size(); ++i)
             if (accept(*grids[i])) index = i;
-        VEIL_CHECK(index < grids.size(), "'{}' has no {} (grids: {})", name, wanted,
+        VEIL_CHECK(index < grids.size(), "'{}': none of its grids is {} (grids: {})", name, wanted,
                    listGrids(grids));
     } else {
         for (std::size_t i = 0; i < grids.size() && index == grids.size(); ++i)

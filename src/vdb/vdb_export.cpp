@@ -98,7 +98,14 @@ SampledGrid sampleVdbGrid(const std::filesystem::path& input, const std::string&
                    what, "xyz"[a]);
         dense.spacing[a] = d[a] / resample;
         const double extent = double(box.max()[a]) - double(box.min()[a]);
-        dense.dims[a] = static_cast<int>(std::floor(extent * resample + 1e-9)) + 1;
+        // In double first: a box spanning the int range has 2^32 points along an axis.
+        const double n = std::floor(extent * resample + 1e-9) + 1.0;
+        VEIL_CHECK(n <= kMaxSampledPoints,
+                   "{}: {:.3g} points along {} (index box [{} {} {}]..[{} {} {}]) exceed the "
+                   "limit of {:.3g} points (use a smaller --box or a --resample below 1)",
+                   what, n, "xyz"[a], box.min().x(), box.min().y(), box.min().z(), box.max().x(),
+                   box.max().y(), box.max().z(), kMaxSampledPoints);
+        dense.dims[a] = static_cast<int>(n);
     }
     const double points = double(dense.dims[0]) * dense.dims[1] * dense.dims[2];
     VEIL_CHECK(points <= kMaxSampledPoints,

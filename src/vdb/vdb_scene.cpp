@@ -1,6 +1,7 @@
 #include "vdb/vdb_scene.h"
 
 #include "vdb/grid_select.h"
+#include "vdb/optical_depth.h"
 
 #include "base/error.h"
 #include "volume/vdb_file.h"
@@ -15,6 +16,10 @@
 namespace veil::vdb {
 
 namespace fs = std::filesystem;
+
+namespace {
+constexpr double kMedianOpticalDepth = 1.5;
+} // namespace
 
 VdbScene sceneForVdb(const fs::path& vdb, const std::string& selector,
                      const std::vector<std::string>& overrides,
@@ -52,8 +57,13 @@ VdbScene sceneForVdb(const fs::path& vdb, const std::string& selector,
     double maxDensity = 1e-6;
     for (auto it = grid.cbeginValueOn(); it; ++it)
         if (std::isfinite(*it)) maxDensity = std::max(maxDensity, double(*it));
+    // The median optical depth of the lines of sight through the density becomes
+    // kMedianOpticalDepth: thin parts stay visible, dense cores keep their shape.
+    const OpticalDepthStats depth = medianOpticalDepth(grid, -dir);
     const double largest = std::max({extent.x(), extent.y(), extent.z(), 1e-6});
-    const double densityScale = 6.0 / (maxDensity * largest);
+    const bool fromData = depth.median > 0.0;
+    const double densityScale =
+        fromData ? kMedianOpticalDepth / depth.median : 6.0 / (maxDensity * largest);
 
     nlohmann::json doc = {
         {"render",
@@ -87,12 +97,23 @@ VdbScene sceneForVdb(const fs::path& vdb, const std::string& selector,
         out.scene.volumes.at(0).grid.clear();
     out.gridName = grid.getName();
     out.gridIndex = sel.index;
+    // What is rendered, after --set: the camera and scale may have been overridden.
+    const scene::Camera& cam = out.scene.cameras.front();
+    const double used =
+        out.scene.volumes.empty() ? densityScale : out.scene.volumes.front().densityScale;
+    const std::string scaleNote =
+        used != float(densityScale)
+            ? fmt::format("set by --set; the default is {:.4g}", densityScale)
+        : fromData ? fmt::format("median optical depth {:.3g} along the view", kMedianOpticalDepth)
+                   : std::string("6 / (max density x largest extent): no line of sight meets "
+                                 "density");
     out.description = fmt::format(
-        "grid {} '{}' (float, {} active voxels, max {:.4g}) of {}; default camera 'vdb' at "
+        "grid {} '{}' (float, {} active voxels, max {:.4g}) of {}; camera '{}' at "
         "({:.4g}, {:.4g}, {:.4g}) looking at ({:.4g}, {:.4g}, {:.4g}), density_scale {:.4g} "
-        "(--set volumes.0.density_scale=X to change)",
-        sel.index, grid.getName(), grid.activeVoxelCount(), maxDensity, vdb.string(), eye.x(),
-        eye.y(), eye.z(), center.x(), center.y(), center.z(), densityScale);
+        "({}; --set volumes.0.density_scale=X to change)",
+        sel.index, grid.getName(), grid.activeVoxelCount(), maxDensity, vdb.string(), cam.name,
+        cam.position.x, cam.position.y, cam.position.z, cam.target.x, cam.target.y, cam.target.z,
+        used, scaleNote);
     return out;
 }
 

@@ -22,8 +22,10 @@ struct VdbScene {
 //  - camera "vdb": 40 degree field of view on the grid's world bounding sphere from the
 //    direction (0.3, 0.35, 1), the sphere filling 90% of the smaller image side;
 //  - a directional light from above-front-left (intensity 3), ambient 0.1;
-//  - density_scale = 6 / (max density x largest world extent), so the densest line of sight
-//    has an optical depth of a few units whatever the grid's units, albedo 0.9;
+//  - density_scale chosen so that the median optical depth of the camera's lines of sight
+//    through the density is 1.5 (vdb/optical_depth.h; 6 / (max density x largest world
+//    extent) when no line meets density), whatever the grid's units; albedo 0.9;
+//  - `description` states the values used after the overrides;
 //  - render 512 x 512 unless overridden; `overrides` (--set) apply to this document.
 VdbScene sceneForVdb(const std::filesystem::path& vdb, const std::string& selector,
                      const std::vector<std::string>& overrides,

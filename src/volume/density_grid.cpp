@@ -190,14 +190,17 @@ openvdb::FloatGrid::Ptr makeProceduralGrid(const std::string& kind, const glm::v
                     d = glm::clamp((1.0f - r) * 2.0f, 0.0f, 1.0f) * (0.4f + 1.2f * noise);
                     d = r < 1.0f ? d : 0.0f;
                 } else if (kind == "noise-cloud") {
+                    // Thresholded fractal noise inside an ellipsoidal envelope inscribed in
+                    // the box: from 70% of the way to the faces the noise is eroded (so the
+                    // edge follows the noise), and from 85% the density fades to exactly 0 at
+                    // 95%: the silhouette is the noise's, never the box's.
                     const glm::vec3 q = p / glm::max(size.x, glm::max(size.y, size.z)) * 4.0f;
-                    const float edge = glm::clamp(
-                        4.0f *
-                            glm::min(glm::min(half.x - std::abs(p.x), half.y - std::abs(p.y)),
-                                     half.z - std::abs(p.z)) /
-                            glm::min(half.x, glm::min(half.y, half.z)),
-                        0.0f, 1.0f);
-                    d = glm::clamp((fbm(q.x, q.y, q.z, seed) - 0.45f) * 4.0f, 0.0f, 1.0f) * edge;
+                    const float r = glm::length(p / half);
+                    const float erosion = 0.25f * glm::smoothstep(0.7f, 0.95f, r);
+                    const float fade = 1.0f - glm::smoothstep(0.85f, 0.95f, r);
+                    d = glm::clamp((fbm(q.x, q.y, q.z, seed) - 0.45f - erosion) * 4.0f, 0.0f,
+                                   1.0f) *
+                        fade;
                 } else {
                     throw Error(fmt::format("unknown procedural volume '{}'", kind));
                 }

@@ -123,4 +123,35 @@ TEST(CompareToTest, CpuFogReference) {
     EXPECT_NE(r.output.find("has no volumes"), std::string::npos) << r.output;
 }
 
+// With surfaces in the scene the CPU reference (fog only) is compared with the frame rendered
+// again without them: a dark box in front of half the ball leaves the RMSE at the fog-only
+// bound of CpuFogReference (3e-3), where comparing the whole frame gives about 0.4.
+TEST(CompareToTest, CpuReferenceComparesTheFogAlone) {
+    const nlohmann::json doc = nlohmann::json::parse(R"({
+      "render": {"width": 48, "height": 48, "ambient": 0, "background": [1, 1, 1],
+                 "fog_steps": 256, "fog_jitter": false},
+      "cameras": [{"name": "c", "type": "orthographic", "position": [0, 0, 5],
+                   "target": [0, 0, 0], "ortho_height": 2, "near": 1, "far": 10}],
+      "materials": {"dark": {"base_color": 0.05}},
+      "objects": [{"shape": {"type": "box", "size": [1, 2, 0.2]}, "material": "dark",
+                   "transform": {"translate": [-0.5, 0, 1.5]}}],
+      "volumes": [{"procedural": "sphere", "size": 1.0, "voxel_size": 0.04,
+                   "density_scale": 1.5}]
+    })");
+    const fs::path scene = dir() / "ball-box.json", out = dir() / "ball-box.png",
+                   report = dir() / "ball-box.report.json";
+    std::ofstream(scene) << doc.dump();
+    const CommandResult r =
+        runCommand(veilExe() + " render " + shellQuote(scene) + " -o " + shellQuote(out) +
+                   " --compare-to cpu --report " + shellQuote(report));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("compared: the fog alone (the frame rendered again without the "
+                            "scene's 1 object(s)"),
+              std::string::npos)
+        << r.output;
+    const nlohmann::json j = readJson(report);
+    EXPECT_LT(j["compare"]["rmse"].get<double>(), 3e-3) << r.output;
+    EXPECT_NE(j["compare"]["note"].get<std::string>().find("fog alone"), std::string::npos);
+}
+
 } // namespace veil::test

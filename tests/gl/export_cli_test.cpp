@@ -1,5 +1,6 @@
 // `veil export grid.vdb -o grid.vti` , read back with VTK's own
 // vtkXMLImageDataReader and checked against OpenVDB's values and sampling at the same points.
+#include "io/vtk_export.h"
 #include "support/test_support.h"
 #include "support/vdb_read.h"
 
@@ -13,6 +14,7 @@
 #include <vtkSmartPointer.h>
 #include <vtkXMLImageDataReader.h>
 
+#include <map>
 #include <random>
 
 namespace veil::test {
@@ -47,6 +49,14 @@ TEST(ExportCliTest, SmokeGridMatchesOpenVdb) {
         runCommand(veilExe() + " export " + shellQuote(vdb) + " -o " + shellQuote(out));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("grid 0 'density' (float)"), std::string::npos) << r.output;
+    // Provenance as field data: the source file, the grid, the version and the command.
+    const io::DenseGrid dense = io::readVti(out);
+    const std::map<std::string, std::string> field(dense.fieldData.begin(), dense.fieldData.end());
+    EXPECT_EQ(field.at("veil_source"), vdb.string());
+    EXPECT_EQ(field.at("veil_grid"), "0 'density' (float)");
+    EXPECT_NE(field.at("veil_version").find("(commit "), std::string::npos);
+    EXPECT_NE(field.at("veil_command").find(" export " + vdb.string() + " -o "), std::string::npos)
+        << field.at("veil_command");
 
     const openvdb::GridPtrVecPtr grids = readVdbGrids(vdb);
     const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(grids->at(0));

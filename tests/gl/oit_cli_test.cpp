@@ -1,4 +1,5 @@
 // `veil render --oit NAME --compare-to reference` and `--oit all` through the real command.
+#include "io/image_io.h"
 #include "support/test_support.h"
 
 #include <gtest/gtest.h>
@@ -74,6 +75,12 @@ TEST(OitCliGLTest, AllTechniquesContactSheet) {
         }
     }
     EXPECT_TRUE(sawReference);
+    // A grid near 16:9 with a caption strip under each 96x54 tile, not one long row.
+    const ImageF sheet = io::readImage(out);
+    const double aspect = double(sheet.width) / sheet.height;
+    EXPECT_GT(aspect, 1.0) << sheet.width << "x" << sheet.height;
+    EXPECT_LT(aspect, 3.0) << sheet.width << "x" << sheet.height;
+    EXPECT_GT(sheet.height, 54 + 20);
 }
 
 TEST(OitCliGLTest, UnknownTechniqueFailsAndListsNames) {
@@ -94,6 +101,33 @@ TEST(OitCliGLTest, UnknownTechniqueFailsAndListsNames) {
     EXPECT_NE(r2.exitCode, 0);
     EXPECT_NE(r2.output.find("known:"), std::string::npos) << r2.output;
     EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(OitCliGLTest, ShadowsAllSheetComparesEveryShadowTechniqueWithReference) {
+    const fs::path dir = outputDir() / "oit-cli";
+    fs::create_directories(dir);
+    const fs::path out = dir / "shadows-sheet.png";
+    fs::remove(out);
+    const CommandResult r =
+        runCommand(veilExe() + " render " + glassScene() +
+                   " --shadows all --oit reference --width 64 --height 36 -o " + out.string() +
+                   " --report " + (dir / "shadows-sheet.json").string());
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const nlohmann::json j = readJson(dir / "shadows-sheet.json");
+    EXPECT_EQ(j["shadows"], "all");
+    ASSERT_GE(j["techniques"].size(), 4u);
+    EXPECT_EQ(j["techniques"][0]["shadows"], "reference");
+    EXPECT_EQ(j["techniques"][0]["compare"]["rmse"].get<double>(), 0.0);
+    bool someDiffer = false;
+    for (const auto& t : j["techniques"]) {
+        const std::string name = t["shadows"].get<std::string>();
+        EXPECT_NE(r.output.find("shadows:" + name), std::string::npos) << r.output;
+        EXPECT_EQ(t["compare"]["against"], "shadows:reference");
+        someDiffer = someDiffer || t["compare"]["rmse"].get<double>() > 0.0;
+    }
+    EXPECT_TRUE(someDiffer) << r.output;
+    const ImageF sheet = io::readImage(out);
+    EXPECT_GT(sheet.height, 36 + 20);
 }
 
 } // namespace veil::test

@@ -4,6 +4,8 @@
 #include "support/test_support.h"
 
 #include <gtest/gtest.h>
+
+#include <map>
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 
@@ -66,6 +68,30 @@ TEST(VoxelizeCliTest, WritesVdbAndVtiWithSummary) {
     EXPECT_EQ(d.dims, (std::array<int, 3>{48, 48, 40}));
     const auto on = std::count(d.values.begin(), d.values.end(), 1.0f);
     EXPECT_EQ(static_cast<openvdb::Index64>(on), grid->activeVoxelCount());
+    // The .vdb's mask grid is in the .vti too, voxel for voxel.
+    file.open();
+    auto mask = openvdb::gridPtrCast<openvdb::BoolGrid>(file.readGrid("mask"));
+    file.close();
+    ASSERT_TRUE(mask);
+    ASSERT_EQ(d.moreScalars.size(), 1u);
+    EXPECT_EQ(d.moreScalars[0].first, "mask");
+    const std::vector<float>& m = d.moreScalars[0].second;
+    ASSERT_EQ(m.size(), d.values.size());
+    std::size_t agree = 0;
+    for (auto it = mask->cbeginValueOn(); it; ++it) {
+        const openvdb::Coord c = it.getCoord();
+        agree += m[(std::size_t(c.z()) * 48 + c.y()) * 48 + c.x()] == 1.0f;
+    }
+    EXPECT_EQ(agree, mask->activeVoxelCount());
+    EXPECT_EQ(std::count(m.begin(), m.end(), 1.0f), std::ptrdiff_t(mask->activeVoxelCount()));
+    // Where it came from, as field data.
+    std::map<std::string, std::string> field(d.fieldData.begin(), d.fieldData.end());
+    EXPECT_EQ(field["veil_source"], scene().string());
+    EXPECT_NE(field["veil_command"].find(" voxelize "), std::string::npos);
+    EXPECT_NE(field["veil_command"].find("--res 48 --slices 40"), std::string::npos);
+    EXPECT_EQ(field["veil_version"].rfind("0.", 0), 0u) << field["veil_version"];
+    EXPECT_NE(field["veil_version"].find("(commit "), std::string::npos);
+    EXPECT_NE(field["veil_grids"].find("density, mask"), std::string::npos);
 }
 
 TEST(VoxelizeCliTest, ThirdPartyTeapotToVdbAndVtiReadBack) {

@@ -97,6 +97,41 @@ TEST(CompareTest, ContactSheetPutsTilesSideBySideWithBlackGaps) {
     EXPECT_THROW(compare::contactSheet({}), Error);
 }
 
+TEST(CompareTest, LabelledSheetIsAGridWithTextUnderEachTile) {
+    // 7 tiles of 160x90 with 2 label lines: text 10 px (160 / 16), line pitch 12, strip
+    // 2 x 12 + 5 = 29, cell (160 + 4) x (90 + 29 + 4). Sheet aspect by column count: 3 columns
+    // 492 x 369 (1.33), 4 columns 656 x 246 (2.67), 2 columns 0.67: 3 is nearest 16:9 (1.78)
+    // in log ratio.
+    std::vector<ImageF> tiles;
+    std::vector<std::vector<std::string>> labels;
+    for (int i = 0; i < 7; ++i) {
+        tiles.push_back(filled(160, 90, 0.25f));
+        labels.push_back({"moment-p4", i == 3 ? "" : "RMSE 0.0123"});
+    }
+    labels[5].clear(); // no label: its strip stays black
+    const ImageF sheet = compare::labelledContactSheet(tiles, labels);
+    const int cellW = 164, cellH = 90 + 29 + 4;
+    const int columns = 3;
+    EXPECT_EQ(sheet.width, 3 * cellW - 4);
+    EXPECT_EQ(sheet.height, 3 * cellH - 4);
+    // Lit pixels in each tile's strip, row by row of text.
+    const auto lit = [&](int tile, int line) {
+        const int x0 = (tile % columns) * cellW, y0 = (tile / columns) * cellH + 90 + 2 + 12 * line;
+        int n = 0;
+        for (int y = y0; y < y0 + 12; ++y)
+            for (int x = x0; x < x0 + 160; ++x)
+                n += sheet.at(x, y, 0) > 0.5f;
+        return n;
+    };
+    for (int i = 0; i < 7; ++i) {
+        EXPECT_EQ(lit(i, 0) > 30, i != 5) << "tile " << i;
+        EXPECT_EQ(lit(i, 1) > 30, i != 5 && i != 3) << "tile " << i;
+    }
+    // The tiles themselves are untouched.
+    EXPECT_EQ(sheet.at(cellW + 80, 45, 1), 0.25f);
+    EXPECT_THROW(compare::labelledContactSheet(tiles, {{"a"}}), Error);
+}
+
 TEST(CompareTest, CompareTargetsAreToldApart) {
     using Kind = compare::CompareTarget::Kind;
     EXPECT_EQ(compare::parseCompareTarget("").kind, Kind::None);

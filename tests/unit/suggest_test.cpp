@@ -1,9 +1,9 @@
-// The "did you mean" helper of the veil command (src/app/suggest.h).
-#include "app/suggest.h"
+// The "did you mean" helper of the veil command (src/base/suggest.h).
+#include "base/suggest.h"
 
 #include <gtest/gtest.h>
 
-namespace veil::app {
+namespace veil {
 
 TEST(SuggestTest, EditDistanceCountsInsertionsDeletionsSubstitutions) {
     EXPECT_EQ(editDistance("", ""), 0u);
@@ -27,4 +27,4 @@ TEST(SuggestTest, NearestWordOnlyForTypos) {
     EXPECT_EQ(nearestWord("--widht", {"--width", "--height", "--camera"}), "--width");
 }
 
-} // namespace veil::app
+} // namespace veil

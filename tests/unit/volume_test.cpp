@@ -372,6 +372,23 @@ TEST(VolumeTest, HugeProceduralGridIsCoarsenedQuickly) {
     EXPECT_NEAR(world.max().x() - world.min().x(), 9.96, 0.1 + 1e-6);
 }
 
+TEST(VolumeTest, NoiseCloudFadesToZeroBeforeItsBox) {
+    // The cloud's silhouette is its noise: no density in the outer 5% of the way from the
+    // centre to the box (an ellipsoid's outside, which includes the box's edges and corners),
+    // while the inside still reaches full density.
+    const glm::vec3 size(2.2f, 1.0f, 1.6f);
+    auto g = volume::makeProceduralGrid("noise-cloud", size, 0.04f, 1);
+    float inner = 0.0f, outer = 0.0f;
+    for (auto it = g->cbeginValueOn(); it; ++it) {
+        const openvdb::Vec3d w = g->indexToWorld(it.getCoord());
+        const glm::vec3 p(w.x(), w.y(), w.z());
+        const float r = glm::length(p / (0.5f * size));
+        (r >= 0.95f ? outer : inner) = std::max(r >= 0.95f ? outer : inner, *it);
+    }
+    EXPECT_EQ(outer, 0.0f);
+    EXPECT_EQ(inner, 1.0f);
+}
+
 TEST(VolumeTest, CpuReferenceSlabIsExponential) {
     // The CPU reference itself against the analytic slab: T = exp(-sigma d), d = 0.5.
     const nlohmann::json doc = nlohmann::json::parse(R"({

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-namespace veil::app {
+namespace veil {
 
 // Levenshtein distance (insertions, deletions and substitutions of one byte each cost 1).
 std::size_t editDistance(const std::string& a, const std::string& b);
@@ -15,4 +15,7 @@ std::size_t editDistance(const std::string& a, const std::string& b);
 // to the first candidate.
 std::string nearestWord(const std::string& word, const std::vector<std::string>& candidates);
 
-} // namespace veil::app
+// " (did you mean 'NAME'?)" for nearestWord's answer; empty when there is none.
+std::string didYouMean(const std::string& word, const std::vector<std::string>& candidates);
+
+} // namespace veil

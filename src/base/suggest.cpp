@@ -1,9 +1,9 @@
-#include "app/suggest.h"
+#include "base/suggest.h"
 
 #include <algorithm>
 #include <numeric>
 
-namespace veil::app {
+namespace veil {
 
 std::size_t editDistance(const std::string& a, const std::string& b) {
     // One row of the dynamic-programming table: row[j] = distance(a[0..i), b[0..j)).
@@ -35,4 +35,9 @@ std::string nearestWord(const std::string& word, const std::vector<std::string>&
     return best;
 }
 
-} // namespace veil::app
+std::string didYouMean(const std::string& word, const std::vector<std::string>& candidates) {
+    const std::string near = nearestWord(word, candidates);
+    return near.empty() ? std::string() : " (did you mean '" + near + "'?)";
+}
+
+} // namespace veil
