@@ -67,7 +67,7 @@ py::object compare(py::handle image, py::handle reference, py::handle metric, do
         if (single) return py::float_(v);
         out[py::str(n)] = v;
     }
-    return std::move(out);
+    return out;
 }
 
 void writeImage(py::handle pathArg, py::handle array, bool half) {

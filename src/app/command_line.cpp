@@ -25,8 +25,10 @@ std::string quoted(const std::string& arg) {
 
 void setCommandLine(int argc, char** argv) {
     std::string line;
-    for (int i = 0; i < argc; ++i)
-        line += (i ? " " : "") + quoted(argv[i]);
+    for (int i = 0; i < argc; ++i) {
+        if (i) line += ' ';
+        line += quoted(argv[i]);
+    }
     stored() = line;
 }
 

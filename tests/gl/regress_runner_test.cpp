@@ -52,8 +52,10 @@ TEST_F(RegressRunnerTest, RunsCasesAndWritesReferencesAndImages) {
          "overrides": ["render.exposure=4"], "metrics": {"rmse": 0}}]})";
     const regress::Suite suite = regress::loadSuite(d / "suite.json", true);
     std::vector<std::string> seen;
-    regress::RunOptions options{d / "report", true, -1,
-                                [&](const regress::CaseResult& r) { seen.push_back(r.name); }};
+    regress::RunOptions options;
+    options.output = d / "report";
+    options.update = true;
+    options.onCase = [&](const regress::CaseResult& r) { seen.push_back(r.name); };
 
     const regress::CaseResult same = regress::runCase(suite.cases[0], info(), options);
     EXPECT_TRUE(same.passed) << same.error;
