@@ -9,6 +9,7 @@
 
 #include "base/error.h"
 #include "base/properties.h"
+#include "base/suggest.h"
 
 #include <fmt/ranges.h>
 
@@ -40,11 +41,11 @@ public:
         return n;
     }
     const std::string& kind() const { return kind_; }
-    // Throws veil::Error listing the known names.
+    // Throws veil::Error naming the nearest known name (a typo) and listing them all.
     const Info& get(const std::string& name, const std::string& where = {}) const {
         const Info* info = find(name);
-        VEIL_CHECK(info, "{}unknown {} '{}' (known: {})", where.empty() ? "" : where + ": ", kind_,
-                   name, fmt::join(names(), ", "));
+        VEIL_CHECK(info, "{}unknown {} '{}'{} (known: {})", where.empty() ? "" : where + ": ",
+                   kind_, name, didYouMean(name, names()), fmt::join(names(), ", "));
         return *info;
     }
     // Validates `values` (a JSON object of the technique's properties; "type" is ignored;

@@ -68,8 +68,8 @@ DeviceChoice chooseDevice(const std::vector<EglDeviceFacts>& devices, const Devi
     const int count = static_cast<int>(devices.size());
     VEIL_CHECK(count > 0, "no headless OpenGL: EGL reports no devices");
     if (r.index >= 0) {
-        VEIL_CHECK(r.index < count, "{} {}: only {} EGL device(s) exist (0..{})", r.indexFrom,
-                   r.index, count, count - 1);
+        VEIL_CHECK(r.index < count, "EGL device {} (from {}): only {} EGL device(s) exist (0..{})",
+                   r.index, r.indexFrom, count, count - 1);
         return {r.index, true, fmt::format("{} {}", r.indexFrom, r.index)};
     }
     std::vector<int> hardware;

@@ -92,12 +92,16 @@ void checkSceneFormat(std::string_view text, const std::filesystem::path& path) 
     if (startsWith("NanoVDB") || ext == ".nvdb")
         format = "a NanoVDB grid (.nvdb), which veil does not read: convert it to OpenVDB "
                  "(.vdb, e.g. with nanovdb_convert) and give the .vdb";
+    else if (ext == ".vdb")
+        format = "an OpenVDB file: give it to veil render/view directly or as a scene's "
+                 "volumes[].path";
     else if (startsWith(std::string_view("\x20\x42\x44\x56", 4)))
         format = "an OpenVDB file: name it *.vdb so veil reads it as a grid";
     else if (startsWith("\x89PNG") || startsWith("\x76\x2f\x31\x01") || ext == ".png" ||
              ext == ".exr")
         format = "an image, not a scene";
-    else if (startsWith("glTF") || ext == ".obj" || ext == ".ply" || ext == ".glb")
+    else if (startsWith("glTF") || ext == ".obj" || ext == ".ply" || ext == ".glb" ||
+             ext == ".gltf")
         format = "a mesh: reference it from a scene's objects, or voxelize it with veil voxelize";
     if (!format.empty())
         throw Error(fmt::format("'{}' is {} (veil reads scenes as .json and density grids as "
@@ -175,8 +179,14 @@ void applyTechniqueChoice(nlohmann::json& doc, const TechniqueChoice& choice) {
         if (name.empty() || !doc.is_object()) return;
         nlohmann::json& render = doc["render"];
         if (!render.is_object() && !render.is_null()) return; // the parser names the problem
+        // Absent (the default technique) or properties without "type": the default.
+        if (!render.is_object() || !render.contains(key)) {
+            if (name != fallback) render[key] = name;
+            if (render.is_null()) doc.erase("render");
+            return;
+        }
         nlohmann::json& current = render[key];
-        std::string named = fallback; // absent, or properties without "type": the default
+        std::string named = fallback;
         if (current.is_string()) named = current.get<std::string>();
         if (current.is_object() && current.contains("type") && current["type"].is_string())
             named = current["type"].get<std::string>();
@@ -219,28 +229,6 @@ nlohmann::json readSceneDocument(const std::filesystem::path& path) {
                "cannot open scene file '{}': not a regular file but a folder", path.string());
     VEIL_CHECK(!std::filesystem::exists(status) || std::filesystem::is_regular_file(status),
                "cannot open scene file '{}': not a regular file", path.string());
-    // Other files people give where a scene belongs: name the format, not a JSON error.
-    {
-        std::string ext = path.extension().string();
-        std::transform(ext.begin(), ext.end(), ext.begin(),
-                       [](unsigned char c) { return char(std::tolower(c)); });
-        char magic[4] = {0, 0, 0, 0};
-        std::ifstream(path, std::ios::binary).read(magic, 4);
-        const std::string_view head(magic, 4);
-        const char* format = head == "glTF"                           ? "a GLB mesh file"
-                             : head == std::string_view(" BDV", 4)    ? "an OpenVDB file"
-                             : head == std::string_view("\x89PNG", 4) ? "a PNG image"
-                             : head == std::string_view("v/1\x01", 4) ? "an OpenEXR image"
-                             : ext == ".obj" || ext == ".ply" || ext == ".gltf" || ext == ".glb"
-                                 ? "a mesh file"
-                             : ext == ".vdb" || ext == ".nvdb" ? "a volume file"
-                                                               : nullptr;
-        VEIL_CHECK(format == nullptr,
-                   "'{}' is {}, not a scene file (JSON, docs/scene-format.md): meshes go in a "
-                   "scene's objects[].mesh, .vdb volumes in volumes[].path or straight to "
-                   "`veil render`/`veil view`",
-                   path.string(), format);
-    }
     const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
     VEIL_CHECK(ec || bytes <= kMaxSceneBytes,
                "cannot open scene file '{}': {} bytes is more than a scene's limit of 256 MiB",

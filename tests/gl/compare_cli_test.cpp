@@ -33,7 +33,8 @@ CommandResult compare(const std::string& argsText) {
     return runCommand(veilExe() + " compare " + argsText);
 }
 
-// Usage errors (CLI11: a missing argument) exit 2, errors in the values 1 (README).
+// Usage errors (a missing argument, a bad --metric or --fail) exit 2, unreadable or
+// mismatched files 1 (README).
 void expectOneErrorLine(const CommandResult& r, const std::string& mustContain, int exitCode = 1) {
     EXPECT_EQ(r.exitCode, exitCode) << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
@@ -110,10 +111,10 @@ TEST(CompareCliTest, MissingUnreadableOrMismatchedFilesNameTheFile) {
 TEST(CompareCliTest, UsageErrorsAreOneLine) {
     const fs::path a = image("u-a.exr", 0.5f);
     expectOneErrorLine(compare(shellQuote(a) + " " + shellQuote(a) + " --metric mse"),
-                       "unknown metric 'mse'");
+                       "unknown metric 'mse'", 2);
     expectOneErrorLine(compare(shellQuote(a) + " " + shellQuote(a) + " --fail rmse=abc"),
-                       "not a finite number");
-    expectOneErrorLine(compare(shellQuote(a) + " " + shellQuote(a) + " --fail -1"), ">= 0");
+                       "not a finite number", 2);
+    expectOneErrorLine(compare(shellQuote(a) + " " + shellQuote(a) + " --fail -1"), ">= 0", 2);
     expectOneErrorLine(compare(shellQuote(a)), "reference", 2);
     expectOneErrorLine(
         compare(shellQuote(a) + " " + shellQuote(a) + " --diff " + shellQuote(dir() / "x.txt")),

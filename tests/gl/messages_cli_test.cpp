@@ -87,9 +87,9 @@ TEST(MessagesCli, MisspeltShadowTechniqueGetsTheNearestName) {
 
 TEST(MessagesCli, OptionOfAnotherCommandIsNamedWithItsCommand) {
     const CommandResult r = veil("render " + scene("fog.json") + " -o " +
-                                 shellQuote(dir() / "frame.png") + " --frame 2");
+                                 shellQuote(dir() / "frame.png") + " --script s.txt");
     EXPECT_EQ(r.exitCode, 2) << r.output;
-    EXPECT_NE(r.output.find("'--frame' is not an option of render; did you mean '--frames' of "
+    EXPECT_NE(r.output.find("'--script' is not an option of render; did you mean '--script' of "
                             "veil view?"),
               std::string::npos)
         << r.output;

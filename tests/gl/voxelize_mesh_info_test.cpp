@@ -87,7 +87,7 @@ TEST(VoxelizeMeshTest, FlatPlyIsOneSliceAndBadMeshIsNamed) {
     EXPECT_FALSE(fs::exists(dir() / "broken.vdb"));
     r = runCommand(veilExe() + " voxelize " + shellQuote(ply) + " --perspective -o " +
                    shellQuote(out));
-    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_EQ(r.exitCode, 2) << r.output; // a usage error
     EXPECT_NE(r.output.find("need a scene file"), std::string::npos) << r.output;
 }
 

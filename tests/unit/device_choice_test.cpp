@@ -111,7 +111,7 @@ TEST(DeviceChoiceTest, ExplicitIndexWinsAndIsChecked) {
         gpu::chooseDevice(kFourGpus, r);
         FAIL() << "device 5 of 5 accepted";
     } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("--device 5: only 5 EGL device(s) exist"),
+        EXPECT_NE(std::string(e.what()).find("EGL device 5 (from --device): only 5 EGL device(s) exist"),
                   std::string::npos)
             << e.what();
     }
