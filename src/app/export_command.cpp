@@ -44,11 +44,11 @@ void runExport(const ExportArgs& args) {
     checkOutputPath(args.output, "output", {args.input});
     vdb::SampledGrid sampled = vdb::sampleVdbGrid(args.input, args.grid, args.box, args.resample);
     io::DenseGrid& dense = sampled.dense;
-    dense.fieldData = {{"veil_source", args.input},
-                       {"veil_grid", fmt::format("{} '{}' ({})", sampled.index, sampled.name,
-                                                 sampled.type)},
-                       {"veil_version", versionWithCommit()},
-                       {"veil_command", commandLine()}};
+    dense.fieldData = {
+        {"veil_source", args.input},
+        {"veil_grid", fmt::format("{} '{}' ({})", sampled.index, sampled.name, sampled.type)},
+        {"veil_version", versionWithCommit()},
+        {"veil_command", commandLine()}};
     io::writeVti(args.output, dense);
     std::cout << fmt::format(
         "wrote {}: grid {} '{}' ({}) of {}, {}x{}x{} points over index box [{} {} {}]..[{} {} "

@@ -14,7 +14,7 @@ namespace veil::regress {
 struct Report {
     std::string suiteName;
     std::string suiteFile;
-    std::string shard;       // "I/N", or empty for a whole run or a merge
+    std::string shard; // "I/N", or empty for a whole run or a merge
     std::vector<CaseResult> cases;
     double seconds = 0.0;
     std::string suiteSha256; // SHA-256 of the suite file's bytes

@@ -111,8 +111,9 @@ TEST(DeviceChoiceTest, ExplicitIndexWinsAndIsChecked) {
         gpu::chooseDevice(kFourGpus, r);
         FAIL() << "device 5 of 5 accepted";
     } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("EGL device 5 (from --device): only 5 EGL device(s) exist"),
-                  std::string::npos)
+        EXPECT_NE(
+            std::string(e.what()).find("EGL device 5 (from --device): only 5 EGL device(s) exist"),
+            std::string::npos)
             << e.what();
     }
     // A GPU that is not there is an error naming the variable, not another GPU.

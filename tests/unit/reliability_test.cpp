@@ -85,7 +85,8 @@ TEST(ReliabilityTest, SuiteDepthAndDuplicateKeysAreRefusedNamingTheFile) {
         "technique": "blend", "reference": "reference", "metrics": {"rmse": 0.1},
         "metrics": {"rmse": 100}}]})");
     const std::string twice = errorOf([&] { regress::loadSuite(d / "twice.json", false); });
-    EXPECT_NE(twice.find("twice.json: /cases/0/metrics: duplicate key 'metrics'"), std::string::npos)
+    EXPECT_NE(twice.find("twice.json: /cases/0/metrics: duplicate key 'metrics'"),
+              std::string::npos)
         << twice;
 }
 
