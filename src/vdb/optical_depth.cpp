@@ -38,8 +38,11 @@ OpticalDepthStats medianOpticalDepth(const openvdb::FloatGrid& grid, openvdb::Ve
     const double span = t1 - t0;
     const int steps = static_cast<int>(std::clamp(std::ceil(span / (0.5 * voxel)), 1.0, 1024.0));
     const double dt = span / steps;
+    // The sampler keeps a pointer to the accessor: it must outlive the sampler (a temporary
+    // here was destroyed at the end of the statement; UBSan's vptr check found it).
+    const openvdb::FloatGrid::ConstAccessor accessor = grid.getConstAccessor();
     openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler>
-        sampler(grid.getConstAccessor(), xf);
+        sampler(accessor, xf);
     std::vector<double> depths;
     for (int j = 0; j < raysPerSide; ++j) {
         for (int i = 0; i < raysPerSide; ++i) {
