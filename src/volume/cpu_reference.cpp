@@ -1,5 +1,7 @@
 #include "volume/cpu_reference.h"
 
+#include "volume/ray_box.h"
+
 #include "base/error.h"
 
 #include <openvdb/tools/Interpolation.h>
@@ -81,26 +83,7 @@ double CpuFogReference::extinction(const glm::dvec3& world) const {
 
 bool CpuFogReference::interval(const glm::dvec3& ro, const glm::dvec3& rd, double& t0,
                                double& t1) const {
-    t0 = 1e300;
-    t1 = -1e300;
-    for (const auto& v : volumes_) {
-        double a = -1e300, b = 1e300;
-        for (int k = 0; k < 3; ++k) {
-            if (std::abs(rd[k]) < 1e-300) {
-                if (ro[k] < v.lo[k] || ro[k] > v.hi[k]) a = 1e300;
-                continue;
-            }
-            double ta = (v.lo[k] - ro[k]) / rd[k], tb = (v.hi[k] - ro[k]) / rd[k];
-            if (ta > tb) std::swap(ta, tb);
-            a = std::max(a, ta);
-            b = std::min(b, tb);
-        }
-        if (a < b) {
-            t0 = std::min(t0, a);
-            t1 = std::max(t1, b);
-        }
-    }
-    return t0 < t1;
+    return rayBoxesInterval(ro, rd, volumes_, t0, t1);
 }
 
 double CpuFogReference::transmittanceToLight(const glm::dvec3& p, int light, int steps) const {

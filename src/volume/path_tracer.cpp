@@ -1,5 +1,7 @@
 #include "volume/path_tracer.h"
 
+#include "volume/ray_box.h"
+
 #include "base/error.h"
 
 #include <openvdb/tools/Count.h>
@@ -189,25 +191,7 @@ VolumePathTracer::Medium VolumePathTracer::mediumAt(Lookup& lookup, const glm::d
 
 bool VolumePathTracer::bounds(const glm::dvec3& o, const glm::dvec3& d, double& t0,
                               double& t1) const {
-    t0 = 1e300;
-    t1 = -1e300;
-    for (const auto& v : volumes_) {
-        double a = -1e300, b = 1e300;
-        for (int k = 0; k < 3; ++k) {
-            if (std::abs(d[k]) < 1e-300) {
-                if (o[k] < v.lo[k] || o[k] > v.hi[k]) a = 1e300;
-                continue;
-            }
-            double ta = (v.lo[k] - o[k]) / d[k], tb = (v.hi[k] - o[k]) / d[k];
-            if (ta > tb) std::swap(ta, tb);
-            a = std::max(a, ta);
-            b = std::min(b, tb);
-        }
-        if (a < b) {
-            t0 = std::min(t0, a);
-            t1 = std::max(t1, b);
-        }
-    }
+    if (!rayBoxesInterval(o, d, volumes_, t0, t1)) return false;
     t0 = std::max(t0, 0.0);
     return t0 < t1;
 }

@@ -1,0 +1,46 @@
+// The parameter interval in which a ray o + t d crosses axis-aligned boxes, in double precision:
+// the CPU references (cpu_reference.h, path_tracer.h) march or track only where a volume is.
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace veil::volume {
+
+// [a, b] of the ray inside the box [lo, hi] (slab method); false when it misses. A direction
+// component of 0 keeps the whole line when the origin lies between that axis's planes.
+inline bool rayBoxInterval(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& lo,
+                           const glm::dvec3& hi, double& a, double& b) {
+    a = -1e300;
+    b = 1e300;
+    for (int k = 0; k < 3; ++k) {
+        if (std::abs(d[k]) < 1e-300) {
+            if (o[k] < lo[k] || o[k] > hi[k]) return false;
+            continue;
+        }
+        double ta = (lo[k] - o[k]) / d[k], tb = (hi[k] - o[k]) / d[k];
+        if (ta > tb) std::swap(ta, tb);
+        a = std::max(a, ta);
+        b = std::min(b, tb);
+    }
+    return a < b;
+}
+
+// The union's hull of the intervals of several boxes (each with members lo and hi).
+template <typename Boxes>
+bool rayBoxesInterval(const glm::dvec3& o, const glm::dvec3& d, const Boxes& boxes, double& t0,
+                      double& t1) {
+    t0 = 1e300;
+    t1 = -1e300;
+    for (const auto& box : boxes) {
+        double a, b;
+        if (!rayBoxInterval(o, d, glm::dvec3(box.lo), glm::dvec3(box.hi), a, b)) continue;
+        t0 = std::min(t0, a);
+        t1 = std::max(t1, b);
+    }
+    return t0 < t1;
+}
+
+} // namespace veil::volume
