@@ -23,17 +23,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path freshDir(const std::string& name) {
-    const fs::path d = outputDir() / "cli_robust" / name;
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
-
-fs::path writeFile(const fs::path& p, const std::string& text) {
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-}
+fs::path freshDir(const std::string& name) { return freshOutputDir("cli_robust", name); }
 
 const std::string kScene = R"({
   "render": {"width": 64, "height": 48},
@@ -81,14 +71,14 @@ std::string expectOneLineError(const std::string& args, const std::vector<std::s
 TEST(CliRobustTest, HostileSceneInputIsOneLineNamingTheFile) {
     const fs::path dir = freshDir("input");
     const std::string deep = std::string(500000, '[') + std::string(500000, ']');
-    const fs::path deepFile = writeFile(dir / "deep.json", deep);
+    const fs::path deepFile = writeTextFile(dir / "deep.json", deep);
     std::string text = kScene;
     text.replace(text.find("64"), 2, deep);
-    const fs::path deepKey = writeFile(dir / "deep-key.json", text);
+    const fs::path deepKey = writeTextFile(dir / "deep-key.json", text);
     text = kScene;
     text.replace(text.find("64"), 2, "1e400");
-    const fs::path overflow = writeFile(dir / "overflow.json", text);
-    const fs::path valid = writeFile(dir / "valid.json", kScene);
+    const fs::path overflow = writeTextFile(dir / "overflow.json", text);
+    const fs::path valid = writeTextFile(dir / "valid.json", kScene);
     const fs::path out = dir / "out.png";
     expectOneLineError("render " + quoted(deepFile) + " -o " + quoted(out),
                        {"deep.json", "nested deeper than 256"});
@@ -122,7 +112,7 @@ TEST(CliRobustTest, FullDiskFailsNamingTheFile) {
         for (int i = 0; i < 64 && fill.write(block.data(), block.size()); ++i) {
         }
     }
-    const fs::path scene = writeFile(dir / "scene.json", kScene);
+    const fs::path scene = writeTextFile(dir / "scene.json", kScene);
     const std::string s = quoted(scene);
     expectOneLineError("render " + s + " -o " + quoted(full / "o.png"),
                        {(full / "o.png").string()});
@@ -150,24 +140,24 @@ TEST(CliRobustTest, FullDiskFailsNamingTheFile) {
 // replaced the scene with the image.
 TEST(CliRobustTest, OutputPathsAreCheckedBeforeRendering) {
     const fs::path dir = freshDir("paths");
-    const fs::path scene = writeFile(dir / "scene.json", kScene);
+    const fs::path scene = writeTextFile(dir / "scene.json", kScene);
     const fs::path out = dir / "out.png";
     expectOneLineError("render " + quoted(scene) + " -o " + quoted(out) + " --report " +
                            quoted(dir / "nodir" / "r.json"),
                        {"nodir/r.json", "does not exist"});
     EXPECT_FALSE(fs::exists(out)) << "the image was written before the report path was checked";
     // A scene file whose name is a legal output name.
-    const fs::path pngScene = writeFile(dir / "scene.png", kScene);
+    const fs::path pngScene = writeTextFile(dir / "scene.png", kScene);
     expectOneLineError("render " + quoted(pngScene) + " -o " + quoted(pngScene),
                        {"would overwrite the input"});
-    const fs::path vdbScene = writeFile(dir / "scene.vdb", kScene);
+    const fs::path vdbScene = writeTextFile(dir / "scene.vdb", kScene);
     expectOneLineError("voxelize " + quoted(vdbScene) + " -o " + quoted(vdbScene),
                        {"would overwrite the input"});
     // A volume the scene reads.
     fs::copy_file(dataDir() / "vdb-smoke/smoke.vdb", dir / "smoke.vdb");
     std::string withVolume = kScene;
     withVolume.insert(withVolume.rfind('}'), R"(, "volumes": [{"path": "smoke.vdb"}])");
-    const fs::path volumeScene = writeFile(dir / "volume.json", withVolume);
+    const fs::path volumeScene = writeTextFile(dir / "volume.json", withVolume);
     expectOneLineError("voxelize " + quoted(volumeScene) + " --res 8 -o " +
                            quoted(dir / "smoke.vdb"),
                        {"would overwrite the input", "smoke.vdb"});
@@ -186,7 +176,7 @@ TEST(CliRobustTest, OutputPathsAreCheckedBeforeRendering) {
 // passed NAME_MAX. Extensions are case-insensitive.
 TEST(CliRobustTest, LongAndUpperCaseOutputNamesAreWritten) {
     const fs::path dir = freshDir("names");
-    const fs::path scene = writeFile(dir / "scene.json", kScene);
+    const fs::path scene = writeTextFile(dir / "scene.json", kScene);
     const fs::path out = dir / (std::string(245, 'o') + ".png");
     const fs::path report = dir / (std::string(244, 'r') + ".json");
     CommandResult r = runCommand(veilExe() + " render " + quoted(scene) + " -o " + quoted(out) +
@@ -208,7 +198,7 @@ TEST(CliRobustTest, LongAndUpperCaseOutputNamesAreWritten) {
 // Before: SIGTERM while the EXR was being compressed left ".out.tmp<pid>.exr" behind.
 TEST(CliRobustTest, SigtermDuringWriteLeavesNoTemporary) {
     const fs::path dir = freshDir("signal");
-    const fs::path scene = writeFile(dir / "scene.json", kScene);
+    const fs::path scene = writeTextFile(dir / "scene.json", kScene);
     const int watch = ::inotify_init1(IN_CLOEXEC);
     ASSERT_GE(watch, 0) << std::strerror(errno);
     ASSERT_GE(::inotify_add_watch(watch, dir.c_str(), IN_CREATE), 0);
@@ -244,7 +234,7 @@ TEST(CliRobustTest, SigtermDuringWriteLeavesNoTemporary) {
 // accepted. Usage errors exit 2, errors while running 1.
 TEST(CliRobustTest, UsageErrorsAreOneLineAndExitTwo) {
     const fs::path dir = freshDir("usage");
-    const fs::path scene = writeFile(dir / "scene.json", kScene);
+    const fs::path scene = writeTextFile(dir / "scene.json", kScene);
     const std::string s = quoted(scene), out = quoted(dir / "o.png"), vdb = quoted(dir / "v.vdb");
     const auto usage = [](const std::string& args, const std::vector<std::string>& needles) {
         return expectOneLineError(args, needles, 2);

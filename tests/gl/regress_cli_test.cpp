@@ -19,15 +19,6 @@ namespace {
 
 fs::path dir() { return outputSubdir("regress-cli"); }
 
-void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
-
-std::string read(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
 // A glass ball in front of a box: blend and reference differ a little, stochastic is noisy.
 const char* kScene = R"({
   "render": {"width": 40, "height": 30, "oit": "blend"},
@@ -74,7 +65,7 @@ CommandResult regress(const std::string& args, const std::string& env = "") {
 
 // Metric values by case name from a results.json.
 std::map<std::string, nlohmann::json> metricsOf(const fs::path& report) {
-    const nlohmann::json j = nlohmann::json::parse(read(report / "results.json"));
+    const nlohmann::json j = nlohmann::json::parse(readTextFile(report / "results.json"));
     std::map<std::string, nlohmann::json> m;
     for (const auto& c : j["cases"])
         m[c["name"]] = c["metrics"];
@@ -85,8 +76,8 @@ std::map<std::string, nlohmann::json> metricsOf(const fs::path& report) {
 fs::path prepare(const fs::path& d) {
     fs::remove_all(d);
     fs::create_directories(d);
-    write(d / "scene.json", kScene);
-    write(d / "suite.json", suite());
+    writeTextFile(d / "scene.json", kScene);
+    writeTextFile(d / "suite.json", suite());
     const CommandResult r =
         regress(shellQuote(d / "suite.json") + " --update -o " + shellQuote(d / "update"));
     EXPECT_EQ(r.exitCode, 0) << r.output;
@@ -99,8 +90,8 @@ TEST(RegressCliTest, UpdateCreatesStoredReferencesThenRunsPass) {
     const fs::path d = dir() / "update";
     fs::remove_all(d);
     fs::create_directories(d);
-    write(d / "scene.json", kScene);
-    write(d / "suite.json", suite());
+    writeTextFile(d / "scene.json", kScene);
+    writeTextFile(d / "suite.json", suite());
     // Without the stored reference the suite is refused before rendering.
     CommandResult r = regress(shellQuote(d / "suite.json") + " -o " + shellQuote(d / "out"));
     EXPECT_EQ(r.exitCode, 1) << r.output;
@@ -122,7 +113,7 @@ TEST(RegressCliTest, UpdateCreatesStoredReferencesThenRunsPass) {
          {"results.json", "results.xml", "index.html", "cases/stored.json",
           "images/stored-render.png", "images/stored-reference.png", "images/stored-diff.png"})
         EXPECT_TRUE(fs::exists(d / "out" / f)) << f;
-    const std::string xml = read(d / "out/results.xml");
+    const std::string xml = readTextFile(d / "out/results.xml");
     EXPECT_NE(xml.find("<testsuites name=\"cli test suite\" tests=\"5\" failures=\"0\""),
               std::string::npos)
         << xml;
@@ -162,37 +153,39 @@ TEST(RegressCliTest, ShardsMergedEqualOneUnshardedRun) {
     EXPECT_EQ(r.exitCode, 1) << r.output;
     // Case 2 (stochastic) was shard 2's.
     EXPECT_NE(r.output.find("1 case(s) failed: stochastic"), std::string::npos) << r.output;
-    EXPECT_NE(read(d / "part/index.html").find("no merged shard ran this case"), std::string::npos);
+    EXPECT_NE(readTextFile(d / "part/index.html").find("no merged shard ran this case"),
+              std::string::npos);
 }
 
 TEST(RegressCliTest, ChangedInputFailsAndTheReportNamesTheCase) {
     const fs::path d = dir() / "changed";
     prepare(d);
     // The light twice as bright: the stored reference no longer matches.
-    write(d / "suite.json", suite(R"("lights.0.intensity=4")"));
+    writeTextFile(d / "suite.json", suite(R"("lights.0.intensity=4")"));
     CommandResult r = regress(shellQuote(d / "suite.json") + " -o " + shellQuote(d / "out"));
     EXPECT_EQ(r.exitCode, 1) << r.output;
     EXPECT_NE(r.output.find("FAIL stored"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("1 case(s) failed: stored"), std::string::npos) << r.output;
-    const std::string html = read(d / "out/index.html");
+    const std::string html = readTextFile(d / "out/index.html");
     EXPECT_NE(html.find("Failed cases"), std::string::npos);
     EXPECT_NE(html.find("<a href=\"#stored\">stored</a>: maxabs"), std::string::npos) << html;
-    EXPECT_NE(read(d / "out/results.xml").find("<failure message=\"maxabs"), std::string::npos);
+    EXPECT_NE(readTextFile(d / "out/results.xml").find("<failure message=\"maxabs"),
+              std::string::npos);
     // A modified stored reference fails the same way.
-    write(d / "suite.json", suite());
+    writeTextFile(d / "suite.json", suite());
     ImageF ref = io::readImage(d / "stored.exr");
     ref.at(5, 5, 0) += 0.5f;
     io::writeImage(d / "stored.exr", ref);
     r = regress(shellQuote(d / "suite.json") + " -o " + shellQuote(d / "out2"));
     EXPECT_EQ(r.exitCode, 1) << r.output;
-    EXPECT_NE(read(d / "out2/index.html").find("<a href=\"#stored\">stored</a>"),
+    EXPECT_NE(readTextFile(d / "out2/index.html").find("<a href=\"#stored\">stored</a>"),
               std::string::npos);
 }
 
 TEST(RegressCliTest, BadSuitesAreOneLineNamingFileAndPointer) {
     const fs::path d = dir() / "bad";
     fs::create_directories(d);
-    write(d / "scene.json", kScene);
+    writeTextFile(d / "scene.json", kScene);
     struct Bad {
         std::string text, expected;
     };
@@ -231,7 +224,7 @@ TEST(RegressCliTest, BadSuitesAreOneLineNamingFileAndPointer) {
     };
     for (std::size_t i = 0; i < bad.size(); ++i) {
         const fs::path s = d / ("bad" + std::to_string(i) + ".json");
-        write(s, bad[i].text);
+        writeTextFile(s, bad[i].text);
         const CommandResult r = regress(shellQuote(s) + " -o " + shellQuote(d / "out"));
         EXPECT_EQ(r.exitCode, 1) << bad[i].text << "\n" << r.output;
         EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;

@@ -33,15 +33,6 @@ namespace {
 
 fs::path dir() { return outputSubdir("regress-faults"); }
 
-void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
-
-std::string read(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
 const char* kScene = R"({
   "render": {"width": 64, "height": 48, "oit": "blend"},
   "cameras": [{"name": "c", "position": [0, 1, 4], "target": [0, 0.5, 0]}],
@@ -55,15 +46,16 @@ const char* kScene = R"({
 fs::path prepare(const fs::path& d, int n) {
     fs::remove_all(d);
     fs::create_directories(d);
-    write(d / "scene.json", kScene);
+    writeTextFile(d / "scene.json", kScene);
     std::string cases;
     for (int i = 0; i < n; ++i)
         cases += std::string(i ? "," : "") + R"({"name": "c)" + std::to_string(i) +
                  R"(", "technique": {"type": "stochastic", "samples": 4}, "seeds": 4,
                  "metrics": {"rmse": 0.5}})";
-    write(d / "suite.json", R"({"defaults": {"scene": "scene.json", "reference": "reference"},
+    writeTextFile(d / "suite.json",
+                  R"({"defaults": {"scene": "scene.json", "reference": "reference"},
                                "cases": [)" +
-                                cases + "]}");
+                      cases + "]}");
     return d / "suite.json";
 }
 
@@ -106,10 +98,10 @@ std::vector<pid_t> processesWith(const std::string& text) {
     for (const auto& e : fs::directory_iterator("/proc")) {
         const std::string name = e.path().filename().string();
         if (name.find_first_not_of("0123456789") != std::string::npos) continue;
-        std::string cmd = read(e.path() / "cmdline");
+        std::string cmd = readTextFile(e.path() / "cmdline");
         std::replace(cmd.begin(), cmd.end(), '\0', ' ');
         if (cmd.find(text) != std::string::npos &&
-            read(e.path() / "stat").find(") Z") == std::string::npos)
+            readTextFile(e.path() / "stat").find(") Z") == std::string::npos)
             out.push_back(std::stoi(name));
     }
     return out;
@@ -143,7 +135,7 @@ TEST(RegressFaultsTest, SigtermLeavesNoReportAndResumeCompletes) {
     ASSERT_TRUE(waitUntil([&] {
         return fs::exists(out / "cases" / ".running") && anyCaseFile(out) &&
                !fs::exists(out / "results.json");
-    })) << read(d / "run.log");
+    })) << readTextFile(d / "run.log");
     kill(pid, SIGTERM);
     const int status = finish(pid);
     EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << status;
@@ -157,7 +149,7 @@ TEST(RegressFaultsTest, SigtermLeavesNoReportAndResumeCompletes) {
         runCommand(veilExe() + " regress " + shellQuote(s) + " --resume -o " + shellQuote(out));
     EXPECT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("12 of 12 cases passed"), std::string::npos) << r.output;
-    EXPECT_EQ(nlohmann::json::parse(read(out / "results.json"))["cases"].size(), 12u);
+    EXPECT_EQ(nlohmann::json::parse(readTextFile(out / "results.json"))["cases"].size(), 12u);
 }
 
 TEST(RegressFaultsTest, SecondRunIntoTheSameFolderIsRefused) {
@@ -171,8 +163,8 @@ TEST(RegressFaultsTest, SecondRunIntoTheSameFolderIsRefused) {
     EXPECT_NE(r.output.find("is in use by another veil regress (pid " + std::to_string(pid)),
               std::string::npos)
         << r.output;
-    EXPECT_EQ(finish(pid), 0) << read(d / "first.log"); // the first run was not disturbed
-    EXPECT_EQ(nlohmann::json::parse(read(out / "results.json"))["failed"], 0);
+    EXPECT_EQ(finish(pid), 0) << readTextFile(d / "first.log"); // the first run was not disturbed
+    EXPECT_EQ(nlohmann::json::parse(readTextFile(out / "results.json"))["failed"], 0);
 }
 
 TEST(RegressFaultsTest, SigtermToJobsParentEndsChildrenAndShardFolders) {
@@ -180,13 +172,14 @@ TEST(RegressFaultsTest, SigtermToJobsParentEndsChildrenAndShardFolders) {
     const fs::path s = prepare(d, 12), out = d / "out";
     const pid_t pid =
         start({"regress", s.string(), "--jobs", "2", "-o", out.string()}, d / "run.log");
-    ASSERT_TRUE(waitUntil([&] { return anyCaseFile(out / ".shard-1"); })) << read(d / "run.log");
+    ASSERT_TRUE(waitUntil([&] { return anyCaseFile(out / ".shard-1"); }))
+        << readTextFile(d / "run.log");
     kill(pid, SIGTERM);
     const int status = finish(pid);
     EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << status;
     EXPECT_TRUE(waitUntil([&] { return processesWith(out.string()).empty(); }, 10));
     // The children were ended, not left to finish their shards (12 cases in all).
-    const std::string log = read(d / "run.log");
+    const std::string log = readTextFile(d / "run.log");
     std::size_t passed = 0;
     for (std::size_t p = log.find("PASS c"); p != std::string::npos; p = log.find("PASS c", p + 1))
         ++passed;
@@ -205,17 +198,17 @@ TEST(RegressFaultsTest, CrashingCaseFailsThatCaseOnly) {
     ASSERT_TRUE(waitUntil([&] {
         worker = processesWith("--worker");
         std::erase_if(worker, [&](pid_t p) {
-            return read("/proc/" + std::to_string(p) + "/cmdline").find(out.string()) ==
+            return readTextFile("/proc/" + std::to_string(p) + "/cmdline").find(out.string()) ==
                    std::string::npos;
         });
         return !worker.empty() && fs::exists(out / "cases" / ".running");
-    })) << read(d / "run.log");
+    })) << readTextFile(d / "run.log");
     kill(worker.front(), SIGSEGV);
     const int status = finish(pid);
-    const std::string log = read(d / "run.log");
+    const std::string log = readTextFile(d / "run.log");
     ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << log;
     EXPECT_NE(log.find("crashed its process (signal 11"), std::string::npos) << log;
-    const nlohmann::json j = nlohmann::json::parse(read(out / "results.json"));
+    const nlohmann::json j = nlohmann::json::parse(readTextFile(out / "results.json"));
     EXPECT_EQ(j["cases"].size(), 8u);
     EXPECT_EQ(j["failed"], 1) << log; // the other seven ran in a new process
 }
@@ -226,12 +219,12 @@ TEST(RegressFaultsTest, MergeRefusesPathsOutsideTheShardAndWritesNothing) {
     ASSERT_EQ(runCommand(veilExe() + " regress " + shellQuote(s) + " -o " + shellQuote(d / "s0"))
                   .exitCode,
               0);
-    write(d / "victim.txt", "precious");
-    nlohmann::json j = nlohmann::json::parse(read(d / "s0/results.json"));
+    writeTextFile(d / "victim.txt", "precious");
+    nlohmann::json j = nlohmann::json::parse(readTextFile(d / "s0/results.json"));
     j["cases"][1]["render_png"] = "../victim.txt";
-    write(d / "s0/results.json", j.dump());
+    writeTextFile(d / "s0/results.json", j.dump());
     fs::create_directories(d / "out");
-    write(d / "out/keep.txt", "x");
+    writeTextFile(d / "out/keep.txt", "x");
     const CommandResult r = runCommand(veilExe() + " regress " + shellQuote(s) + " --merge " +
                                        shellQuote(d / "s0") + " -o " + shellQuote(d / "out"));
     EXPECT_EQ(r.exitCode, 1) << r.output;
@@ -239,7 +232,7 @@ TEST(RegressFaultsTest, MergeRefusesPathsOutsideTheShardAndWritesNothing) {
                             "': case 'c1': render_png '../victim.txt' leaves the folder"),
               std::string::npos)
         << r.output;
-    EXPECT_EQ(read(d / "victim.txt"), "precious");
+    EXPECT_EQ(readTextFile(d / "victim.txt"), "precious");
     EXPECT_FALSE(fs::exists(d / "out/images"));
     EXPECT_FALSE(fs::exists(d / "out/results.json"));
 }
@@ -263,7 +256,7 @@ TEST(RegressFaultsTest, FolderNameThatIsNotUtf8) {
     const CommandResult r =
         runCommand(veilExe() + " regress " + shellQuote(s) + " -o " + shellQuote(d / "out"));
     EXPECT_EQ(r.exitCode, 0) << r.output;
-    const nlohmann::json j = nlohmann::json::parse(read(d / "out/results.json"));
+    const nlohmann::json j = nlohmann::json::parse(readTextFile(d / "out/results.json"));
     EXPECT_EQ(j["cases"].size(), 1u);
 }
 

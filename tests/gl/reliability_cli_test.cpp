@@ -28,17 +28,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path freshDir(const std::string& name) {
-    const fs::path d = outputDir() / "reliability_cli" / name;
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
-
-fs::path writeFile(const fs::path& p, const std::string& text) {
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-}
+fs::path freshDir(const std::string& name) { return freshOutputDir("reliability_cli", name); }
 
 std::string q(const fs::path& p) { return shellQuote(p); }
 
@@ -79,7 +69,7 @@ void writeRgbExr(const fs::path& p, const ImageF& img) {
 // not been given (the render is written, no dump, no report).
 TEST(ReliabilityCliTest, EmptyOptionValuesAreUsageErrors) {
     const fs::path dir = freshDir("empty");
-    const std::string s = q(writeFile(dir / "scene.json", kScene)), o = q(dir / "o.png");
+    const std::string s = q(writeTextFile(dir / "scene.json", kScene)), o = q(dir / "o.png");
     for (const std::string opt : {"--dump", "--report", "--compare-to", "--oit", "--camera",
                                   "--shadows", "--set", "--grid"})
         expectError("render " + s + " -o " + o + " " + opt + " ''",
@@ -102,7 +92,7 @@ TEST(ReliabilityCliTest, NonFiniteOptionNumbersAreUsageErrors) {
         expectError("compare " + ab + " --diff " + q(dir / "d.png") + " --diff-scale " + v,
                     {"--diff-scale"}, 2);
     expectError("compare " + ab + " --exposure nan", {"--exposure", "not a finite number"}, 2);
-    const std::string s = q(writeFile(dir / "scene.json", kScene));
+    const std::string s = q(writeTextFile(dir / "scene.json", kScene));
     expectError("view " + s + " --frames 1 --screenshot " + q(dir / "v.png") +
                     " --refine-budget-ms nan",
                 {"--refine-budget-ms", "not a finite number"}, 2);
@@ -151,7 +141,7 @@ TEST(ReliabilityCliTest, NanImagesFailCompareAndGetAHeatMap) {
 TEST(ReliabilityCliTest, MeshesNearFltMaxAreRefused) {
     const fs::path dir = freshDir("huge");
     const fs::path obj =
-        writeFile(dir / "huge.obj", "v -3e38 0 0\nv 3e38 0 0\nv 0 3e38 0\nf 1 2 3\n");
+        writeTextFile(dir / "huge.obj", "v -3e38 0 0\nv 3e38 0 0\nv 0 3e38 0\nf 1 2 3\n");
     for (const char* extra : {" --res 16", " --res 1", " --res 16 --solid"})
         expectError("voxelize " + q(obj) + " --quiet -o " + q(dir / "v.vdb") + extra,
                     {"huge.obj", "lies beyond 1e+18"}, 1);
@@ -162,7 +152,7 @@ TEST(ReliabilityCliTest, MeshesNearFltMaxAreRefused) {
 // (8.7e9 density samples per frame) ran for hours on llvmpipe.
 TEST(ReliabilityCliTest, ShadowFogPassesOverTheWorkLimitAreRefusedAtOnce) {
     const fs::path dir = freshDir("shadow-work");
-    const fs::path scene = writeFile(dir / "fog.json", R"({
+    const fs::path scene = writeTextFile(dir / "fog.json", R"({
       "render": {"width": 64, "height": 64, "fog_steps": 16},
       "cameras": [{"name": "c", "position": [0, 0.5, 3]}],
       "lights": [{"type": "spot", "position": [0, 3, 0], "target": [0, 0, 0], "intensity": 20}],
@@ -200,7 +190,7 @@ TEST(ReliabilityCliTest, AReportThatCannotBeWrittenLeavesNoImage) {
         std::ofstream fill(full / "fill", std::ios::binary);
         fill << std::string(64 * 1024, 'x');
     }
-    const std::string s = q(writeFile(dir / "scene.json", kScene));
+    const std::string s = q(writeTextFile(dir / "scene.json", kScene));
     expectError("render " + s + " -o " + q(dir / "o.png") + " --report " + q(full / "r.json"),
                 {(full / "r.json").string(), "No space left on device"}, 1);
     ::umount(full.c_str());
@@ -211,17 +201,17 @@ TEST(ReliabilityCliTest, AReportThatCannotBeWrittenLeavesNoImage) {
 // a folder of other files is written into.
 TEST(ReliabilityCliTest, DumpsReplaceTheFolderAsAWhole) {
     const fs::path dir = freshDir("dump");
-    const std::string s = q(writeFile(dir / "scene.json", kScene));
+    const std::string s = q(writeTextFile(dir / "scene.json", kScene));
     const std::string render = "render " + s + " -o " + q(dir / "o.png") + " --oit blend --dump ";
     fs::create_directories(dir / "other");
-    writeFile(dir / "other" / "notes.txt", "mine");
+    writeTextFile(dir / "other" / "notes.txt", "mine");
     expectError(render + q(dir / "other"), {"other", "holds files but no manifest.json"}, 1);
     EXPECT_TRUE(fs::exists(dir / "other" / "notes.txt"));
     // An earlier dump is replaced: its stale file goes, the manifest is there, nothing hidden
     // is left beside it.
     fs::create_directories(dir / "d");
-    writeFile(dir / "d" / "manifest.json", "{}");
-    writeFile(dir / "d" / "stale.exr", "old");
+    writeTextFile(dir / "d" / "manifest.json", "{}");
+    writeTextFile(dir / "d" / "stale.exr", "old");
     const CommandResult r = runCommand(veilExe() + " " + render + q(dir / "d"));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_TRUE(fs::exists(dir / "d" / "manifest.json"));
@@ -238,7 +228,7 @@ TEST(ReliabilityCliTest, DumpsReplaceTheFolderAsAWhole) {
 // tiles, --half ignored, no Z and no metadata.
 TEST(ReliabilityCliTest, OitAllToExrWritesOneLayerPerTechnique) {
     const fs::path dir = freshDir("oit-all");
-    const std::string s = q(writeFile(dir / "scene.json", kScene));
+    const std::string s = q(writeTextFile(dir / "scene.json", kScene));
     const CommandResult r = runCommand(veilExe() + " render " + s + " -o " + q(dir / "all.exr") +
                                        " --oit all --half --width 32 " + "--height 24");
     ASSERT_EQ(r.exitCode, 0) << r.output;

@@ -5,7 +5,9 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <limits>
+#include <sstream>
 #include <sys/wait.h>
 
 namespace veil::test {
@@ -24,6 +26,25 @@ fs::path outputSubdir(const std::string& name) {
     const fs::path dir = outputDir() / name;
     fs::create_directories(dir);
     return dir;
+}
+
+fs::path freshOutputDir(const std::string& group, const std::string& name) {
+    const fs::path d = outputDir() / group / name;
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+fs::path writeTextFile(const fs::path& path, const std::string& text) {
+    std::ofstream(path, std::ios::binary) << text;
+    return path;
+}
+
+std::string readTextFile(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
 }
 
 std::string shellQuote(const fs::path& path) {

@@ -13,6 +13,11 @@ std::filesystem::path dataDir();   // datasets/third_party (third-party data, in
 std::filesystem::path outputDir(); // build/test-output, created on demand
 // outputDir() / name, created on demand (kept between runs).
 std::filesystem::path outputSubdir(const std::string& name);
+// outputDir() / group / name, emptied first.
+std::filesystem::path freshOutputDir(const std::string& group, const std::string& name);
+// Writes `text` to `path` as bytes and returns the path; the whole file as a string.
+std::filesystem::path writeTextFile(const std::filesystem::path& path, const std::string& text);
+std::string readTextFile(const std::filesystem::path& path);
 
 // The path in single quotes for the shell, a quote inside it written as '\''.
 std::string shellQuote(const std::filesystem::path& path);

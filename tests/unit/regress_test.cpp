@@ -24,8 +24,6 @@ namespace {
 
 fs::path dir() { return outputSubdir("regress-library"); }
 
-void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
-
 std::string readText(const fs::path& p) {
     std::ifstream in(p);
     return std::string(std::istreambuf_iterator<char>(in), {});
@@ -43,8 +41,8 @@ const char* kScene = R"({
 fs::path suiteFile(const std::string& name, const std::string& suite) {
     const fs::path d = dir() / name;
     fs::create_directories(d);
-    write(d / "scene.json", kScene);
-    write(d / "suite.json", suite);
+    writeTextFile(d / "scene.json", kScene);
+    writeTextFile(d / "suite.json", suite);
     return d / "suite.json";
 }
 
@@ -217,7 +215,7 @@ TEST(RegressLibraryTest, MergeJoinsShardsInSuiteOrder) {
     regress::Report s1 = shardReport(suite, "1/2", {result("b", false)}, 3);
     s1.cases[0].renderPng = "images/b-render.png";
     fs::create_directories(d / "s1" / "images");
-    write(d / "s1" / "images" / "b-render.png", "png");
+    writeTextFile(d / "s1" / "images" / "b-render.png", "png");
     regress::writeReport(d / "s1", s1);
 
     const regress::Report merged =
@@ -275,12 +273,12 @@ TEST(RegressLibraryTest, MergeKeepsEveryPathInsideItsFolder) {
     fs::remove_all(d / "s0");
     fs::remove_all(d / "out");
     fs::create_directories(d / "s0" / "images");
-    write(d / "victim.txt", "precious");
-    write(d / "s0" / "images" / "a-render.png", "png");
+    writeTextFile(d / "victim.txt", "precious");
+    writeTextFile(d / "s0" / "images" / "a-render.png", "png");
     fs::create_symlink(d / "victim.txt", d / "s0" / "images" / "link.png");
     // The previous report in -o must survive a refused merge.
     fs::create_directories(d / "out");
-    write(d / "out" / "results.json", "old");
+    writeTextFile(d / "out" / "results.json", "old");
     struct Bad {
         std::string png, expected;
     };

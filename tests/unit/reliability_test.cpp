@@ -32,16 +32,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path dir(const std::string& name) {
-    const fs::path d = outputSubdir("reliability") / name;
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
-
-void write(const fs::path& p, const std::string& text) {
-    std::ofstream(p, std::ios::binary) << text;
-}
+fs::path dir(const std::string& name) { return freshOutputDir("reliability", name); }
 
 template <class F>
 std::string errorOf(F&& f) {
@@ -74,14 +65,15 @@ ImageF flat(float v) {
 // "metrics" silently replaced (duplicate key).
 TEST(ReliabilityTest, SuiteDepthAndDuplicateKeysAreRefusedNamingTheFile) {
     const fs::path d = dir("suite");
-    write(d / "scene.json", kScene);
-    write(d / "deep.json", R"({"cases": [{"name": "a", "scene": "scene.json", "technique": )" +
-                               nested(60000) + "}]}");
+    writeTextFile(d / "scene.json", kScene);
+    writeTextFile(d / "deep.json",
+                  R"({"cases": [{"name": "a", "scene": "scene.json", "technique": )" +
+                      nested(60000) + "}]}");
     const std::string deep = errorOf([&] { regress::loadSuite(d / "deep.json", false); });
     EXPECT_NE(deep.find("deep.json: invalid JSON: nested deeper than 256 levels"),
               std::string::npos)
         << deep;
-    write(d / "twice.json", R"({"cases": [{"name": "a", "scene": "scene.json",
+    writeTextFile(d / "twice.json", R"({"cases": [{"name": "a", "scene": "scene.json",
         "technique": "blend", "reference": "reference", "metrics": {"rmse": 0.1},
         "metrics": {"rmse": 100}}]})");
     const std::string twice = errorOf([&] { regress::loadSuite(d / "twice.json", false); });
@@ -93,11 +85,12 @@ TEST(ReliabilityTest, SuiteDepthAndDuplicateKeysAreRefusedNamingTheFile) {
 // The results.json of a shard folder goes through the same parser (--merge reads it).
 TEST(ReliabilityTest, ResultsFileDepthAndDuplicateKeysAreRefusedNamingTheFile) {
     const fs::path d = dir("results");
-    write(d / "results.json", R"({"suite": )" + nested(60000) + "}");
+    writeTextFile(d / "results.json", R"({"suite": )" + nested(60000) + "}");
     const std::string deep = errorOf([&] { regress::readReport(d); });
     EXPECT_NE(deep.find("results.json"), std::string::npos) << deep;
     EXPECT_NE(deep.find("nested deeper than 256 levels"), std::string::npos) << deep;
-    write(d / "results.json", R"({"suite": "a", "suite": "b", "suite_file": "s", "shard": "",
+    writeTextFile(d / "results.json",
+                  R"({"suite": "a", "suite": "b", "suite_file": "s", "shard": "",
         "cases": [], "seconds": 0})");
     const std::string twice = errorOf([&] { regress::readReport(d); });
     EXPECT_NE(twice.find("duplicate key 'suite'"), std::string::npos) << twice;
@@ -169,13 +162,13 @@ TEST(ReliabilityTest, GltfBufferUrisMustStayInsideTheModelsFolder) {
     const fs::path d = dir("gltf-uri");
     fs::create_directories(d / "model" / "sub");
     std::string bin(44, '\0');
-    write(d / "outside.bin", bin);
-    write(d / "model" / "sub" / "inside.bin", bin);
+    writeTextFile(d / "outside.bin", bin);
+    writeTextFile(d / "model" / "sub" / "inside.bin", bin);
     fs::create_symlink(d / "outside.bin", d / "model" / "link.bin");
     const auto gltf = [&](const std::string& uri) {
         const fs::path p = d / "model" / "m.gltf";
-        write(p, R"({"asset":{"version":"2.0"},"buffers":[{"uri":")" + uri +
-                     R"(","byteLength":44}]})");
+        writeTextFile(p, R"({"asset":{"version":"2.0"},"buffers":[{"uri":")" + uri +
+                             R"(","byteLength":44}]})");
         return p;
     };
     for (const std::string& uri : std::vector<std::string>{
@@ -199,7 +192,7 @@ fs::path chainGltf(const fs::path& d, const std::string& name, int depth, bool c
     std::string bin;
     const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
     bin.append(reinterpret_cast<const char*>(pos), sizeof(pos));
-    write(d / "tri.bin", bin);
+    writeTextFile(d / "tri.bin", bin);
     std::string nodes;
     for (int i = 0; i < depth; ++i) {
         nodes += i ? "," : "";
@@ -209,12 +202,13 @@ fs::path chainGltf(const fs::path& d, const std::string& name, int depth, bool c
             nodes += cycle ? R"({"children":[1],"mesh":0})" : R"({"mesh":0})";
     }
     const fs::path p = d / name;
-    write(p, R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[)" + nodes +
-                 R"(],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
-                 R"("buffers":[{"uri":"tri.bin","byteLength":36}],)"
-                 R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
-                 R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3",)"
-                 R"("min":[0,0,0],"max":[1,1,0]}]})");
+    writeTextFile(
+        p, R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[)" + nodes +
+               R"(],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
+               R"("buffers":[{"uri":"tri.bin","byteLength":36}],)"
+               R"("bufferViews":[{"buffer":0,"byteLength":36}],)"
+               R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3",)"
+               R"("min":[0,0,0],"max":[1,1,0]}]})");
     return p;
 }
 
@@ -246,12 +240,12 @@ TEST(ReliabilityTest, DeepOrCyclicGltfNodeChainsAreRefusedBeforeAssimp) {
 // overflows (hi - lo = inf).
 TEST(ReliabilityTest, VerticesNearFltMaxAreRefusedNamingTheFile) {
     const fs::path d = dir("huge-mesh");
-    write(d / "huge.obj", "v -3e38 0 0\nv 3e38 0 0\nv 0 3e38 0\nf 1 2 3\n");
+    writeTextFile(d / "huge.obj", "v -3e38 0 0\nv 3e38 0 0\nv 0 3e38 0\nf 1 2 3\n");
     const std::string e = errorOf([&] { scene::loadMeshFile(d / "huge.obj"); });
     EXPECT_NE(e.find("huge.obj': mesh"), std::string::npos) << e;
     EXPECT_NE(e.find("lies beyond 1e+18"), std::string::npos) << e;
     // A transform can carry a vertex that far too: the voxelizer's bounds refuse it.
-    write(d / "small.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    writeTextFile(d / "small.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     const auto meshes = scene::loadMeshFile(d / "small.obj");
     voxelize::Triangles t = voxelize::fromMesh(
         meshes[0].mesh, glm::mat4(glm::vec4(3e38f, 0, 0, 0), glm::vec4(0, 1, 0, 0),
@@ -265,7 +259,7 @@ TEST(ReliabilityTest, VerticesNearFltMaxAreRefusedNamingTheFile) {
 // voxels and ran for minutes.
 TEST(ReliabilityTest, ProceduralVolumeSizeIsBoundedAtParse) {
     const fs::path d = dir("procedural");
-    write(d / "big.json", R"({"cameras": [{"name": "c", "position": [0, 0, 4]}],
+    writeTextFile(d / "big.json", R"({"cameras": [{"name": "c", "position": [0, 0, 4]}],
         "volumes": [{"procedural": "smoke-ball", "size": [1e30, 1, 1]}]})");
     const std::string e = errorOf([&] { scene::loadScene(d / "big.json", {}); });
     EXPECT_NE(e.find("big.json"), std::string::npos) << e;
@@ -290,15 +284,15 @@ TEST(ReliabilityTest, HugeOrbitPanStepsLeaveAFiniteCamera) {
 TEST(ReliabilityTest, ViewScriptsRefuseOverwritingThemselvesAndHugeSteps) {
     const fs::path d = dir("script");
     const fs::path script = d / "s.json";
-    write(script, R"([{"save_scene": ")" + script.string() + R"("}])");
+    writeTextFile(script, R"([{"save_scene": ")" + script.string() + R"("}])");
     const std::string self = errorOf([&] { viewer::loadViewScript(script); });
     EXPECT_NE(self.find("would overwrite the script"), std::string::npos) << self;
-    write(script, R"([{"screenshot": "s.json"}])"); // relative: the working folder's s.json
+    writeTextFile(script, R"([{"screenshot": "s.json"}])"); // relative: the working folder's s.json
     EXPECT_NO_THROW(viewer::loadViewScript(script));
-    write(script, R"([{"orbit": [1e300, 0]}])");
+    writeTextFile(script, R"([{"orbit": [1e300, 0]}])");
     const std::string huge = errorOf([&] { viewer::loadViewScript(script); });
     EXPECT_NE(huge.find("'orbit' expects two numbers in -1e6..1e6"), std::string::npos) << huge;
-    write(script, R"([{"orbit": [0, 0], "zoom": 1e300}])");
+    writeTextFile(script, R"([{"orbit": [0, 0], "zoom": 1e300}])");
     EXPECT_NE(errorOf([&] { viewer::loadViewScript(script); }).find("'zoom' must be"),
               std::string::npos);
 }
