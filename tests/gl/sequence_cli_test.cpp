@@ -29,12 +29,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path dir(const std::string& name) {
-    const fs::path d = outputSubdir("sequence_cli") / name;
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
+fs::path dir(const std::string& name) { return freshOutputDir("sequence_cli", name); }
 
 fs::path fireFrame(int n) {
     return dataDir() / "vdb-embergen-fire-seq" / fmt::format("embergen_fire_a_{}.vdb", n);
