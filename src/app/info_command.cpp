@@ -213,12 +213,7 @@ void addInfoCommand(CLI::App& app) {
             s.pattern = *scene::parseFilePattern(path);
             const std::vector<int> found = scene::existingFrames(s.pattern);
             VEIL_CHECK(!found.empty(), "no file matches the sequence '{}'", *file);
-            s.first = found.front();
-            s.last = found.back();
-            int step = 0;
-            for (std::size_t i = 1; i < found.size(); ++i)
-                step = std::gcd(step, found[i] - found[i - 1]);
-            s.step = std::max(step, 1);
+            s.spanFound(found);
             printSequence(s, grid->empty() ? "density" : *grid, "");
         } else if (lowerExtension(*file) == ".vdb")
             printVdb(path, *grid);

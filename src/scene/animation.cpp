@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <numeric>
 #include <system_error>
 
 namespace veil::scene {
@@ -114,6 +115,15 @@ std::optional<FilePattern> parseFilePattern(const fs::path& path) {
     p.padding = found[0].padding;
     p.written = path.string();
     return p;
+}
+
+void FileSequence::spanFound(const std::vector<int>& found) {
+    first = found.front();
+    last = found.back();
+    int gcd = 0;
+    for (std::size_t i = 1; i < found.size(); ++i)
+        gcd = std::gcd(gcd, found[i] - found[i - 1]);
+    step = std::max(gcd, 1);
 }
 
 std::vector<int> existingFrames(const FilePattern& pattern) {

@@ -52,6 +52,9 @@ struct FileSequence {
     bool holdMissing = false; // else a missing file in the range is an error
 
     int count() const { return (last - first) / step + 1; }
+    // first/last from the files found (ascending, not empty), step their spacing's greatest
+    // common divisor (1 for a single file).
+    void spanFound(const std::vector<int>& found);
 };
 
 // What a scene frame of a sequence shows.

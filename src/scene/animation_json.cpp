@@ -189,13 +189,7 @@ bool parseVolumeSequence(const Obj& o, VolumeRef& v, std::optional<FileSequence>
             fail(o.ctx(), o.ptr("path"),
                  fmt::format("no file matches the sequence '{}' (in '{}')", p.filename().string(),
                              p.parent_path().string()));
-        // The files found: from the first to the last, the step their spacing's common divisor.
-        s.first = found.front();
-        s.last = found.back();
-        int step = 0;
-        for (std::size_t i = 1; i < found.size(); ++i)
-            step = std::gcd(step, found[i] - found[i - 1]);
-        s.step = std::max(step, 1);
+        s.spanFound(found);
     }
     SequenceValues values;
     readPlainValues(o, sequenceValueDecls(), values);
