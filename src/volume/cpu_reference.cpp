@@ -43,19 +43,7 @@ CpuFogReference::CpuFogReference(const scene::Scene& scene,
         VEIL_CHECK(g < grids.size() && grids[g], "CPU fog reference: no grid for volume '{}'",
                    ref.name);
         Volume v{&ref, grids[g++], glm::inverse(glm::dmat4(ref.transform)), {}, {}};
-        const openvdb::CoordBBox box = v.grid->evalActiveVoxelBoundingBox();
-        v.lo = glm::dvec3(1e300);
-        v.hi = glm::dvec3(-1e300);
-        for (int c = 0; c < 8; ++c) {
-            const openvdb::Vec3d idx((c & 1) ? box.max().x() + 1 : box.min().x() - 1,
-                                     (c & 2) ? box.max().y() + 1 : box.min().y() - 1,
-                                     (c & 4) ? box.max().z() + 1 : box.min().z() - 1);
-            const openvdb::Vec3d o = v.grid->indexToWorld(idx);
-            const glm::dvec3 w =
-                glm::dvec3(glm::dmat4(ref.transform) * glm::dvec4(o.x(), o.y(), o.z(), 1.0));
-            v.lo = glm::min(v.lo, w);
-            v.hi = glm::max(v.hi, w);
-        }
+        gridWorldBox(*v.grid, ref.transform, v.lo, v.hi);
         volumes_.push_back(v);
     }
     for (std::size_t i = 0; i < scene.lights.size(); ++i)

@@ -150,19 +150,7 @@ VolumePathTracer::VolumePathTracer(const scene::Scene& scene,
         VEIL_CHECK(gi < grids.size() && grids[gi], "path tracer: no grid for volume '{}'",
                    ref.name);
         Volume v{&ref, grids[gi++], glm::inverse(glm::dmat4(ref.transform)), {}, {}};
-        const openvdb::CoordBBox box = v.grid->evalActiveVoxelBoundingBox();
-        v.lo = glm::dvec3(1e300);
-        v.hi = glm::dvec3(-1e300);
-        for (int c = 0; c < 8; ++c) {
-            const openvdb::Vec3d idx((c & 1) ? box.max().x() + 1 : box.min().x() - 1,
-                                     (c & 2) ? box.max().y() + 1 : box.min().y() - 1,
-                                     (c & 4) ? box.max().z() + 1 : box.min().z() - 1);
-            const openvdb::Vec3d o = v.grid->indexToWorld(idx);
-            const glm::dvec3 w =
-                glm::dvec3(glm::dmat4(ref.transform) * glm::dvec4(o.x(), o.y(), o.z(), 1.0));
-            v.lo = glm::min(v.lo, w);
-            v.hi = glm::max(v.hi, w);
-        }
+        gridWorldBox(*v.grid, ref.transform, v.lo, v.hi);
         const auto range = openvdb::tools::minMax(v.grid->tree());
         majorant_ += double(ref.densityScale) * std::max(0.0, double(range.max()));
         volumes_.push_back(v);

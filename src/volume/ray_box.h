@@ -1,8 +1,10 @@
-// The parameter interval in which a ray o + t d crosses axis-aligned boxes, in double precision:
-// the CPU references (cpu_reference.h, path_tracer.h) march or track only where a volume is.
+// The parameter interval in which a ray o + t d crosses axis-aligned boxes, in double precision,
+// and a grid's world box: the CPU references (cpu_reference.h, path_tracer.h) march or track
+// only where a volume is.
 #pragma once
 
-#include <glm/vec3.hpp>
+#include <glm/glm.hpp>
+#include <openvdb/openvdb.h>
 
 #include <algorithm>
 #include <cmath>
@@ -41,6 +43,26 @@ bool rayBoxesInterval(const glm::dvec3& o, const glm::dvec3& d, const Boxes& box
         t1 = std::max(t1, b);
     }
     return t0 < t1;
+}
+
+// The world-space box of the grid's active voxels, one voxel of margin on every side (the
+// trilinear lookup reaches that far), through the grid's own transform and then `transform`
+// (object to world).
+inline void gridWorldBox(const openvdb::FloatGrid& grid, const glm::mat4& transform, glm::dvec3& lo,
+                         glm::dvec3& hi) {
+    const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
+    lo = glm::dvec3(1e300);
+    hi = glm::dvec3(-1e300);
+    for (int c = 0; c < 8; ++c) {
+        const openvdb::Vec3d idx((c & 1) ? box.max().x() + 1 : box.min().x() - 1,
+                                 (c & 2) ? box.max().y() + 1 : box.min().y() - 1,
+                                 (c & 4) ? box.max().z() + 1 : box.min().z() - 1);
+        const openvdb::Vec3d o = grid.indexToWorld(idx);
+        const glm::dvec3 w =
+            glm::dvec3(glm::dmat4(transform) * glm::dvec4(o.x(), o.y(), o.z(), 1.0));
+        lo = glm::min(lo, w);
+        hi = glm::max(hi, w);
+    }
 }
 
 } // namespace veil::volume
