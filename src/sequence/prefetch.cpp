@@ -10,9 +10,47 @@
 
 namespace veil::sequence {
 
+namespace {
+
+// The fog pass's options for each grid volume in scene order (volume/fog_pass.cpp: the budget
+// left by the volumes before it). A procedural volume before a file one leaves the rest to the
+// renderer (its size is known only once built); so does a conversion that fails, whose error
+// the renderer then gives with the volume's place in the scene.
+void convertAhead(PreparedFrame& p, int max3D) {
+    std::size_t used = 0;
+    for (const scene::VolumeRef& v : p.scene.volumes) {
+        if (v.procedural == "homogeneous") continue;
+        if (!v.procedural.empty()) return;
+        auto g = std::find_if(p.grids.begin(), p.grids.end(),
+                              [&](const auto& x) { return x.path == v.path && x.grid == v.grid; });
+        if (g == p.grids.end()) return;
+        volume::GpuVolumeOptions options;
+        options.budgetBytes = std::size_t(p.scene.render.volumeBudgetMiB) << 20;
+        options.budgetBytes = options.budgetBytes > used ? options.budgetBytes - used : 0;
+        options.refuseOverBudget = p.scene.render.volumeOverBudget == "refuse";
+        if (g->converted) return; // one grid under two budgets: the renderer converts the rest
+        try {
+            g->converted = std::make_shared<const volume::GridConversion>(
+                volume::convertGrid(*g->value, options, max3D));
+        } catch (const Error&) {
+            return;
+        }
+        g->options = options;
+        g->max3D = max3D;
+        used += g->converted->stats.gpuBytes;
+        p.bytes += g->converted->bytes();
+    }
+}
+
+double msSince(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+} // namespace
+
 FramePrefetcher::FramePrefetcher(const scene::AnimatedScene& scene, std::vector<int> frames,
-                                 std::size_t budgetBytes, int threads)
-    : scene_(scene), frames_(std::move(frames)), budget_(budgetBytes) {
+                                 std::size_t budgetBytes, int threads, int max3D)
+    : scene_(scene), frames_(std::move(frames)), budget_(budgetBytes), max3D_(max3D) {
     slots_.resize(frames_.size());
     // File volumes that do not change with the frame are read once, here (errors surface at
     // once); procedural ones are built by each frame's renderer.
@@ -20,7 +58,7 @@ FramePrefetcher::FramePrefetcher(const scene::AnimatedScene& scene, std::vector<
         const scene::VolumeRef& v = scene.scene.volumes[i];
         const bool sequence = i < scene.timeline.volumes.size() && scene.timeline.volumes[i];
         if (!sequence && v.procedural.empty())
-            staticGrids_.push_back({v.path, v.grid, volume::loadVolume(v)});
+            staticGrids_.push_back({v.path, v.grid, volume::loadVolume(v), nullptr, {}, 0});
     }
     const int n = std::clamp(threads, 1, 64);
     for (int i = 0; i < n; ++i)
@@ -52,11 +90,17 @@ PreparedFrame FramePrefetcher::prepare(int frame) const {
         for (const scene::VolumeRef& v : p.scene.volumes) {
             if (!v.procedural.empty()) continue;
             if (volume::findPreloadedGridIn(p.grids, v.path, v.grid)) continue;
-            p.grids.push_back({v.path, v.grid, volume::loadVolume(v)});
+            p.grids.push_back({v.path, v.grid, volume::loadVolume(v), nullptr, {}, 0});
         }
         for (const volume::PreloadedGrid& g : p.grids) {
             p.bytes += g.value->memUsage();
             p.activeVoxels += g.value->activeVoxelCount();
+        }
+        p.readMs = msSince(start);
+        if (max3D_ > 0) {
+            const auto converting = std::chrono::steady_clock::now();
+            convertAhead(p, max3D_);
+            p.convertMs = msSince(converting);
         }
     } catch (const Error& e) {
         p.error = e.what();
@@ -65,8 +109,7 @@ PreparedFrame FramePrefetcher::prepare(int frame) const {
         p.error = fmt::format("frame {}: {}", frame, e.what());
         p.grids.clear();
     }
-    p.readMs =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (!p.error.empty()) p.readMs = msSince(start);
     return p;
 }
 

@@ -1,6 +1,7 @@
 // Reading a frame range's grids ahead of the frame being rendered: worker threads resolve each
-// frame's scene (scene/timeline.h) and read and sanitize its volumes' grids (OpenVDB decoding,
-// the CPU side of a frame), in frame order, while the caller renders earlier frames. Frames
+// frame's scene (scene/timeline.h), read and sanitize its volumes' grids (OpenVDB decoding) and
+// convert them into the GPU's arrays (volume/grid_conversion.h, itself multithreaded with TBB):
+// the whole CPU side of a frame, in frame order, while the caller renders earlier frames. Frames
 // are handed out in order; a worker does not start a frame more than one ahead of the caller
 // while the grids read and not yet taken use more than the memory budget.
 #pragma once
@@ -23,17 +24,20 @@ struct PreparedFrame {
     scene::Scene scene;                       // the scene at this frame
     std::vector<volume::PreloadedGrid> grids; // its file volumes' grids
     std::vector<std::string> notes;           // held missing files
-    std::string error;     // set: the frame could not be prepared (missing, corrupt)
-    double readMs = 0.0;   // wall time of resolving and reading on the worker
-    std::size_t bytes = 0; // memory of its grids
+    std::string error;      // set: the frame could not be prepared (missing, corrupt)
+    double readMs = 0.0;    // wall time of resolving and reading on the worker
+    double convertMs = 0.0; // wall time of the GPU conversion on the worker
+    std::size_t bytes = 0;  // memory of its grids and their conversions
     std::uint64_t activeVoxels = 0;
 };
 
 class FramePrefetcher {
 public:
-    // `threads` workers (at least 1); `budgetBytes` bounds the grids read ahead.
+    // `threads` workers (at least 1); `budgetBytes` bounds the grids read ahead. `max3D` > 0:
+    // the grids are also converted for a GPU with that GL_MAX_3D_TEXTURE_SIZE, with the options
+    // the fog pass will use (render.volume_budget_mib, volume_over_budget); 0: read only.
     FramePrefetcher(const scene::AnimatedScene& scene, std::vector<int> frames,
-                    std::size_t budgetBytes, int threads = 2);
+                    std::size_t budgetBytes, int threads = 2, int max3D = 0);
     ~FramePrefetcher(); // stops the workers (frames in progress finish first)
     FramePrefetcher(const FramePrefetcher&) = delete;
     FramePrefetcher& operator=(const FramePrefetcher&) = delete;
@@ -51,6 +55,7 @@ private:
     const scene::AnimatedScene& scene_;
     std::vector<int> frames_;
     std::size_t budget_;
+    int max3D_ = 0;
     // Grids of file volumes that are not sequences, read once and shared by every frame.
     std::vector<volume::PreloadedGrid> staticGrids_;
     mutable std::mutex mutex_;

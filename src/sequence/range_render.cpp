@@ -66,6 +66,7 @@ nlohmann::json RangeResult::json() const {
         } else {
             j.update({{"wait_ms", f.waitMs},
                       {"read_ms", f.readMs},
+                      {"convert_ms", f.convertMs},
                       {"setup_ms", f.setupMs},
                       {"render_ms", f.renderMs},
                       {"gpu_ms", f.gpuMs},
@@ -79,9 +80,9 @@ nlohmann::json RangeResult::json() const {
             {"interrupted", interrupted},
             {"wall_s", wallSeconds},
             {"peak_read_ahead_bytes", peakReadAheadBytes},
-            {"times", "read_ms on a worker thread, overlapping earlier frames; wait_ms: the "
-                      "render thread waiting for it; setup_ms: renderer creation with the "
-                      "grids' conversion and upload; render_ms: render() to glFinish"}};
+            {"times", "read_ms, convert_ms on a worker thread, overlapping earlier frames; "
+                      "wait_ms: the render thread waiting for them; setup_ms: renderer "
+                      "creation with the grids' upload; render_ms: render() to glFinish"}};
 }
 
 RangeResult renderRange(const scene::AnimatedScene& scene, const RangeJob& job,
@@ -116,8 +117,10 @@ RangeResult renderRange(const scene::AnimatedScene& scene, const RangeJob& job,
     progress.done = int(result.frames.size());
     if (todo.empty()) return result;
 
+    GLint max3D = 0; // the workers convert the grids for this GPU
+    glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3D);
     FramePrefetcher prefetcher(
-        scene, todo, std::size_t(scene.timeline.time.prefetchBudgetMiB) << 20, job.threads);
+        scene, todo, std::size_t(scene.timeline.time.prefetchBudgetMiB) << 20, job.threads, max3D);
     const auto renderStart = Clock::now();
     int rendered = 0;
     for (std::size_t i = 0; i < todo.size(); ++i) {
@@ -132,6 +135,7 @@ RangeResult renderRange(const scene::AnimatedScene& scene, const RangeJob& job,
         VEIL_CHECK(p.error.empty(), "{}", p.error);
         t.frame = p.frame;
         t.readMs = p.readMs;
+        t.convertMs = p.convertMs;
         t.activeVoxels = p.activeVoxels;
         t.notes = p.notes;
         t.output = outputFor(job.output, p.frame, single);

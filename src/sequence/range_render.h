@@ -1,5 +1,6 @@
 // Rendering a scene's frames into numbered images in one process and one GL context: grids of
-// the next frames are read on worker threads (prefetch.h) while the current frame renders;
+// the next frames are read and converted on worker threads (prefetch.h) while the current
+// frame renders;
 // every image is written atomically (temporary file + rename), so an interrupted range leaves
 // complete frames only, and a resumed one skips the frames whose image is complete.
 #pragma once
@@ -47,13 +48,14 @@ struct RangeJob {
 struct FrameTimes {
     int frame = 0;
     std::filesystem::path output;
-    bool skipped = false;  // --resume: complete already
-    double waitMs = 0.0;   // waiting for the workers (read not done in time)
-    double readMs = 0.0;   // resolving and reading the grids (on a worker)
-    double setupMs = 0.0;  // renderer: programs, grid conversion into the atlas, upload
-    double renderMs = 0.0; // render() to glFinish
-    double gpuMs = 0.0;    // sum of the pass timers
-    double writeMs = 0.0;  // read-back and writing the image
+    bool skipped = false;   // --resume: complete already
+    double waitMs = 0.0;    // waiting for the workers (read not done in time)
+    double readMs = 0.0;    // resolving and reading the grids (on a worker)
+    double convertMs = 0.0; // converting them into the GPU's arrays (on a worker)
+    double setupMs = 0.0;   // renderer: programs, upload of the converted grids
+    double renderMs = 0.0;  // render() to glFinish
+    double gpuMs = 0.0;     // sum of the pass timers
+    double writeMs = 0.0;   // read-back and writing the image
     std::uint64_t activeVoxels = 0;
     std::vector<std::string> notes;
 };

@@ -5,6 +5,7 @@
 #include "shaders/common/bindings.h"
 #include "volume/density_grid.h"
 #include "volume/gpu_volume.h"
+#include "volume/grid_preload.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -43,12 +44,18 @@ FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
         VEIL_CHECK(volumes_.size() < VEIL_MAX_VOLUMES,
                    "{}: at most {} grid volumes per scene (volume '{}')", where, VEIL_MAX_VOLUMES,
                    ref.name);
-        openvdb::FloatGrid::Ptr grid = loadVolume(ref);
         options.budgetBytes = std::size_t(scene.render.volumeBudgetMiB) << 20;
         options.budgetBytes = options.budgetBytes > used ? options.budgetBytes - used : 0;
+        // Converted ahead on a worker thread (grid_preload.h) when the options match.
+        GLint max3D = 0;
+        glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3D);
+        const auto converted =
+            ref.path.empty() ? nullptr : findPreconverted(ref.path, ref.grid, options, max3D);
+        openvdb::FloatGrid::Ptr grid = converted ? nullptr : loadVolume(ref);
         std::unique_ptr<GpuVolume> gpuVolume;
         try {
-            gpuVolume = std::make_unique<GpuVolume>(grid, ref.transform, options);
+            gpuVolume = converted ? std::make_unique<GpuVolume>(*converted, ref.transform)
+                                  : std::make_unique<GpuVolume>(grid, ref.transform, options);
         } catch (const Error& e) {
             throw Error(fmt::format("{}: {}", where, e.what()));
         }

@@ -11,22 +11,18 @@
 #include "gpu/objects.h"
 #include "scene/scene.h"
 #include "volume/gpu_volume_stats.h"
+#include "volume/grid_conversion.h"
 
 #include <openvdb/openvdb.h>
 
 #include <glm/glm.hpp>
 
-#include <set>
 #include <string>
 #include <type_traits>
 
 namespace veil::volume {
 
 static_assert(std::is_same_v<openvdb::Index64, std::uint64_t>);
-
-// Bytes the GPU representation of `grid` would take (without building it; a lower bound for
-// grids far over the budget, whose tiles are not enumerated).
-std::size_t estimateGpuBytes(const openvdb::FloatGrid& grid, const GpuVolumeOptions& options);
 
 class GpuVolume {
 public:
@@ -38,6 +34,9 @@ public:
     // veil::Error.
     GpuVolume(openvdb::FloatGrid::ConstPtr grid, const glm::mat4& objectToWorld,
               const GpuVolumeOptions& options = {});
+    // Uploads a conversion made earlier (grid_conversion.h, on any thread): the same textures
+    // as the constructor above makes from the grid the conversion was made from.
+    GpuVolume(const GridConversion& converted, const glm::mat4& objectToWorld);
 
     const GpuVolumeStats& stats() const { return stats_; }
     const gpu::Texture& data() const { return data_; }               // atlas or dense R16F
@@ -54,8 +53,7 @@ public:
     float voxelSize() const { return voxelSize_; } // world units (largest axis)
 
 private:
-    void buildDense(const openvdb::FloatGrid& grid, const openvdb::CoordBBox& box);
-    void buildBricks(const openvdb::FloatGrid& grid, const std::set<openvdb::Coord>& origins);
+    void upload(const GridConversion& converted, const glm::mat4& objectToWorld);
 
     GpuVolumeStats stats_;
     gpu::Texture data_{gpu::NoCreate}, indirection_{gpu::NoCreate};

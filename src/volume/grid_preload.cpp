@@ -27,4 +27,17 @@ openvdb::FloatGrid::Ptr findPreloadedGrid(const std::filesystem::path& path,
     return tCurrent ? findPreloadedGridIn(*tCurrent, path, grid) : nullptr;
 }
 
+std::shared_ptr<const GridConversion> findPreconverted(const std::filesystem::path& path,
+                                                       const std::string& grid,
+                                                       const GpuVolumeOptions& options, int max3D) {
+    if (!tCurrent) return nullptr;
+    for (const PreloadedGrid& g : *tCurrent)
+        if (g.converted && g.grid == grid && g.path == path && g.max3D == max3D &&
+            g.options.budgetBytes == options.budgetBytes &&
+            g.options.refuseOverBudget == options.refuseOverBudget &&
+            g.options.denseVoxelLimit == options.denseVoxelLimit)
+            return g.converted;
+    return nullptr;
+}
+
 } // namespace veil::volume
