@@ -5,10 +5,17 @@
 // "mask") and optionally as a VTK image for ParaView. A mesh file is voxelized without a
 // scene: cubic voxels of (largest extent x 1.06) / res, the grid fitted to the mesh bounds on
 // every axis (so a flat mesh gets few slices).
+//
+// --frame N / --frames A-B[:S]: a scene is voxelized at each frame (time.frame: its animated
+// camera for --perspective, its meshes); a mesh input is then a file sequence (mesh.####.obj)
+// and each frame's file is voxelized. Outputs take the frame number (-o grid.####.vdb, --vti
+// grid.####.vti); every frame's input is checked before the first is voxelized; one GL context
+// serves every frame; each file is written atomically.
 #include "app/command_line.h"
 #include "app/commands.h"
 
 #include "app/cli_checks.h"
+#include "app/frame_options.h"
 
 #include "base/atomic_file.h"
 #include "base/error.h"
@@ -16,6 +23,7 @@
 #include "gpu/context.h"
 #include "io/vtk_export.h"
 #include "scene/scene.h"
+#include "scene/timeline.h"
 #include "voxelize/gpu_voxelizer.h"
 #include "voxelize/grid_fit.h"
 #include "voxelize/triangles.h"
@@ -29,6 +37,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 namespace veil::app {
 
@@ -42,6 +51,13 @@ struct VoxelizeArgs {
     bool solid = false, local = false, perspective = false, quiet = false;
     double smooth = 0.0, voxelSize = 0.0;
     double smoothLimit = 5e9;
+    std::vector<std::string> overrides;
+    FrameOptions frames;
+};
+
+// One frame's files: the input (a scene or a mesh file), the outputs, the scene's overrides.
+struct VoxelizeFrame {
+    std::string input, output, vti;
     std::vector<std::string> overrides;
 };
 
@@ -69,35 +85,37 @@ private:
     int lastPercent_ = -1;
 };
 
-void runVoxelize(const VoxelizeArgs& args) {
+// The checks that need no GL, in order: outputs, mesh options, the scene (its files) and the
+// outputs against the scene's own .vdb volumes (-o smoke.vdb would replace one).
+scene::Scene loadFrameScene(const VoxelizeArgs& args, const VoxelizeFrame& frame) {
     using namespace veil::voxelize;
-    const auto start = std::chrono::steady_clock::now();
-    // Everything that can be checked before work is checked first.
-    const Method method =
-        parseMethod(args.method.empty() ? (args.solid ? "raster" : "conservative") : args.method);
-    if (lowerExtension(args.output) != ".vdb")
-        usageError(fmt::format("output '{}' must end in .vdb", args.output));
-    if (!args.vti.empty() && lowerExtension(args.vti) != ".vti")
-        usageError(fmt::format("--vti '{}' must end in .vti", args.vti));
-    checkOutputPath(args.output, "output", {args.scene});
-    if (!args.vti.empty()) checkOutputPath(args.vti, "--vti", {args.scene, args.output});
-    const bool mesh = isMeshFile(args.scene);
+    checkOutputPath(frame.output, "output", {frame.input});
+    if (!frame.vti.empty()) checkOutputPath(frame.vti, "--vti", {frame.input, frame.output});
+    const bool mesh = isMeshFile(frame.input);
     if (mesh && (args.perspective || !args.overrides.empty()))
         usageError(
-            fmt::format("'{}' is a mesh: --perspective and --set need a scene file", args.scene));
-    const scene::Scene scene =
-        mesh ? sceneForMesh(args.scene) : scene::loadScene(args.scene, args.overrides);
-    // The scene's own .vdb volumes are inputs too: -o smoke.vdb would replace one.
+            fmt::format("'{}' is a mesh: --perspective and --set need a scene file", frame.input));
+    scene::Scene scene =
+        mesh ? sceneForMesh(frame.input) : scene::loadScene(frame.input, frame.overrides);
     std::vector<fs::path> volumeFiles;
     for (const scene::VolumeRef& v : scene.volumes)
         if (!v.path.empty()) volumeFiles.push_back(v.path);
-    checkOutputPath(args.output, "output", volumeFiles);
+    checkOutputPath(frame.output, "output", volumeFiles);
+    return scene;
+}
+
+void voxelizeFrame(const VoxelizeArgs& args, const VoxelizeFrame& frame, const scene::Scene& scene,
+                   voxelize::Method method, std::optional<gpu::HeadlessContext>& contextSlot) {
+    using namespace veil::voxelize;
+    const auto start = std::chrono::steady_clock::now();
+    const bool mesh = isMeshFile(frame.input);
     const Triangles tris = flattenScene(scene);
 
     SliceMap grid =
         fitGrid(scene, tris, {args.res, args.slices, args.perspective, args.camera}, mesh);
     const int slices = grid.slices;
-    gpu::HeadlessContext context({args.device, false});
+    if (!contextSlot) contextSlot.emplace(gpu::HeadlessOptions{args.device, false});
+    gpu::HeadlessContext& context = *contextSlot;
     GpuVoxelizer vox(context.info());
     const bool big = tris.count() > 200000 || double(args.res) * args.res * slices > 6.4e7;
     {
@@ -117,11 +135,11 @@ void runVoxelize(const VoxelizeArgs& args) {
         try {
             grids = toVdb(grid, vopt);
         } catch (const Error& e) {
-            throw Error(fmt::format("{}: {}", args.scene, e.what()));
+            throw Error(fmt::format("{}: {}", frame.input, e.what()));
         }
     }
-    writeVdb(args.output, grids);
-    if (!args.vti.empty()) {
+    writeVdb(frame.output, grids);
+    if (!frame.vti.empty()) {
         io::DenseGrid dense;
         dense.name = "density";
         for (int i = 0; i < 3; ++i) {
@@ -145,11 +163,11 @@ void runVoxelize(const VoxelizeArgs& args) {
         for (auto it = grids.mask->cbeginValueOn(); it; ++it)
             if (const std::ptrdiff_t i = point(it.getCoord()); i >= 0) mask[i] = 1.0f;
         dense.moreScalars.emplace_back("mask", std::move(mask));
-        dense.fieldData = {{"veil_source", args.scene},
-                           {"veil_grids", "density, mask (as in " + args.output + ")"},
+        dense.fieldData = {{"veil_source", frame.input},
+                           {"veil_grids", "density, mask (as in " + frame.output + ")"},
                            {"veil_version", versionWithCommit()},
                            {"veil_command", commandLine()}};
-        io::writeVti(args.vti, dense);
+        io::writeVti(frame.vti, dense);
     }
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -157,10 +175,54 @@ void runVoxelize(const VoxelizeArgs& args) {
         "voxelized {} triangles into {}x{}x{} {} cells: {} set ({} voxels in '{}')\n"
         "method: {}\ngrid: {}\ntime: voxelize {:.2f} ms ({}), total {:.2f} s\nwrote {}{}\n",
         tris.count(), grid.width, grid.height, grid.slices, args.solid ? "solid" : "surface",
-        grid.countSet(), grids.mask->activeVoxelCount(), args.output, vox.path(), grids.note,
+        grid.countSet(), grids.mask->activeVoxelCount(), frame.output, vox.path(), grids.note,
         vox.milliseconds(),
         context.info().softwareRenderer ? "glFinish + CPU clock" : "GL_TIME_ELAPSED", seconds,
-        args.output, args.vti.empty() ? "" : " and " + args.vti);
+        frame.output, frame.vti.empty() ? "" : " and " + frame.vti);
+}
+
+void runVoxelize(const VoxelizeArgs& args) {
+    using namespace veil::voxelize;
+    // Everything that can be checked before work is checked first, for every frame.
+    const Method method =
+        parseMethod(args.method.empty() ? (args.solid ? "raster" : "conservative") : args.method);
+    if (lowerExtension(args.output) != ".vdb")
+        usageError(fmt::format("output '{}' must end in .vdb", args.output));
+    if (!args.vti.empty() && lowerExtension(args.vti) != ".vti")
+        usageError(fmt::format("--vti '{}' must end in .vti", args.vti));
+    const std::vector<int> frames = args.frames.list();
+    std::vector<VoxelizeFrame> jobs;
+    if (frames.empty()) {
+        jobs.push_back({args.scene, args.output, args.vti, args.overrides});
+    } else {
+        // A scene file is taken at each frame; a mesh input is a file sequence.
+        std::error_code ec;
+        const bool sceneFile = fs::is_regular_file(args.scene, ec) && !isMeshFile(args.scene);
+        if (!sceneFile) checkFrameInputs(args.scene, frames);
+        if (sceneFile) { // every frame's volume files exist (or are held) before any work
+            const scene::AnimatedScene animated =
+                scene::loadAnimatedScene(args.scene, args.overrides);
+            for (int f : frames)
+                scene::volumeFrames(animated, f);
+        }
+        for (int f : frames) {
+            VoxelizeFrame job;
+            job.input = sceneFile ? args.scene : inputForFrame(args.scene, f, "input").string();
+            job.output = outputForFrame(args.output, f, frames.size() == 1, "output").string();
+            if (!args.vti.empty())
+                job.vti = outputForFrame(args.vti, f, frames.size() == 1, "--vti").string();
+            job.overrides = args.overrides;
+            if (sceneFile) job.overrides.push_back(fmt::format("time.frame={}", f));
+            jobs.push_back(std::move(job));
+        }
+    }
+    for (const VoxelizeFrame& job : jobs) {
+        checkOutputPath(job.output, "output", {job.input});
+        if (!job.vti.empty()) checkOutputPath(job.vti, "--vti", {job.input, job.output});
+    }
+    std::optional<gpu::HeadlessContext> context; // made when the first frame needs it
+    for (const VoxelizeFrame& job : jobs)
+        voxelizeFrame(args, job, loadFrameScene(args, job), method, context);
 }
 
 } // namespace
@@ -202,6 +264,7 @@ void addVoxelizeCommand(CLI::App& app) {
     cmd->add_option("--set", args->overrides, "Override a scene value: key=value (repeatable)");
     cmd->add_option("--device", args->device, "EGL device index")->check(CLI::Range(0, 1023));
     cmd->add_flag("--quiet", args->quiet, "No progress bar");
+    args->frames.add(*cmd, "the scene (time.frame) or of a mesh file sequence");
     cmd->callback([args] { runVoxelize(*args); });
 }
 

@@ -1,0 +1,83 @@
+// --frame / --frames for voxelize and export (frame_options.h).
+#include "app/frame_options.h"
+
+#include "app/cli_checks.h"
+#include "base/error.h"
+#include "scene/animation.h"
+#include "scene/timeline.h"
+#include "sequence/range_render.h"
+
+namespace veil::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::optional<scene::FilePattern> sequencePattern(const std::string& input) {
+    std::error_code ec;
+    if (fs::exists(input, ec)) return std::nullopt; // an existing file is taken literally
+    try {
+        return scene::parseFilePattern(input);
+    } catch (const Error& e) {
+        usageError(e.what());
+    }
+}
+
+} // namespace
+
+void FrameOptions::add(CLI::App& cmd, const std::string& what) {
+    cmd.add_option("--frame", frame, "One frame of " + what);
+    cmd.add_option("--frames", frames,
+                   "Frames FIRST-LAST[:STEP] of " + what +
+                       " (outputs need a frame pattern, e.g. "
+                       "out.####.vdb)");
+}
+
+std::vector<int> FrameOptions::list() const {
+    if (frame && !frames.empty()) usageError("give --frames or --frame, not both");
+    if (frame) return {*frame};
+    if (frames.empty()) return {};
+    try {
+        return scene::parseFrameRange(frames).frames();
+    } catch (const Error& e) {
+        usageError(e.what());
+    }
+}
+
+fs::path inputForFrame(const std::string& input, std::optional<int> frame, const char* what) {
+    const std::optional<scene::FilePattern> pattern = sequencePattern(input);
+    if (!pattern) {
+        if (frame)
+            usageError(fmt::format("--frame/--frames need a file sequence as the {} (a name with "
+                                   "a frame pattern such as name.####.vdb), not '{}'",
+                                   what, input));
+        return input;
+    }
+    if (!frame)
+        usageError(
+            fmt::format("{} '{}' is a file sequence: give --frame N or --frames A-B", what, input));
+    return pattern->fileFor(*frame);
+}
+
+void checkFrameInputs(const std::string& input, const std::vector<int>& frames) {
+    const std::optional<scene::FilePattern> pattern = sequencePattern(input);
+    if (!pattern) return;
+    for (int f : frames) {
+        const fs::path file = pattern->fileFor(f);
+        std::error_code ec;
+        VEIL_CHECK(fs::is_regular_file(file, ec), "{}: frame {} of '{}' is missing", file.string(),
+                   f, input);
+    }
+}
+
+fs::path outputForFrame(const std::string& output, std::optional<int> frame, bool single,
+                        const char* what) {
+    if (!frame) return output;
+    try {
+        return sequence::outputFor(output, *frame, single);
+    } catch (const Error& e) {
+        usageError(fmt::format("{} {}", what, e.what()));
+    }
+}
+
+} // namespace veil::app
