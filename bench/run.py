@@ -151,7 +151,8 @@ def bench_case(tool, case, metric, tmp):
     if QUICK:
         cmd[2:10] = ["--width", "64", "--height", "36", "--frames", "1", "--warmup", "0"]
     rc, err, wall = run_process(cmd, case.get("timeout_s", 150) * (4 if QUICK else 1))
-    record = {"name": case["name"], "command": ["veil-bench"] + cmd[1:-2], "wall_s": round(wall, 2)}
+    record = {"name": case["name"], "command": [os.path.basename(tool)] + cmd[1:-2],
+              "wall_s": round(wall, 2)}
     if rc != 0 or not os.path.exists(out):
         record["error"] = f"exit {rc}: {err.strip()}"
         return record, None
@@ -346,11 +347,11 @@ def dry_run(sets):
             cases = expand_cases(group)
             names = [c["name"] for c in cases]
             tool = group.get("tool", "veil-bench")
-            if tool not in ("veil-bench", "veil-voxbench", "python"):
+            if tool not in ("veil-bench", "veil-voxbench", "veil-seqbench", "python"):
                 log(f"{path}: group {group['name']}: unknown tool {tool}")
                 bad += 1
             base = group.get("baseline")
-            if base and tool == "veil-bench" and base not in names:
+            if base and tool in ("veil-bench", "veil-seqbench") and base not in names:
                 log(f"{path}: group {group['name']}: baseline {base!r} is not a case")
                 bad += 1
             for c in cases:

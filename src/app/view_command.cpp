@@ -4,6 +4,7 @@
 // (viewer/view_script.h); `--frames N --screenshot out.png` renders N frames without the panel.
 #include "app/cli_checks.h"
 #include "app/commands.h"
+#include "app/timeline_panel.h"
 #include "app/view_panel.h"
 #include "session/view_session.h"
 #include "viewer/debug_view.h"
@@ -258,6 +259,26 @@ int scriptApply(const viewer::ScriptAction& a, session::ViewSession& s, viewer::
     return 1;
 }
 
+// The timeline's actions (frame, play, step, loop, fps); false for any other.
+bool applyTimeAction(const viewer::ScriptAction& a, session::TimelinePlayer& t) {
+    if (a.kind == "frame") {
+        t.play(false);
+        t.seek(a.value.get<int>());
+    } else if (a.kind == "play") {
+        t.play(a.value.get<bool>());
+    } else if (a.kind == "step") {
+        t.play(false);
+        t.step(a.value.get<int>());
+    } else if (a.kind == "loop") {
+        t.setLoop(a.value.get<bool>());
+    } else if (a.kind == "fps") {
+        t.setFps(a.value.get<double>());
+    } else {
+        return false;
+    }
+    return true;
+}
+
 bool isOutput(const std::string& kind) {
     return kind == "screenshot" || kind == "window_screenshot" || kind == "copy_command" ||
            kind == "save_scene" || kind == "status";
@@ -302,6 +323,11 @@ void runView(const ViewArgs& args) {
                               : scripted                 ? 0.0
                                                          : 100.0);
 
+    // The timeline of an animated scene (made again when another scene is opened).
+    auto timeline = std::make_unique<session::TimelinePlayer>(session);
+    std::filesystem::path timelineScene = session.scenePath();
+    auto lastTick = std::chrono::steady_clock::now();
+
     std::unique_ptr<ImGuiSession> gui;
     if (args.frames == 0) gui = std::make_unique<ImGuiSession>(window.window(), !scripted);
     glfwSetDropCallback(window.window(), onDrop);
@@ -328,12 +354,16 @@ void runView(const ViewArgs& args) {
         bool force = false;
         if (session.refining()) {
             // The script waits for the refined frame (its next action sees the whole frame).
+        } else if (scripted && timeline->pending()) {
+            // ... and for the timeline's frame to be shown (or to fail).
         } else if (wait > 0) {
             --wait;
             force = true;
         } else if (next < script.size()) {
             action = &script[next++];
-            if (!isOutput(action->kind))
+            if (applyTimeAction(*action, *timeline))
+                wait = 0;
+            else if (!isOutput(action->kind))
                 wait = scriptApply(*action, session, view, panel) - 1;
             else if (action->kind == "save_scene")
                 session.saveSceneAs(action->value.get<std::string>());
@@ -377,9 +407,20 @@ void runView(const ViewArgs& args) {
                 }
             }
             drawPanel(window.window(), session, view, panel);
+            drawTimeline(*timeline);
             for (const std::string& f : droppedFiles())
                 session.open(f);
             droppedFiles().clear();
+        }
+        if (session.scenePath() != timelineScene) {
+            timeline = std::make_unique<session::TimelinePlayer>(session);
+            timelineScene = session.scenePath();
+        }
+        {
+            const auto now = std::chrono::steady_clock::now();
+            timeline->update(session, std::chrono::duration<double>(now - lastTick).count(),
+                             scripted);
+            lastTick = now;
         }
         // A frame in one piece, or a refinement begun (the frame's per-frame passes) and then
         // one tile per UI frame (camera input or an edit changes the version: it starts again).

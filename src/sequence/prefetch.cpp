@@ -52,14 +52,7 @@ FramePrefetcher::FramePrefetcher(const scene::AnimatedScene& scene, std::vector<
                                  std::size_t budgetBytes, int threads, int max3D)
     : scene_(scene), frames_(std::move(frames)), budget_(budgetBytes), max3D_(max3D) {
     slots_.resize(frames_.size());
-    // File volumes that do not change with the frame are read once, here (errors surface at
-    // once); procedural ones are built by each frame's renderer.
-    for (std::size_t i = 0; i < scene.scene.volumes.size(); ++i) {
-        const scene::VolumeRef& v = scene.scene.volumes[i];
-        const bool sequence = i < scene.timeline.volumes.size() && scene.timeline.volumes[i];
-        if (!sequence && v.procedural.empty())
-            staticGrids_.push_back({v.path, v.grid, volume::loadVolume(v), nullptr, {}, 0});
-    }
+    staticGrids_ = readStaticGrids(scene);
     const int n = std::clamp(threads, 1, 64);
     for (int i = 0; i < n; ++i)
         workers_.emplace_back([this] { work(); });
@@ -80,13 +73,26 @@ std::size_t FramePrefetcher::peakBytes() const {
     return peakBytes_;
 }
 
-PreparedFrame FramePrefetcher::prepare(int frame) const {
+std::vector<volume::PreloadedGrid> readStaticGrids(const scene::AnimatedScene& scene) {
+    // Procedural volumes are built by each frame's renderer.
+    std::vector<volume::PreloadedGrid> grids;
+    for (std::size_t i = 0; i < scene.scene.volumes.size(); ++i) {
+        const scene::VolumeRef& v = scene.scene.volumes[i];
+        const bool sequence = i < scene.timeline.volumes.size() && scene.timeline.volumes[i];
+        if (!sequence && v.procedural.empty())
+            grids.push_back({v.path, v.grid, volume::loadVolume(v), nullptr, {}, 0});
+    }
+    return grids;
+}
+
+PreparedFrame prepareFrame(const scene::AnimatedScene& scene, int frame,
+                           const std::vector<volume::PreloadedGrid>& staticGrids, int max3D) {
     const auto start = std::chrono::steady_clock::now();
     PreparedFrame p;
     p.frame = frame;
     try {
-        p.scene = scene::sceneAtFrame(scene_, frame, &p.notes);
-        p.grids = staticGrids_;
+        p.scene = scene::sceneAtFrame(scene, frame, &p.notes);
+        p.grids = staticGrids;
         for (const scene::VolumeRef& v : p.scene.volumes) {
             if (!v.procedural.empty()) continue;
             if (volume::findPreloadedGridIn(p.grids, v.path, v.grid)) continue;
@@ -97,9 +103,9 @@ PreparedFrame FramePrefetcher::prepare(int frame) const {
             p.activeVoxels += g.value->activeVoxelCount();
         }
         p.readMs = msSince(start);
-        if (max3D_ > 0) {
+        if (max3D > 0) {
             const auto converting = std::chrono::steady_clock::now();
-            convertAhead(p, max3D_);
+            convertAhead(p, max3D);
             p.convertMs = msSince(converting);
         }
     } catch (const Error& e) {
@@ -127,7 +133,8 @@ void FramePrefetcher::work() {
             if (stop_ || claimed_ >= frames_.size()) return;
             index = claimed_++;
         }
-        auto p = std::make_unique<PreparedFrame>(prepare(frames_[index]));
+        auto p = std::make_unique<PreparedFrame>(
+            prepareFrame(scene_, frames_[index], staticGrids_, max3D_));
         {
             std::lock_guard lock(mutex_);
             heldBytes_ += p->bytes;

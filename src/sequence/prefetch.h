@@ -31,6 +31,15 @@ struct PreparedFrame {
     std::uint64_t activeVoxels = 0;
 };
 
+// Everything a frame needs before the render thread takes it: the scene at `frame`, its file
+// volumes' grids (those of `staticGrids` shared, the rest read) and, with `max3D` > 0, their
+// GPU conversions. Errors (a missing or corrupt file) are kept in PreparedFrame::error.
+PreparedFrame prepareFrame(const scene::AnimatedScene& scene, int frame,
+                           const std::vector<volume::PreloadedGrid>& staticGrids, int max3D);
+
+// File volumes that do not change with the frame, read once (errors thrown at once).
+std::vector<volume::PreloadedGrid> readStaticGrids(const scene::AnimatedScene& scene);
+
 class FramePrefetcher {
 public:
     // `threads` workers (at least 1); `budgetBytes` bounds the grids read ahead. `max3D` > 0:
@@ -50,7 +59,6 @@ public:
 
 private:
     void work();
-    PreparedFrame prepare(int frame) const;
 
     const scene::AnimatedScene& scene_;
     std::vector<int> frames_;

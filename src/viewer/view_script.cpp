@@ -26,9 +26,11 @@ Want wantFor(const std::string& kind) {
         "view",         "open",       "screenshot", "window_screenshot",
         "copy_command", "save_scene", "status"};
     if (strings.count(kind)) return Want::String;
-    if (kind == "frames" || kind == "refine_tile_px" || kind == "refine_budget_ms")
+    if (kind == "frames" || kind == "refine_tile_px" || kind == "refine_budget_ms" ||
+        kind == "frame" || kind == "step" || kind == "fps")
         return Want::Number;
-    if (kind == "reset_camera" || kind == "reload_shaders" || kind == "reuse_shadow_maps")
+    if (kind == "reset_camera" || kind == "reload_shaders" || kind == "reuse_shadow_maps" ||
+        kind == "play" || kind == "loop")
         return Want::Bool;
     return Want::Array; // orbit, pan, resize, expand
 }
@@ -54,7 +56,12 @@ bool known(const std::string& kind) {
                                               "copy_command",
                                               "save_scene",
                                               "status",
-                                              "expand"};
+                                              "expand",
+                                              "frame",
+                                              "play",
+                                              "step",
+                                              "loop",
+                                              "fps"};
     return all.count(kind) > 0;
 }
 
@@ -85,7 +92,8 @@ std::vector<ScriptAction> loadViewScript(const std::filesystem::path& path) {
                        "{}: unknown action '{}' (known: set, oit, shadows, camera, reset_camera, "
                        "orbit, pan, view, open, resize, reload_shaders, frames, refine_tile_px, "
                        "reuse_shadow_maps, screenshot, "
-                       "window_screenshot, copy_command, save_scene, status, expand)",
+                       "window_screenshot, copy_command, save_scene, status, expand, frame, "
+                       "play, step, loop, fps)",
                        where, printable(key));
             VEIL_CHECK(act.kind.empty(), "{}: two actions ('{}', '{}') in one object", where,
                        act.kind, key);
@@ -99,21 +107,31 @@ std::vector<ScriptAction> loadViewScript(const std::filesystem::path& path) {
                              std::all_of(act.value.begin(), act.value.end(),
                                          [](const nlohmann::json& x) { return x.is_string(); });
         // frames: 1..100000; refine_tile_px: 0 (off)..16384; refine_budget_ms: 0 (off)..1e6.
+        // Time: frame and step -1e6..1e6; fps 0.1..1000 (not an integer necessarily).
         const bool tile = act.kind == "refine_tile_px", budget = act.kind == "refine_budget_ms";
-        const long long lo = tile || budget ? 0 : 1, hi = tile ? 16384 : budget ? 1000000 : 100000;
+        const bool fps = act.kind == "fps", time = act.kind == "frame" || act.kind == "step";
+        const double lo = tile || budget ? 0
+                          : time         ? -1e6
+                          : fps          ? 0.1
+                                         : 1,
+                     hi = tile             ? 16384
+                          : budget || time ? 1e6
+                          : fps            ? 1000
+                                           : 100000;
         const bool ok = setList || (want == Want::String && act.value.is_string()) ||
-                        (want == Want::Number && (act.value.is_number_integer() || budget) &&
-                         act.value.is_number() && act.value.get<double>() >= double(lo) &&
-                         act.value.get<double>() <= double(hi)) ||
+                        (want == Want::Number && (act.value.is_number_integer() || budget || fps) &&
+                         act.value.is_number() && act.value.get<double>() >= lo &&
+                         act.value.get<double>() <= hi) ||
                         (want == Want::Bool && act.value.is_boolean()) ||
                         (want == Want::Array && act.value.is_array());
-        VEIL_CHECK(ok, "{}: '{}' expects {}, not {}", where, act.kind,
-                   want == Want::String ? std::string("a string")
-                   : want == Want::Number
-                       ? fmt::format("{} in {}..{}", budget ? "a number" : "an integer", lo, hi)
-                   : want == Want::Bool ? std::string("true or false")
-                                        : std::string("an array"),
-                   scene::describeJson(act.value));
+        VEIL_CHECK(
+            ok, "{}: '{}' expects {}, not {}", where, act.kind,
+            want == Want::String ? std::string("a string")
+            : want == Want::Number
+                ? fmt::format("{} in {}..{}", budget || fps ? "a number" : "an integer", lo, hi)
+            : want == Want::Bool ? std::string("true or false")
+                                 : std::string("an array"),
+            scene::describeJson(act.value));
         if (act.kind == "orbit" || act.kind == "pan" || act.kind == "resize") {
             VEIL_CHECK(act.value.size() == 2 && act.value[0].is_number() &&
                            act.value[1].is_number(),

@@ -23,6 +23,12 @@
 //   {"save_scene": "edited.json"}
 //   {"status": "status.json"}                errors and what renders, as JSON
 //   {"expand": ["Volumes", "Lights"]}        open these panel sections, close the others
+//   {"frame": 37}                            show frame 37 of an animated scene (pauses);
+//                                            the script waits until it is shown or failed
+//   {"play": true}, {"step": 1}, {"loop": false}, {"fps": 12}   the timeline: while
+//                                            playing, a scripted run advances one frame per
+//                                            displayed frame once the last one is shown
+//                                            (the play action's frame included)
 // A malformed script is an error naming the file and the action; an action that fails
 // (a bad file, a failing technique) is recorded like a click would be and the script goes on.
 #pragma once

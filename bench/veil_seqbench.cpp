@@ -1,0 +1,255 @@
+// veil-seqbench: plays a scene's frame range the way `veil render --frames` does, without
+// writing images, and measures where a frame's time goes. Worker threads read and convert the
+// next frames (sequence/prefetch.h; the conversion itself multithreaded with TBB) while the
+// render thread uploads and renders the current one. Reported per frame (median, mean):
+//   read_ms, convert_ms  on a worker, overlapping earlier frames;
+//   wait_ms              the render thread waiting for the workers;
+//   setup_ms             frame::Renderer creation: the upload of the converted grids, light
+//                        volumes, programs (from the driver's cache after the first frame);
+//   render_ms            render() to glFinish;
+// end to end: frames / wall seconds of the whole loop. Then, on the distinct frames alone:
+// the upload of a frame's conversion (GpuVolume, glFinish), and the CPU conversion cost per
+// million active voxels with all threads and with one. Links the core only (no OpenImageIO,
+// no VTK), like veil-bench. bench/run.py runs it for the sequence-playback set.
+#include "base/atomic_file.h"
+#include "base/error.h"
+#include "frame/renderer.h"
+#include "gpu/context.h"
+#include "scene/timeline.h"
+#include "sequence/prefetch.h"
+#include "volume/density_grid.h"
+#include "volume/gpu_volume.h"
+#include "volume/grid_preload.h"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <tbb/info.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <numeric>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+void usage() {
+    std::puts("usage: veil-seqbench <scene.json> --frames A-B[:S] [--repeat N] [--width W]\n"
+              "                     [--height H] [--threads T] [--warmup N] [--set key=value]...\n"
+              "                     [--oit NAME] [--json out.json]\n"
+              "  --repeat N   play the range N times (a longer run over the same files)\n"
+              "  --threads T  prefetch workers (default 2); TBB uses every core inside each");
+}
+
+nlohmann::json stats(std::vector<double> v) {
+    if (v.empty()) return nullptr;
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    const double median = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+    const double mean = std::accumulate(v.begin(), v.end(), 0.0) / double(n);
+    return {{"median", median}, {"mean", mean}, {"min", v.front()}, {"max", v.back()}};
+}
+
+struct Args {
+    std::string scene, frames, json, oit;
+    std::vector<std::string> overrides;
+    int repeat = 1, width = 1920, height = 1080, threads = 2, warmup = 2;
+};
+
+int run(const Args& a) {
+    using namespace veil;
+    gpu::HeadlessContext context;
+    const scene::AnimatedScene scene = scene::loadAnimatedScene(a.scene, a.overrides);
+    const std::vector<int> range = scene::parseFrameRange(a.frames).frames();
+    std::vector<int> frames;
+    for (int r = 0; r < std::max(a.repeat, 1); ++r)
+        frames.insert(frames.end(), range.begin(), range.end());
+    const frame::RendererOptions options(a.width, a.height, {}, a.oit);
+    GLint max3D = 0;
+    glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3D);
+
+    // Warm-up: the first frames compile programs and ramp the clocks.
+    for (int i = 0; i < a.warmup && i < int(range.size()); ++i) {
+        const scene::Scene s = scene::sceneAtFrame(scene, range[i]);
+        frame::Renderer renderer(s, context.info(), options);
+        renderer.render();
+        glFinish();
+    }
+
+    std::map<std::string, std::vector<double>> t;
+    std::vector<double> activeVoxels;
+    const auto start = Clock::now();
+    {
+        sequence::FramePrefetcher prefetcher(
+            scene, frames, std::size_t(scene.timeline.time.prefetchBudgetMiB) << 20, a.threads,
+            max3D);
+        for (std::size_t i = 0; i < frames.size(); ++i) {
+            auto mark = Clock::now();
+            sequence::PreparedFrame p = prefetcher.take();
+            t["wait_ms"].push_back(msSince(mark));
+            VEIL_CHECK(p.error.empty(), "{}", p.error);
+            t["read_ms"].push_back(p.readMs);
+            t["convert_ms"].push_back(p.convertMs);
+            activeVoxels.push_back(double(p.activeVoxels));
+            mark = Clock::now();
+            const volume::PreloadedGridScope preloaded(p.grids);
+            frame::Renderer renderer(p.scene, context.info(), options);
+            glFinish();
+            t["setup_ms"].push_back(msSince(mark));
+            mark = Clock::now();
+            renderer.render();
+            glFinish();
+            t["render_ms"].push_back(msSince(mark));
+            double gpu = 0.0;
+            for (const auto& pass : renderer.passTimes())
+                gpu += pass.milliseconds;
+            t["gpu_passes_ms"].push_back(gpu);
+        }
+    }
+    const double wallS = std::chrono::duration<double>(Clock::now() - start).count();
+
+    // The distinct frames alone: upload, and the CPU conversion per million active voxels.
+    std::vector<double> uploadMs, convertPerM, convertPerM1, uploadGBs;
+    std::set<std::string> seen;
+    for (int f : range) {
+        const scene::Scene s = scene::sceneAtFrame(scene, f);
+        for (const scene::VolumeRef& v : s.volumes) {
+            if (v.path.empty() || !seen.insert(v.path.string() + "|" + v.grid).second) continue;
+            const openvdb::FloatGrid::Ptr grid = volume::loadVolume(v);
+            volume::GpuVolumeOptions o;
+            o.budgetBytes = std::size_t(s.render.volumeBudgetMiB) << 20;
+            const double m = double(grid->activeVoxelCount()) / 1e6;
+            auto mark = Clock::now();
+            const volume::GridConversion c = volume::convertGrid(*grid, o, max3D);
+            convertPerM.push_back(msSince(mark) / m);
+            mark = Clock::now();
+            (void)volume::convertGrid(*grid, o, max3D, 1);
+            convertPerM1.push_back(msSince(mark) / m);
+            glFinish();
+            mark = Clock::now();
+            {
+                const volume::GpuVolume uploaded(c, glm::mat4(1.0f));
+                glFinish();
+                uploadMs.push_back(msSince(mark));
+            }
+            uploadGBs.push_back(double(c.bytes()) / (uploadMs.back() * 1e6));
+        }
+    }
+
+    const auto& info = context.info();
+    nlohmann::json out;
+    out["mode"] = "frame range as `veil render --frames`, no image writes";
+    out["scene"] = a.scene;
+    out["width"] = a.width;
+    out["height"] = a.height;
+    out["frames"] = frames.size();
+    out["range"] = a.frames;
+    out["repeat"] = a.repeat;
+    out["prefetch_threads"] = a.threads;
+    out["tbb_threads"] = tbb::info::default_concurrency();
+    out["renderer"] = info.renderer;
+    out["gl_version"] = info.version;
+    out["timer"] = info.softwareRenderer ? "glFinish + CPU clock" : "GL_TIME_ELAPSED";
+    out["wall_s"] = wallS;
+    out["end_to_end_fps"] = double(frames.size()) / wallS;
+    out["active_voxels"] = stats(activeVoxels);
+    for (const auto& [k, v] : t)
+        out["per_frame"][k] = stats(v);
+    // Shares of the render thread's frame (wait + setup + render) and of the workers' work.
+    const double wait = out["per_frame"]["wait_ms"]["mean"],
+                 setup = out["per_frame"]["setup_ms"]["mean"],
+                 render = out["per_frame"]["render_ms"]["mean"];
+    const double frameMs = wait + setup + render;
+    out["render_thread_share"] = {
+        {"wait", wait / frameMs}, {"setup_upload", setup / frameMs}, {"render", render / frameMs}};
+    out["distinct_frames"] = {
+        {"upload_ms", stats(uploadMs)},
+        {"upload_gb_per_s", stats(uploadGBs)},
+        {"convert_ms_per_million_active_voxels", stats(convertPerM)},
+        {"convert_ms_per_million_active_voxels_1_thread", stats(convertPerM1)}};
+    // bench/run.py's pass list: the stages' means as "passes" so a group's metric can pick one.
+    nlohmann::json passes = nlohmann::json::array();
+    for (const char* k : {"wait_ms", "read_ms", "convert_ms", "setup_ms", "render_ms"})
+        passes.push_back({{"name", std::string(k).substr(0, std::strlen(k) - 3)},
+                          {"median_ms", out["per_frame"][k]["median"]},
+                          {"min_ms", out["per_frame"][k]["min"]},
+                          {"max_ms", out["per_frame"][k]["max"]}});
+    passes.push_back(
+        {{"name", "frame"}, {"median_ms", 1000.0 / out["end_to_end_fps"].get<double>()}});
+    out["passes"] = passes;
+    out["total_median_ms"] = 1000.0 / out["end_to_end_fps"].get<double>(); // run.py's "frame"
+    const std::string text = out.dump(2);
+    if (!a.json.empty())
+        writeFileAtomically(
+            a.json, [&](const std::filesystem::path& tmp) { std::ofstream(tmp) << text << "\n"; });
+    std::cout << text << "\n";
+    return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    Args a;
+    for (int i = 1; i < argc; ++i) {
+        const std::string s = argv[i];
+        auto next = [&]() -> std::string {
+            if (i + 1 >= argc) {
+                usage();
+                std::exit(2);
+            }
+            return argv[++i];
+        };
+        try {
+            if (s == "--frames")
+                a.frames = next();
+            else if (s == "--repeat")
+                a.repeat = std::stoi(next());
+            else if (s == "--width")
+                a.width = std::stoi(next());
+            else if (s == "--height")
+                a.height = std::stoi(next());
+            else if (s == "--threads")
+                a.threads = std::stoi(next());
+            else if (s == "--warmup")
+                a.warmup = std::stoi(next());
+            else if (s == "--set")
+                a.overrides.push_back(next());
+            else if (s == "--json")
+                a.json = next();
+            else if (s == "-h" || s == "--help") {
+                usage();
+                return 0;
+            } else if (a.scene.empty() && s[0] != '-')
+                a.scene = s;
+            else {
+                usage();
+                return 2;
+            }
+        } catch (const std::exception&) {
+            std::fprintf(stderr, "veil-seqbench: bad value for %s\n", s.c_str());
+            return 2;
+        }
+    }
+    if (a.scene.empty() || a.frames.empty() || a.width < 1 || a.height < 1) {
+        usage();
+        return 2;
+    }
+    try {
+        return run(a);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "veil-seqbench: %s\n", e.what());
+        return 1;
+    }
+}

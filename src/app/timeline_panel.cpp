@@ -1,0 +1,58 @@
+// The viewer's timeline window (timeline_panel.h).
+#include "app/timeline_panel.h"
+
+#include <imgui.h>
+
+#include <fmt/format.h>
+
+namespace veil::app {
+
+void drawTimeline(session::TimelinePlayer& player) {
+    if (!player.animated()) return;
+    const ImGuiIO& io = ImGui::GetIO();
+    const float em = ImGui::GetFontSize();
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.5f, io.DisplaySize.y - em * 0.5f),
+                            ImGuiCond_FirstUseEver, ImVec2(0.5f, 1.0f));
+    ImGui::SetNextWindowSize(ImVec2(em * 34, 0), ImGuiCond_FirstUseEver);
+    if (!ImGui::Begin("Timeline")) {
+        ImGui::End();
+        return;
+    }
+    const scene::FrameRange& r = player.range();
+    if (ImGui::Button("|<")) player.seek(r.first);
+    ImGui::SameLine();
+    if (ImGui::Button("<")) {
+        player.play(false);
+        player.step(-1);
+    }
+    ImGui::SameLine();
+    if (ImGui::Button(player.playing() ? "Pause" : "Play")) player.play(!player.playing());
+    ImGui::SameLine();
+    if (ImGui::Button(">")) {
+        player.play(false);
+        player.step(1);
+    }
+    ImGui::SameLine();
+    if (ImGui::Button(">|")) player.seek(r.last);
+    ImGui::SameLine();
+    bool loop = player.looping();
+    if (ImGui::Checkbox("loop", &loop)) player.setLoop(loop);
+    ImGui::SameLine();
+    float fps = static_cast<float>(player.fps());
+    ImGui::SetNextItemWidth(em * 5);
+    if (ImGui::DragFloat("fps", &fps, 0.25f, 0.1f, 1000.0f, "%.1f")) player.setFps(fps);
+    int frame = player.target();
+    ImGui::SetNextItemWidth(-1);
+    if (ImGui::SliderInt("##frame", &frame, r.first, r.last)) {
+        player.play(false);
+        player.seek(r.first + (frame - r.first) / r.step * r.step);
+    }
+    ImGui::TextUnformatted(player.status().c_str());
+    if (const session::FrameCache* cache = player.cache())
+        ImGui::TextDisabled("%s", fmt::format("cache: {} frames, {:.1f} MiB", cache->frames(),
+                                              cache->bytes() / 1048576.0)
+                                      .c_str());
+    ImGui::End();
+}
+
+} // namespace veil::app
