@@ -5,15 +5,21 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 namespace veil::app {
 
 void drawTimeline(session::TimelinePlayer& player) {
     if (!player.animated()) return;
     const ImGuiIO& io = ImGui::GetIO();
     const float em = ImGui::GetFontSize();
-    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.5f, io.DisplaySize.y - em * 0.5f),
-                            ImGuiCond_FirstUseEver, ImVec2(0.5f, 1.0f));
-    ImGui::SetNextWindowSize(ImVec2(em * 34, 0), ImGuiCond_FirstUseEver);
+    // Bottom left of the frame, beside the main panel (em * 30 wide at the left edge).
+    const float left = em * 31.0f;
+    ImGui::SetNextWindowPos(ImVec2(left, io.DisplaySize.y - em * 0.5f), ImGuiCond_FirstUseEver,
+                            ImVec2(0.0f, 1.0f));
+    ImGui::SetNextWindowSize(
+        ImVec2(std::max(em * 20, std::min(em * 34, io.DisplaySize.x - left - em * 0.5f)), 0),
+        ImGuiCond_FirstUseEver);
     if (!ImGui::Begin("Timeline")) {
         ImGui::End();
         return;

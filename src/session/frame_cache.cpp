@@ -52,30 +52,17 @@ std::size_t FrameCache::loads() const {
 }
 
 void FrameCache::evict() {
-    if (cache_.empty()) return;
-    const int urgent = wanted_.empty() ? recent_.front() : wanted_.front();
-    // Frames not wanted go first, oldest first; then wanted ones from the back of the list.
-    auto wantedRank = [&](int f) {
-        const auto w = std::find(wanted_.begin(), wanted_.end(), f);
-        return w == wanted_.end() ? -1 : int(w - wanted_.begin());
-    };
-    while (bytes_ > budget_ && cache_.size() > 1) {
-        int victim = urgent;
-        int worst = -2;
-        for (auto r = recent_.rbegin(); r != recent_.rend(); ++r) {
-            if (*r == urgent) continue;
-            const int rank = wantedRank(*r);
-            const int score = rank < 0 ? 1 << 30 : rank; // not wanted: evict first
-            if (score > worst) {
-                worst = score;
-                victim = *r;
-            }
+    // Frames no longer wanted, least recently used first. Wanted frames stay: the look-ahead
+    // stops once the budget is reached, so they exceed it by one frame at most.
+    for (auto r = recent_.rbegin(); bytes_ > budget_ && r != recent_.rend();) {
+        if (std::find(wanted_.begin(), wanted_.end(), *r) != wanted_.end()) {
+            ++r;
+            continue;
         }
-        if (victim == urgent) return;
-        const auto it = cache_.find(victim);
+        const auto it = cache_.find(*r);
         bytes_ -= it->second.frame->bytes;
-        recent_.erase(it->second.age);
         cache_.erase(it);
+        r = std::make_reverse_iterator(recent_.erase(std::next(r).base()));
     }
 }
 

@@ -30,7 +30,9 @@ public:
     FrameCache& operator=(const FrameCache&) = delete;
 
     // The frames wanted, most urgent first; replaces the previous list. The first is loaded
-    // whatever the budget; the others while the cache holds less than the budget.
+    // whatever the budget; the others while the cache holds less than the budget (so it
+    // exceeds the budget by one frame at most). Frames no longer wanted are dropped, least
+    // recently used first, while the cache holds more than the budget.
     void want(std::vector<int> frames);
     // The prepared frame (made most recently used), or null while it is not ready. A frame
     // that could not be prepared is returned with its error set.
@@ -42,7 +44,7 @@ public:
 
 private:
     void work();
-    void evict(); // least recently used first, never the most urgent wanted frame
+    void evict(); // frames not wanted, least recently used first, down to the budget
 
     std::shared_ptr<const scene::AnimatedScene> scene_;
     std::vector<volume::PreloadedGrid> staticGrids_;
