@@ -91,7 +91,7 @@ public:
         ImGui_ImplOpenGL3_Init("#version 450 core");
     }
     ~ImGuiSession() {
-        saveLayout();
+        saveLayout(true);
         ImGui_ImplOpenGL3_Shutdown();
         ImGui_ImplGlfw_Shutdown();
         ImGui::DestroyContext();
@@ -100,10 +100,10 @@ public:
     ImGuiSession& operator=(const ImGuiSession&) = delete;
 
     // Writes imgui.ini when the layout changed (ImGui sets WantSaveIniSettings a few seconds
-    // after a change); a write that fails is logged and tried again at the next change.
-    void saveLayout() {
+    // after a change) and, `always`, at the end; a write that fails is logged.
+    void saveLayout(bool always = false) {
         ImGuiIO& io = ImGui::GetIO();
-        if (ini_.empty() || !io.WantSaveIniSettings) return;
+        if (ini_.empty() || !(always || io.WantSaveIniSettings)) return;
         io.WantSaveIniSettings = false;
         try {
             writeTextFileAtomically(ini_, ImGui::SaveIniSettingsToMemory());

@@ -40,6 +40,21 @@ bool section(const char* name, const PanelState& state, bool defaultOpen = false
     return ImGui::CollapsingHeader(name, defaultOpen ? ImGuiTreeNodeFlags_DefaultOpen : 0);
 }
 
+// The next button on this line if it fits in the panel, else on a line of its own.
+void sameLineIfFits(const char* nextLabel) {
+    const float w =
+        ImGui::CalcTextSize(nextLabel, nullptr, true).x + ImGui::GetStyle().FramePadding.x * 2.0f;
+    const float right = ImGui::GetItemRectMax().x + ImGui::GetStyle().ItemSpacing.x + w;
+    if (right <= ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x) ImGui::SameLine();
+}
+
+// An input filling the line but for a button `buttonLabel` after it.
+void widthBeforeButton(const char* buttonLabel) {
+    ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - ImGui::CalcTextSize(buttonLabel).x -
+                            ImGui::GetStyle().FramePadding.x * 2.0f -
+                            ImGui::GetStyle().ItemSpacing.x);
+}
+
 std::string jsonVec(const glm::vec3& v) {
     return nlohmann::json::array({double(v.x), double(v.y), double(v.z)}).dump();
 }
@@ -81,18 +96,20 @@ void fileSection(GLFWwindow* window, session::ViewSession& s, const viewer::Debu
     ImGui::TextWrapped("%s", s.scenePath().string().c_str());
     if (ImGui::Button("Open...")) st.openDialog.open(fs::absolute(s.scenePath()).parent_path());
     tip("a scene (.json) or an OpenVDB file (.vdb); files dropped on the window open too");
-    ImGui::SameLine();
+    sameLineIfFits("Reload shaders (R)");
     if (ImGui::Button("Reload shaders (R)")) s.reloadShaders();
-    ImGui::SameLine();
+    sameLineIfFits("Copy render command");
     if (ImGui::Button("Copy render command")) {
         st.copiedCommand = s.renderCommand();
         glfwSetClipboardString(window, st.copiedCommand.c_str());
     }
     tip("the `veil render` line of this view: --set overrides for every edit and the camera");
     if (!st.copiedCommand.empty()) ImGui::TextWrapped("%s", st.copiedCommand.c_str());
+    widthBeforeButton("Save scene as");
     ImGui::InputText("##saveas", &st.saveAs);
     ImGui::SameLine();
     if (ImGui::Button("Save scene as")) s.saveSceneAs(st.saveAs);
+    widthBeforeButton("Screenshot");
     ImGui::InputText("##shots", &st.screenshotFolder);
     ImGui::SameLine();
     if (ImGui::Button("Screenshot")) {
