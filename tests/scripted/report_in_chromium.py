@@ -296,9 +296,9 @@ def main():
                        " : ''];})")
         for name, ticks, ramp in bars:
             scale = scales[name]
-            ok = (ticks is not None and len(ticks) == 5 and float(ticks[0]) == 0.0 and
-                  abs(float(ticks[4]) - scale) <= 1e-4 * max(scale, 1e-12) and
-                  abs(float(ticks[2]) - scale / 2) <= 1e-4 * max(scale, 1e-12) and
+            ok = (ticks is not None and len(ticks) == 3 and float(ticks[0]) == 0.0 and
+                  abs(float(ticks[2]) - scale) <= 1e-4 * max(scale, 1e-12) and
+                  abs(float(ticks[1]) - scale / 2) <= 1e-4 * max(scale, 1e-12) and
                   "rgb(26, 26, 204) 25%" in ramp and "rgb(255, 255, 255) 100%" in ramp)
             check(ok, f"case {name}: colour bar 0..{scale} ({ticks}, {ramp[:60]}...)")
 
