@@ -22,7 +22,7 @@ table.m td,table.m th,table.summary td,table.summary th{border:1px solid #ccc;pa
  text-align:right}
 table.summary th{background:#eee;cursor:pointer;user-select:none;position:sticky;top:0}
 table.summary th.sorted-up::after{content:" \25B2"}table.summary th.sorted-down::after{content:" \25BC"}
-table.summary td.name,table.summary td.what{text-align:left}
+table.summary td.name,table.summary td.what,table.summary th:nth-child(-n+2){text-align:left}
 table.summary tbody tr{cursor:pointer}table.summary tbody tr:hover{background:#eef4ff}
 table.summary tr.selected{background:#dde8ff}
 table.summary small{color:#777}
@@ -362,7 +362,7 @@ std::string reportHtml(const Report& r) {
       << r.cases.size() - r.failed() << " of " << r.cases.size() << " cases passed</span>"
       << fmt::format(" ({:.1f} s).", r.seconds);
     if (!r.device.empty()) h << " Device: " << escapeMarkup(r.device) << ".";
-    if (!r.veilVersion.empty()) h << " " << escapeMarkup(r.veilVersion) << ".";
+    if (!r.veilVersion.empty()) h << " veil " << escapeMarkup(r.veilVersion) << ".";
     h << "</p>\n";
     if (r.failed()) {
         h << "<h2 class=\"bad\">Failed cases</h2>\n<ul>\n";
