@@ -247,10 +247,15 @@ def main():
         # A real click on the passed case's row opens its card and scrolls to it.
         x, y, w, h = page.centre('#summary tr[data-case="exact"] td.what')
         page.click(x + w / 2, y + h / 2)
-        time.sleep(0.3)
-        state = page.js("(function(){var c=document.getElementById('exact');"
-                        "var r=c.getBoundingClientRect();return [location.hash,c.open,"
-                        "c.classList.contains('selected'),Math.round(r.top),innerHeight,scrollY];})()")
+        end = time.time() + 10  # the hashchange event is a task of its own: wait for it
+        while True:
+            state = page.js("(function(){var c=document.getElementById('exact');"
+                            "var r=c.getBoundingClientRect();return [location.hash,c.open,"
+                            "c.classList.contains('selected'),Math.round(r.top),innerHeight,"
+                            "scrollY];})()")
+            if (state[1] and state[2]) or time.time() > end:
+                break
+            time.sleep(0.1)
         # The last card cannot scroll to the very top: in view and the page scrolled to it.
         check(state[0] == "#exact" and state[1] and state[2] and 0 <= state[3] < state[4] / 2
               and state[5] > 0,
