@@ -16,6 +16,7 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
   munge slurmctld slurmd slurm-client
   fonts-dejavu-core
+  chromium
 )
 
 missing=()

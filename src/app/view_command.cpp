@@ -73,17 +73,15 @@ public:
         IMGUI_CHECKVERSION();
         ImGui::CreateContext();
         ImGuiIO& io = ImGui::GetIO();
-        // The layout is kept between runs; scripted runs ignore it (same image every time).
-        if (keepLayout) {
+        // The layout (the panel's size and place, open sections) is kept between runs in
+        // imgui.ini, loaded here and written whole and atomically when ImGui asks (saveLayout),
+        // so a crash never leaves half a file. Scripted runs ignore it (same image every time).
+        io.IniFilename = nullptr;
+        if (keepLayout)
             if (const fs::path dir = configDirectory(); !dir.empty()) {
-                ini_ = (dir / "imgui.ini").string();
-                io.IniFilename = ini_.c_str();
-            } else {
-                io.IniFilename = nullptr;
+                ini_ = dir / "imgui.ini";
+                if (fs::is_regular_file(ini_)) ImGui::LoadIniSettingsFromDisk(ini_.c_str());
             }
-        } else {
-            io.IniFilename = nullptr;
-        }
         // High-DPI: the monitor's content scale sizes the font and the widgets.
         float sx = 1.0f, sy = 1.0f;
         glfwGetWindowContentScale(window, &sx, &sy);
@@ -94,6 +92,7 @@ public:
         ImGui_ImplOpenGL3_Init("#version 450 core");
     }
     ~ImGuiSession() {
+        saveLayout(true);
         ImGui_ImplOpenGL3_Shutdown();
         ImGui_ImplGlfw_Shutdown();
         ImGui::DestroyContext();
@@ -101,8 +100,21 @@ public:
     ImGuiSession(const ImGuiSession&) = delete;
     ImGuiSession& operator=(const ImGuiSession&) = delete;
 
+    // Writes imgui.ini when the layout changed (ImGui sets WantSaveIniSettings a few seconds
+    // after a change) and, `always`, at the end; a write that fails is logged.
+    void saveLayout(bool always = false) {
+        ImGuiIO& io = ImGui::GetIO();
+        if (ini_.empty() || !(always || io.WantSaveIniSettings)) return;
+        io.WantSaveIniSettings = false;
+        try {
+            writeTextFileAtomically(ini_, ImGui::SaveIniSettingsToMemory());
+        } catch (const std::exception& e) {
+            log::warn("cannot keep the panel layout: {}", e.what());
+        }
+    }
+
 private:
-    std::string ini_;
+    fs::path ini_;
 };
 
 // Files dropped on the window (GLFW calls back without a user pointer of ours).
@@ -492,6 +504,7 @@ void runView(const ViewArgs& args) {
         if (gui) {
             ImGui::Render();
             ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+            gui->saveLayout();
         }
         if (action && isOutput(action->kind) && action->kind != "save_scene")
             scriptOutput(*action, session, view, args.script);

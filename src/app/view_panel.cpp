@@ -19,6 +19,7 @@
 #include <imgui_stdlib.h>
 
 #include <algorithm>
+#include <cfloat>
 #include <filesystem>
 
 namespace veil::app {
@@ -39,6 +40,21 @@ bool section(const char* name, const PanelState& state, bool defaultOpen = false
     return ImGui::CollapsingHeader(name, defaultOpen ? ImGuiTreeNodeFlags_DefaultOpen : 0);
 }
 
+// The next button on this line if it fits in the panel, else on a line of its own.
+void sameLineIfFits(const char* nextLabel) {
+    const float w =
+        ImGui::CalcTextSize(nextLabel, nullptr, true).x + ImGui::GetStyle().FramePadding.x * 2.0f;
+    const float right = ImGui::GetItemRectMax().x + ImGui::GetStyle().ItemSpacing.x + w;
+    if (right <= ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x) ImGui::SameLine();
+}
+
+// An input filling the line but for a button `buttonLabel` after it.
+void widthBeforeButton(const char* buttonLabel) {
+    ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - ImGui::CalcTextSize(buttonLabel).x -
+                            ImGui::GetStyle().FramePadding.x * 2.0f -
+                            ImGui::GetStyle().ItemSpacing.x);
+}
+
 std::string jsonVec(const glm::vec3& v) {
     return nlohmann::json::array({double(v.x), double(v.y), double(v.z)}).dump();
 }
@@ -57,7 +73,9 @@ void schemaWidgets(session::ViewSession& s, const PropertySchema& schema, nlohma
 template <class Registry>
 void techniqueCombo(session::ViewSession& s, const char* label, const Registry& registry,
                     const std::string& rendering, bool isOit) {
-    if (!ImGui::BeginCombo(label, rendering.c_str())) return;
+    ui::formLabel(label, ui::labelColumnWidth({label}),
+                  "the technique rendering now; greyed ones are not available on this driver");
+    if (!ImGui::BeginCombo((std::string("##") + label).c_str(), rendering.c_str())) return;
     for (const auto& t : registry.all()) {
         const bool available = isOit ? s.oitAvailable(t.name) : s.shadowsAvailable(t.name);
         ImGui::BeginDisabled(!available);
@@ -78,18 +96,20 @@ void fileSection(GLFWwindow* window, session::ViewSession& s, const viewer::Debu
     ImGui::TextWrapped("%s", s.scenePath().string().c_str());
     if (ImGui::Button("Open...")) st.openDialog.open(fs::absolute(s.scenePath()).parent_path());
     tip("a scene (.json) or an OpenVDB file (.vdb); files dropped on the window open too");
-    ImGui::SameLine();
+    sameLineIfFits("Reload shaders (R)");
     if (ImGui::Button("Reload shaders (R)")) s.reloadShaders();
-    ImGui::SameLine();
+    sameLineIfFits("Copy render command");
     if (ImGui::Button("Copy render command")) {
         st.copiedCommand = s.renderCommand();
         glfwSetClipboardString(window, st.copiedCommand.c_str());
     }
     tip("the `veil render` line of this view: --set overrides for every edit and the camera");
     if (!st.copiedCommand.empty()) ImGui::TextWrapped("%s", st.copiedCommand.c_str());
+    widthBeforeButton("Save scene as");
     ImGui::InputText("##saveas", &st.saveAs);
     ImGui::SameLine();
     if (ImGui::Button("Save scene as")) s.saveSceneAs(st.saveAs);
+    widthBeforeButton("Screenshot");
     ImGui::InputText("##shots", &st.screenshotFolder);
     ImGui::SameLine();
     if (ImGui::Button("Screenshot")) {
@@ -106,7 +126,10 @@ void fileSection(GLFWwindow* window, session::ViewSession& s, const viewer::Debu
 void cameraSection(session::ViewSession& s, const PanelState& st) {
     if (!section("Camera", st)) return;
     const scene::Scene& sc = s.scene();
-    if (ImGui::BeginCombo("camera", s.cameraName().c_str())) {
+    ui::formLabel("camera", ui::labelColumnWidth({"camera"}));
+    ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - ImGui::CalcTextSize("Reset").x -
+                            ImGui::GetFontSize() * 1.5f);
+    if (ImGui::BeginCombo("##camera", s.cameraName().c_str())) {
         for (const auto& c : sc.cameras)
             if (ImGui::Selectable(c.name.c_str(), c.name == s.cameraName())) s.selectCamera(c.name);
         ImGui::EndCombo();
@@ -134,8 +157,10 @@ void techniqueSections(session::ViewSession& s, const PanelState& st) {
         techniqueCombo(s, "OIT", oit::Registry::instance(), r.oitName(), true);
         if (const oit::TechniqueInfo* info = oit::Registry::instance().find(r.oitName()))
             schemaWidgets(s, info->properties, r.technique().properties().values(), "render.oit");
-        if (const nlohmann::json stats = r.technique().stats(); !stats.empty())
-            ImGui::TextWrapped("stats: %s", stats.dump().c_str());
+        if (const nlohmann::json stats = r.technique().stats(); !stats.empty()) {
+            ImGui::TextDisabled("statistics of the last frame");
+            ui::jsonTable("oit stats", stats);
+        }
     }
     if (section("Shadows", st)) {
         const std::string name = r.shadowTechnique().name();
@@ -143,8 +168,10 @@ void techniqueSections(session::ViewSession& s, const PanelState& st) {
         if (const shadows::TechniqueInfo* info = shadows::Registry::instance().find(name))
             schemaWidgets(s, info->properties, r.shadowTechnique().properties().values(),
                           "render.shadows");
-        if (const nlohmann::json stats = r.shadowTechnique().stats(); !stats.empty())
-            ImGui::TextWrapped("stats: %s", stats.dump().c_str());
+        if (const nlohmann::json stats = r.shadowTechnique().stats(); !stats.empty()) {
+            ImGui::TextDisabled("statistics of the last frame");
+            ui::jsonTable("shadow stats", stats);
+        }
     }
 }
 
@@ -188,7 +215,8 @@ void lightSection(session::ViewSession& s, const PanelState& st) {
                                    doc["lights"][i].is_object() &&
                                    doc["lights"][i].contains("target");
             glm::vec3 dir = l.direction;
-            if (ImGui::DragFloat3("direction", &dir.x, 0.01f) && glm::length(dir) > 1e-6f) {
+            ui::formLabel("direction", ui::labelColumnWidth({"direction"}));
+            if (ImGui::DragFloat3("##direction", &dir.x, 0.01f) && glm::length(dir) > 1e-6f) {
                 dir = glm::normalize(dir);
                 if (hasTarget)
                     s.set(key + "target=" + jsonVec(l.position + dir));
@@ -225,7 +253,7 @@ void heatLegend(float max) {
 }
 
 void debugSection(session::ViewSession& s, viewer::DebugView& view, const PanelState& st) {
-    if (!section("Debug view", st, true)) return;
+    if (!section("Debug view", st)) return;
     if (ImGui::RadioButton("frame", !view.active())) view.select("");
     for (const viewer::DebugViewEntry& e : viewer::debugViewEntries(s.renderer())) {
         ImGui::BeginDisabled(!e.reason.empty());
@@ -268,24 +296,30 @@ void frameSection(session::ViewSession& s, PanelState& st) {
     const frame::Renderer& r = s.renderer();
     ImGui::TextWrapped("%s", s.context().renderer.c_str());
     // view.refine_tile_px: full-size frames refined in tiles, one per UI frame (0 = off).
+    const float labels =
+        ui::labelColumnWidth({"refine_tile_px", "refine_budget_ms", "reuse_shadow_maps"});
+    const char* tileTip = "Refine full-size frames in tiles of this many pixels, one tile per UI "
+                          "frame, showing the last complete image meanwhile (0 = in one piece)";
     int tile = s.refineTilePx();
-    if (ImGui::InputInt("refine_tile_px", &tile, 32, 128, ImGuiInputTextFlags_EnterReturnsTrue))
+    ui::formLabel("refine_tile_px", labels, tileTip);
+    if (ImGui::InputInt("##refine_tile_px", &tile, 32, 128, ImGuiInputTextFlags_EnterReturnsTrue))
         s.setRefineTilePx(std::max(0, tile));
-    if (ImGui::IsItemHovered())
-        ImGui::SetTooltip("Refine full-size frames in tiles of this many pixels, one tile per UI "
-                          "frame, showing the last complete image meanwhile (0 = in one piece)");
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", tileTip);
     // view.refine_budget_ms: a step's tile halved until its estimated pass time fits.
     float budget = static_cast<float>(s.refineBudgetMs());
-    if (ImGui::InputFloat("refine_budget_ms", &budget, 10.0f, 100.0f, "%.0f",
+    const std::string budgetTip =
+        fmt::format("Halve a refinement step's tile (down to {} px) until its estimated pass "
+                    "time is under this many ms (0 = whole tiles)",
+                    session::ViewSession::kMinRefineTilePx);
+    ui::formLabel("refine_budget_ms", labels, budgetTip);
+    if (ImGui::InputFloat("##refine_budget_ms", &budget, 10.0f, 100.0f, "%.0f",
                           ImGuiInputTextFlags_EnterReturnsTrue))
         s.setRefineBudgetMs(std::max(0.0f, budget));
-    if (ImGui::IsItemHovered())
-        ImGui::SetTooltip("Halve a refinement step's tile (down to %d px) until its estimated "
-                          "pass time is under this many ms (0 = whole tiles)",
-                          session::ViewSession::kMinRefineTilePx);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", budgetTip.c_str());
     // view.reuse_shadow_maps: camera moves keep the shadow maps (edits redraw them).
     bool reuse = s.reusesShadowMaps();
-    if (ImGui::Checkbox("reuse_shadow_maps", &reuse)) s.setReuseShadowMaps(reuse);
+    ui::formLabel("reuse_shadow_maps", labels);
+    if (ImGui::Checkbox("##reuse_shadow_maps", &reuse)) s.setReuseShadowMaps(reuse);
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("Keep the shadow maps across frames while nothing they depend on "
                           "changed (camera moves keep them; %s)",
@@ -307,15 +341,18 @@ void frameSection(session::ViewSession& s, PanelState& st) {
                          *std::max_element(v.begin(), v.end()) * 1.1f,
                          ImVec2(0, ImGui::GetFontSize() * 3));
     }
-    if (ImGui::BeginTable("passes", 2, ImGuiTableFlags_SizingStretchProp)) {
-        for (const auto& p : r.passTimes()) {
-            ImGui::TableNextRow();
-            ImGui::TableNextColumn();
-            ImGui::TextUnformatted(p.name.c_str());
-            ImGui::TableNextColumn();
-            ImGui::Text("%8.3f ms", p.milliseconds);
+    if (ImGui::TreeNodeEx("pass times", ImGuiTreeNodeFlags_DefaultOpen)) {
+        if (ImGui::BeginTable("passes", 2, ImGuiTableFlags_SizingStretchProp)) {
+            for (const auto& p : r.passTimes()) {
+                ImGui::TableNextRow();
+                ImGui::TableNextColumn();
+                ImGui::TextUnformatted(p.name.c_str());
+                ImGui::TableNextColumn();
+                ImGui::Text("%8.3f ms", p.milliseconds);
+            }
+            ImGui::EndTable();
         }
-        ImGui::EndTable();
+        ImGui::TreePop();
     }
     if (ImGui::TreeNode("gpu memory", "GPU memory %.1f MiB", r.gpuBytes() / 1048576.0)) {
         // oit.accumulation is the technique's whole storage; its declared targets
@@ -385,8 +422,11 @@ void drawPanel(GLFWwindow* window, session::ViewSession& session, viewer::DebugV
                PanelState& state) {
     const float em = ImGui::GetFontSize();
     ImGui::SetNextWindowPos(ImVec2(em * 0.5f, em * 0.5f), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(em * 30, ImGui::GetIO().DisplaySize.y - em),
+    // The panel's first size: 24 em wide (about a quarter of a 1280 px window), the window's
+    // height. Drag its right edge to resize it; the size is kept between runs (imgui.ini).
+    ImGui::SetNextWindowSize(ImVec2(em * 24, ImGui::GetIO().DisplaySize.y - em),
                              ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSizeConstraints(ImVec2(em * 14, em * 6), ImVec2(FLT_MAX, FLT_MAX));
     ImGui::Begin("Veil");
     if (!session.lastError().empty()) {
         ImGui::PushTextWrapPos(0.0f);

@@ -175,6 +175,11 @@ nlohmann::json writeDump(const frame::Renderer& renderer, const fs::path& dir) {
             g.name = name;
             g.dims = {t->width(), t->height(), t->depth()};
             g.values = readRed(*t, GL_RED);
+            // Self-describing in ParaView as the EXR dumps are through their header.
+            g.fieldData = {{"veil_resource", name},
+                           {"veil_format", formatName(f)},
+                           {"veil_units", unitsOf(name)},
+                           {"veil_oit", renderer.oitName()}};
             const std::string file = fileStem(name) + ".vti";
             io::writeVti(dir / file, g);
             e["depth"] = t->depth();

@@ -227,6 +227,12 @@ ImageF toneMapSrgb(const ImageF& hdr, double exposure, ToneMap op) {
     return out;
 }
 
+const std::array<std::array<float, 3>, 5>& heatMapStops() {
+    static constexpr std::array<std::array<float, 3>, 5> kStops{
+        {{0, 0, 0}, {0.1f, 0.1f, 0.8f}, {0.85f, 0.1f, 0.1f}, {1, 0.85f, 0}, {1, 1, 1}}};
+    return kStops;
+}
+
 ImageF heatMap(const ImageF& a, const ImageF& b, double scale) {
     checkSameSize(a, b);
     ImageF e(a.width, a.height, 1);
@@ -245,9 +251,7 @@ ImageF heatMap(const ImageF& a, const ImageF& b, double scale) {
             if (std::isfinite(m)) largest = std::max(largest, m);
         }
     if (!std::isfinite(scale) || scale <= 0.0) scale = largest > 0.0 ? largest : 1.0;
-    // Ramp stops at t = 0, 1/4, 1/2, 3/4, 1.
-    static constexpr float kStops[5][3] = {
-        {0, 0, 0}, {0.1f, 0.1f, 0.8f}, {0.85f, 0.1f, 0.1f}, {1, 0.85f, 0}, {1, 1, 1}};
+    const auto& kStops = heatMapStops();
     ImageF out(a.width, a.height, 3);
     for (int y = 0; y < a.height; ++y)
         for (int x = 0; x < a.width; ++x) {

@@ -11,6 +11,7 @@
 
 #include "base/image.h"
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -60,6 +61,9 @@ ImageF toneMapSrgb(const ImageF& hdr, double exposure = 1.0, ToneMap op = ToneMa
 // RGB in [0, 1], for a PNG. scale <= 0 (or not finite) means the image's own largest finite
 // error; NaN and infinite errors are white.
 ImageF heatMap(const ImageF& a, const ImageF& b, double scale = 0.0);
+// The heat map's ramp: RGB at e / scale = 0, 1/4, 1/2, 3/4, 1, linear in between (the colour
+// bar of the regress report is drawn from it).
+const std::array<std::array<float, 3>, 5>& heatMapStops();
 
 // The metrics by name, as `veil compare --metric` and regression suites spell them.
 // "higher is better" holds for psnr and ssim: their thresholds are lower bounds.

@@ -1,6 +1,8 @@
 // `veil render --dump DIR`: every frame resource of a scene with a volume
 // and a shadowed spot light, read back through OpenImageIO and VTK and checked against the
 // frame's own EXR (same frame, same values).
+#include "capture/dump.h"
+#include "io/vtk_export.h"
 #include "support/test_support.h"
 
 #include <OpenImageIO/imageio.h>
@@ -14,6 +16,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <set>
 
 namespace veil::test {
@@ -152,6 +155,18 @@ TEST(DumpTest, EveryResourceWithManifest) {
     EXPECT_GT(range[0], 0.0);
     EXPECT_LT(range[0], 0.5);
     EXPECT_LE(range[1], 1.0 + 1e-3);
+    // Its field data names what it is (as the EXR dumps' header attributes do).
+    const io::DenseGrid back = io::readVti(dumpDir / "fog.light_transmittance.vti");
+    const std::map<std::string, std::string> field(back.fieldData.begin(), back.fieldData.end());
+    EXPECT_EQ(field.count("veil_resource") ? field.at("veil_resource") : "",
+              "fog.light_transmittance");
+    for (const auto& e : manifest["resources"])
+        if (e["resource"] == "fog.light_transmittance") {
+            EXPECT_EQ(field.count("veil_format") ? field.at("veil_format") : "",
+                      e["format"].get<std::string>());
+        }
+    EXPECT_EQ(field.count("veil_units") ? field.at("veil_units") : "",
+              capture::resourceUnits("fog.light_transmittance"));
 }
 
 TEST(DumpTest, DumpIntoAFileIsRefused) {

@@ -1,6 +1,7 @@
 // The viewer's generated property widgets (src/ui/property_widgets.h), driven headless
 // through Dear ImGui without a backend: every declared property of every technique gets a
-// widget, nothing changes without input, and a click on a checkbox flips its value.
+// widget, nothing changes without input, a click on a checkbox flips its value, and the form
+// layout keeps labels whole.
 #include "oit/technique.h"
 #include "ui/property_widgets.h"
 
@@ -24,21 +25,25 @@ struct HeadlessImGui {
     ~HeadlessImGui() { ImGui::DestroyContext(); }
     // One frame of the widgets; `click` presses the mouse at a point.
     bool frame(const PropertySchema& schema, nlohmann::json& values, ImVec2 mouse = {-1, -1},
-               bool down = false) {
+               bool down = false, float width = 800) {
         ImGuiIO& io = ImGui::GetIO();
         io.MousePos = mouse; // Dear ImGui 1.86 (Debian 12): no input-event queue yet
         io.MouseDown[0] = down;
         ImGui::NewFrame();
         ImGui::SetNextWindowPos(ImVec2(0, 0));
-        ImGui::SetNextWindowSize(ImVec2(800, 2000));
+        ImGui::SetNextWindowSize(ImVec2(width, 2000));
         ImGui::Begin("t");
+        contentMin = ImGui::GetCursorScreenPos();
+        contentMaxX = contentMin.x + ImGui::GetContentRegionAvail().x;
         const bool changed = propertyWidgets(schema, values);
         firstItem = ImGui::GetItemRectMin(); // the last widget's rectangle
+        lastItemMax = ImGui::GetItemRectMax();
         ImGui::End();
         ImGui::Render();
         return changed;
     }
-    ImVec2 firstItem;
+    ImVec2 firstItem, lastItemMax, contentMin;
+    float contentMaxX = 0;
 };
 
 TEST(PropertyWidgetsTest, EveryPropertyOfEveryTechniqueGetsAWidget) {
@@ -65,6 +70,32 @@ TEST(PropertyWidgetsTest, ClickingACheckboxFlipsIt) {
     EXPECT_EQ(values["on"], true);
     // And the edited values still satisfy the schema.
     EXPECT_NO_THROW(schema.resolve(values, "t"));
+}
+
+// The form layout: the whole key in a label column as wide as the longest key, the widget
+// beside it up to the panel's edge; in a panel too narrow for both, the widget goes below.
+TEST(PropertyWidgetsTest, LabelsAreWholeAndWidgetsFillTheRestOfTheLine) {
+    HeadlessImGui gui;
+    PropertySchema schema;
+    schema.integer("n", 4, 1, 64, "short key");
+    schema.real("initial_nodes_per_pixel", 4.0, 0.0, 100.0, "a long key");
+    nlohmann::json values = schema.defaults().values();
+    gui.frame(schema, values); // the font is set up by a first frame
+    const float longest = ImGui::CalcTextSize("initial_nodes_per_pixel").x;
+    const float spacing = ImGui::GetStyle().ItemSpacing.x, em = ImGui::GetFontSize();
+    for (float width : {300.0f, 420.0f, 800.0f}) {
+        gui.frame(schema, values, {-1, -1}, false, width);
+        // The last widget (the long key's) starts after the whole label and ends at the edge.
+        EXPECT_GE(gui.firstItem.x, gui.contentMin.x + longest + spacing - 0.5f) << width;
+        EXPECT_NEAR(gui.lastItemMax.x, gui.contentMaxX, 1.0f) << width;
+        EXPECT_GE(gui.lastItemMax.x - gui.firstItem.x, 6 * em - 1.0f) << width;
+        // Beside its label: on the second row of the form.
+        EXPECT_LT(gui.firstItem.y, gui.contentMin.y + 2.5f * ImGui::GetFrameHeightWithSpacing());
+    }
+    // Too narrow for label and widget: the widget takes the line below, full width.
+    gui.frame(schema, values, {-1, -1}, false, longest + 4 * em);
+    EXPECT_NEAR(gui.firstItem.x, gui.contentMin.x, 1.0f);
+    EXPECT_GT(gui.firstItem.y, gui.contentMin.y + 2.5f * ImGui::GetFrameHeightWithSpacing());
 }
 
 } // namespace
