@@ -1,5 +1,5 @@
 // Closed forms that combine casters, for every shadow technique at its default properties
-// (maps of 512^2 and 64x64 receivers for time; docs/shadows.md "Closed forms at defaults"):
+// (maps of 512^2 and 64x64 receivers for time; docs/shadows-accuracy.md):
 // - a 2 cm closed pane (two surfaces of T = 0.8 / 0.4 / 0.1) 1.6 above a fog slab of optical
 //   depth tau = sqrt(2) under the directional light: T^2 exp(-tau);
 // - the closed pane tilted 30 degrees under a spot light: T^2 (both surfaces on every ray);
