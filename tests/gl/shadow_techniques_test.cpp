@@ -182,23 +182,26 @@ std::vector<TechniqueCase> cases() {
          "1.2e-4: the box's trilinear ramp is smooth)"},
         {"stochastic", stochastic, stochasticNoise({0.8, 0.5, 0.2}, 4, pcfTexels),
          stochasticNoise({0.48, 0.36, 0.54}, 4, pcfTexels),
-         stochasticNoise({std::pow(0.7, 4)}, 4, pcfTexels), -1,
+         stochasticNoise({std::pow(0.7, 4)}, 4, pcfTexels), 0.016,
          "[Enderton11] stochastic map, S = 4, PCF over 81 texels: 4 binomial standard errors "
-         "sqrt(p (1 - p) / (S 81)) of the worst channel (unbiased: E[R] = rho S); rasterized "
-         "casters only, so the fog slab (a density grid) casts nothing; the shaft: fog samples "
+         "sqrt(p (1 - p) / (S 81)) of the worst channel (unbiased: E[R] = rho S); the fog slab "
+         "(a density grid, no rasterized caster) through the fog's optical-depth map: 128 "
+         "uniform slices of 0.089 with 4 midpoint samples each, a density edge off by at most "
+         "sigma x slice / 4 = 0.016 in tau (as transmittance-slicemap); the shaft: fog samples "
          "read one texel (S samples) each, independent over the 128 march steps across the "
          "slab (about 115 effective under its transmittance): 4 SE of each channel over red, "
          "summed",
          shaftNoise({0.9, 0.3, 0.15}, 4, 115.0)},
         {"stochastic-vsm", vsm, vsmTolerance({{0.2}, {0.5}, {0.8}}, {1.0}),
          vsmTolerance({{0.2, 0.4}, {0.4, 0.4}, {0.1, 0.4}}, {1.4, 1.0}),
-         vsmTolerance({{0.3, 0.3, 0.3, 0.3}}, layerHeights), -1,
+         vsmTolerance({{0.3, 0.3, 0.3, 0.3}}, layerHeights), 0.016,
          "[McGuire16] stochastic VSM, S = 4, tent radius 5: Chebyshev's bound is exact for one "
          "plane "
          "and deviates from the product for several by what chebyshevPlanes() computes in "
          "double, plus 4 binomial standard errors over the tent's effective texels; the fog "
-         "slab casts nothing; fog samples read the opaque map only (fog_reads_vsm off: "
-         "llvmpipe), so the shaft keeps the light's colour",
+         "slab through the fog's optical-depth map (0.016 in tau, as `stochastic`); fog "
+         "samples read the opaque map and the fog map only (fog_reads_vsm off: llvmpipe), so "
+         "the shaft keeps the light's colour",
          -1},
     };
 }

@@ -12,6 +12,32 @@ bool shadowLocate(int light, vec3 P, out int view, out vec2 uv, out float depth)
     return shadowViewCoordinates(view, P, uv, depth);
 }
 
+// Receiver-plane depth slope [Isidoro06]: the normalized depth of the plane through P with
+// normal N, per texel of offset in view v's map (x, y), from two points of the plane a
+// thousandth of the view's depth range away. Filter taps at offset o compare against
+// depth + dot(slope, o) instead of P's own depth, so a flat receiver tilted toward the light
+// does not meet itself in its neighbours' texels. Capped at 8 texel widths of depth per texel
+// (the slope of a plane 83 degrees from the light's axis, with texels as wide as the view's
+// depth range / size); zero where the plane is seen edge-on by the light.
+vec2 shadowReceiverSlope(int v, vec3 P, vec3 N, vec2 uv, float depth) {
+    vec3 a = abs(N.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+    vec3 t1 = normalize(cross(N, a)), t2 = cross(N, t1);
+    float h = 1e-3 * shadowViewDepthScale(v);
+    vec2 uv1, uv2;
+    float z1, z2;
+    vec4 c1 = shadows.views[v].worldToTexture * vec4(P + t1 * h, 1.0);
+    vec4 c2 = shadows.views[v].worldToTexture * vec4(P + t2 * h, 1.0);
+    if (c1.w <= 0.0 || c2.w <= 0.0) return vec2(0.0);
+    vec2 d1 = (c1.xy / c1.w - uv) * shadows.mapSize.x, d2 = (c2.xy / c2.w - uv) * shadows.mapSize.x;
+    float det = d1.x * d2.y - d1.y * d2.x;
+    if (abs(det) < 1e-8) return vec2(0.0);
+    z1 = shadowViewDepth(v, P + t1 * h) - depth;
+    z2 = shadowViewDepth(v, P + t2 * h) - depth;
+    vec2 g = vec2(z1 * d2.y - z2 * d1.y, z2 * d1.x - z1 * d2.x) / det;
+    float cap = 8.0 * shadows.mapSize.y;
+    return clamp(g, vec2(-cap), vec2(cap));
+}
+
 // Surfaces: slope-scaled receiver bias (grows where the light grazes the surface), PCF.
 float opaqueVisibility(int light, vec3 P, vec3 N, vec3 L) {
     int v;
@@ -22,10 +48,14 @@ float opaqueVisibility(int light, vec3 P, vec3 N, vec3 L) {
     float bias = shadows.params[0].x * (1.0 + 4.0 * (1.0 - NdotL)) / shadowViewDepthScale(v);
     int r = int(shadows.params[0].y);
     float texel = shadows.mapSize.y;
+    // Each tap's hardware comparison filters 2x2 texels: the receiver plane one texel on.
+    vec2 slope = shadowReceiverSlope(v, P, N, uv, z);
+    bias += abs(slope.x) + abs(slope.y);
     float sum = 0.0;
     for (int y = -r; y <= r; ++y)
         for (int x = -r; x <= r; ++x)
-            sum += texture(shadowDepthArray, vec4(uv + vec2(x, y) * texel, float(v), z - bias));
+            sum += texture(shadowDepthArray, vec4(uv + vec2(x, y) * texel, float(v),
+                                                  z + dot(slope, vec2(x, y)) - bias));
     float n = float(2 * r + 1);
     return sum / (n * n);
 }

@@ -4,6 +4,7 @@
 // assume that the latter transmittance is constant within the filter region. Under this
 // assumption, the appropriate combination operator is simple multiplication" [Munstermann18 sec. 6].
 //
+// params[0]: opaque map (bias, PCF radius), z = overestimation beta of the media's moments.
 // params[1]: x = moment bias alpha, y = overestimation beta, z = 1 for 16-bit storage, w =
 // receiver depth offset toward the light (world units: a transparent receiver does not shadow
 // itself).
@@ -47,14 +48,14 @@ void momentFetch(int v, vec2 uv, out vec4 b0, out vec4 bs, out vec4 bm) {
     }
 }
 
-// Fraction of one moment set's absorbance (total `total`, moments `b`) in front of zf.
-float momentFront(float total, vec4 b, float zf) {
+// Fraction of one moment set's absorbance (total `total`, moments `b`) in front of zf, with
+// overestimation weight `beta`.
+float momentFront(float total, vec4 b, float zf, float beta) {
     if (!(total > 1e-7)) return 0.0; // [Munstermann18 sec. 3.2]: nothing absorbs here
     // Bias toward the power-4 vector of docs/oit.md#moment-constants (float32 or 16-bit storage).
     vec4 biasVector = shadows.params[1].z > 0.5 ? vec4(0.0, 0.628, 0.0, 0.628)
                                                  : vec4(0.0, 0.375, 0.0, 0.375);
-    return shadowMomentFraction(mix(b / total, biasVector, shadows.params[1].x), zf,
-                                shadows.params[1].y);
+    return shadowMomentFraction(mix(b / total, biasVector, shadows.params[1].x), zf, beta);
 }
 
 // Transmittance (rgb) of the transparent casters and media between the light and normalized
@@ -64,9 +65,11 @@ vec3 momentTransmittance(int v, vec2 uv, float depth) {
     momentFetch(v, uv, b0, bs, bm);
     float zf = clamp(depth, 0.0, 1.0) * 2.0 - 1.0;
     // Surfaces: the depth distribution of their mean absorbance scales each channel's total
-    // (src/shadows/moment/moment.h, "Colour"); media: grey, their own moments.
+    // (src/shadows/moment/moment.h, "Colour"); media: grey, their own moments and their own
+    // beta (a continuous absorbance: beta = 0, the lower bound, is systematically light).
     float surfaces = (b0.r + b0.g + b0.b) / 3.0;
-    vec3 absorbance = momentFront(surfaces, bs, zf) * b0.rgb + momentFront(b0.a, bm, zf) * b0.a;
+    vec3 absorbance = momentFront(surfaces, bs, zf, shadows.params[1].y) * b0.rgb +
+                      momentFront(b0.a, bm, zf, shadows.params[0].z) * b0.a;
     return exp(-absorbance);
 }
 

@@ -5,11 +5,15 @@
 // [Enderton11 sec. 3.2, Eq. 4]: svis(z) = count(z <= z_i) / S, by percentage-closer filtering: the
 // samples of the (2r+1)^2 texels around P whose depth is at or behind the receiver's (minus
 // the slope-scaled bias of the opaque map) are unoccluded. Volume samples read the one texel
-// under P (S samples): the fog marcher averages many of them per pixel.
+// under P (S samples): the fog marcher averages many of them per pixel. The grid density
+// volumes' optical depth along the light (common/fog_depth.glsl, property `fog`) multiplies
+// both: [Enderton11]'s stochastic map holds the surfaces, the media's deep shadow map
+// [Lokovic00] their product's other factor (independent attenuation along one light ray).
 //
 // params[0]: opaque map (bias, PCF radius). params[1]: x = S, y = PCF radius r of the
 // stochastic map, z = layers per view L (3: one map per channel, layer v L + c; 1: grey).
 #include "../common/opaque_depth.glsl"
+#include "../common/fog_depth.glsl"
 
 layout(binding = VEIL_TEX_SHADOW1) uniform sampler2DMSArray stochasticMap;
 
@@ -40,7 +44,7 @@ void lightAttenuate(int i, vec3 P, vec3 N, vec3 L, inout vec3 radiance) {
     if (!shadowLocate(i, P, v, uv, z)) return;
     float NdotL = saturate(dot(N, L));
     float bias = shadows.params[0].x * (1.0 + 4.0 * (1.0 - NdotL)) / shadowViewDepthScale(v);
-    radiance *= opaqueVisibility(i, P, N, L) *
+    radiance *= opaqueVisibility(i, P, N, L) * shadowFogTransmittance(v, uv, z) *
                 stochasticVisibility(v, uv, z - bias, int(shadows.params[1].y));
 }
 
@@ -50,7 +54,7 @@ void lightAttenuateInMedium(int i, vec3 P, inout vec3 radiance) {
     vec2 uv;
     float z;
     if (!shadowLocate(i, P, v, uv, z)) return;
-    radiance *= opaqueVisibilityFast(i, P) *
+    radiance *= opaqueVisibilityFast(i, P) * shadowFogTransmittance(v, uv, z) *
                 stochasticVisibility(v, uv, z - shadows.params[0].x / shadowViewDepthScale(v), 0);
 }
 

@@ -13,7 +13,10 @@
 // per view L (3: one map per channel, layer v L + c; 1: grey), z = 1 when fog samples read the
 // VSM too (property fog_reads_vsm; off by default: on llvmpipe the fog marcher's fetches of
 // this array return zeros in most invocations, seen 2026-12-01, so fog gets the opaque map).
+// With `fog`, surfaces and fog samples alike also get the grid density volumes' optical depth
+// along the light (common/fog_depth.glsl), an R32F volume the marcher reads correctly.
 #include "../common/opaque_depth.glsl"
+#include "../common/fog_depth.glsl"
 
 layout(binding = VEIL_TEX_SHADOW1) uniform sampler2DArray vsmMap;
 
@@ -43,6 +46,15 @@ float vsmChannel(int layer, vec2 uv, float z, float minVariance) {
     return vsmChebyshev(vsmMoments(layer, uv), z, minVariance, shadows.params[1].x);
 }
 
+// The fog's transmittance toward light i at P (common/fog_depth.glsl; 1 without `fog`).
+float vsmFog(int i, vec3 P) {
+    int v;
+    vec2 uv;
+    float z;
+    if (!shadowLocate(i, P, v, uv, z)) return 1.0;
+    return shadowFogTransmittance(v, uv, z);
+}
+
 vec3 vsmVisibility(int i, vec3 P) {
     int v;
     vec2 uv;
@@ -57,12 +69,13 @@ vec3 vsmVisibility(int i, vec3 P) {
 }
 
 void lightAttenuate(int i, vec3 P, vec3 N, vec3 L, inout vec3 radiance) {
-    if (shadowLightHasMap(i)) radiance *= opaqueVisibility(i, P, N, L) * vsmVisibility(i, P);
+    if (shadowLightHasMap(i))
+        radiance *= opaqueVisibility(i, P, N, L) * vsmFog(i, P) * vsmVisibility(i, P);
 }
 
 void lightAttenuateInMedium(int i, vec3 P, inout vec3 radiance) {
     if (!shadowLightHasMap(i)) return;
-    radiance *= opaqueVisibilityFast(i, P);
+    radiance *= opaqueVisibilityFast(i, P) * vsmFog(i, P);
     if (shadows.params[1].z > 0.5) radiance *= vsmVisibility(i, P);
 }
 

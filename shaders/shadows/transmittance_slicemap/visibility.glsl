@@ -8,31 +8,20 @@
 // params[0]: x = bias (world units), y = PCF radius, z = slices, w = 1 when local slicing
 // (per-column [near, far] in the RG32F array at VEIL_TEX_SHADOW1, layer = view).
 // Uniforms (prepareReceiver, from this frame's passes): slmClasses and slmClassT[c] = T_c;
-// slmFog = 1 when the fog's optical depth per slice is in the R32F volume at
-// VEIL_TEX_SHADOW2 (fog.comp): the grid density volumes attenuate every receiver by
-// exp(-tau) up to its depth.
+// the fog's optical depth per slice (common/fog_depth.glsl, the technique's own slices): the
+// grid density volumes attenuate every receiver by exp(-tau) up to its depth.
 #include "../common/opaque_depth.glsl"
 #include "slices.glsl"
+#include "../common/fog_depth.glsl"
 
 layout(binding = VEIL_TEX_SHADOW1) uniform sampler2DArray slmRange;
-layout(binding = VEIL_TEX_SHADOW2) uniform sampler3D slmFogTau;
 uniform int slmClasses;
 uniform vec3 slmClassT[3];
-uniform int slmFog;
-
-// exp(-optical depth) of the fog from the light to normalized depth `depth` in view v: the
-// per-slice cumulative optical depth (fog.comp), linear between slice boundaries and between
-// fog columns.
-float slmFogTransmittance(int v, vec2 uv, float depth) {
-    if (slmFog == 0) return 1.0;
-    float slices = shadows.params[0].z;
-    float fs = clamp(depth, 0.0, 1.0) * slices;
-    float z = (float(v) * (slices + 1.0) + fs + 0.5) / (shadows.mapSize.z * (slices + 1.0));
-    return exp(-texture(slmFogTau, vec3(uv, z)).r);
-}
 
 // Transmittance of the transparent casters between the light and P in view v through the
-// column at texel offset `o` from P's.
+// column at texel offset `o` from P's; `depth` is the receiver's depth in that column (P's own,
+// or the receiver plane's there: with local slicing a column's slices can be far thinner than
+// the depth step between neighbouring texels of a tilted receiver).
 vec3 slmColumnTransmittance(int v, vec2 uv, float depth, ivec2 o) {
     int size = int(shadows.mapSize.x);
     ivec2 col = clamp(ivec2(uv * float(size)) + o, ivec2(0), ivec2(size - 1));
@@ -51,19 +40,21 @@ vec3 slmColumnTransmittance(int v, vec2 uv, float depth, ivec2 o) {
                           col.y * size + col.x, min(s - 1, slices - 1), classT);
 }
 
-// Surfaces: the opaque map's PCF times the slice transmittance averaged over the same kernel.
+// Surfaces: the opaque map's PCF times the slice transmittance averaged over the same kernel,
+// each tap at the receiver plane's depth in its column (shadowReceiverSlope).
 vec3 slmVisibility(int light, vec3 P, vec3 N, vec3 L) {
     int v;
     vec2 uv;
     float z;
     if (!shadowLocate(light, P, v, uv, z)) return vec3(1.0);
     int r = int(shadows.params[0].y);
+    vec2 slope = r > 0 ? shadowReceiverSlope(v, P, N, uv, z) : vec2(0.0);
     vec3 sum = vec3(0.0);
     for (int y = -r; y <= r; ++y)
         for (int x = -r; x <= r; ++x)
-            sum += slmColumnTransmittance(v, uv, z, ivec2(x, y));
+            sum += slmColumnTransmittance(v, uv, z + dot(slope, vec2(x, y)), ivec2(x, y));
     float n = float(2 * r + 1);
-    return opaqueVisibility(light, P, N, L) * slmFogTransmittance(v, uv, z) * sum / (n * n);
+    return opaqueVisibility(light, P, N, L) * shadowFogTransmittance(v, uv, z) * sum / (n * n);
 }
 
 // Volume samples: one column, one opaque tap.
@@ -72,7 +63,7 @@ vec3 slmVisibilityInMedium(int light, vec3 P) {
     vec2 uv;
     float z;
     if (!shadowLocate(light, P, v, uv, z)) return vec3(1.0);
-    return opaqueVisibilityFast(light, P) * slmFogTransmittance(v, uv, z) *
+    return opaqueVisibilityFast(light, P) * shadowFogTransmittance(v, uv, z) *
            slmColumnTransmittance(v, uv, z, ivec2(0));
 }
 

@@ -46,7 +46,8 @@ private:
 PropertySchema& addOpaqueMapProperties(PropertySchema& schema) {
     schema.real("bias", 0.01, 0.0, 1e6,
                 "opaque map depth bias in world units along the light axis (slope-scaled on "
-                "surfaces)");
+                "surfaces; each PCF tap also follows the receiver plane)",
+                "[Isidoro06]");
     schema.integer("pcf_radius", 1, 0, 16, "opaque map PCF kernel: (2r+1)^2 taps");
     return schema;
 }

@@ -10,15 +10,19 @@
 //                      of L layers reused for every view
 //   shadow.vsm         `stochastic-vsm`: shadow.moments after the separable tent blur (the
 //                      receivers' map, bilinear)
+//   shadow.fog         both, with `fog`: the grid density volumes' optical depth along the
+//                      light views (FogDepthMap), times the surfaces' stochastic visibility
 #include "shadows/stochastic/stochastic.h"
 
 #include "base/error.h"
 #include "shaders/common/bindings.h"
 #include "shadows/common/depth_maps.h"
+#include "shadows/common/fog_depth.h"
 #include "shadows/opaque/opaque.h"
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace veil::shadows {
 
@@ -42,6 +46,9 @@ public:
           pcfRadius_(p.getInt("pcf_radius")), samples_(effectiveSamples(p.getInt("samples"))),
           channels_(p.getBool("colored") ? 3 : 1) {
         using gpu::ProgramDesc;
+        if (p.getBool("fog"))
+            fogMap_.emplace(programs, p.getInt("fog_columns"), p.getInt("fog_slices"),
+                            p.getInt("fog_substeps"));
         casterProgram_ = programs.add(
             ProgramDesc::graphics("frame/mesh.vert", "shadows/stochastic/caster.frag"));
         if (mode_ == Mode::Stochastic) {
@@ -68,6 +75,7 @@ public:
 
     void resize(int mapSize, int viewCount) override {
         depth_.resize(mapSize, viewCount);
+        if (fogMap_) fogMap_->resize(mapSize, viewCount);
         if (mapSize == size_ && viewCount == views_) return;
         size_ = mapSize;
         views_ = viewCount;
@@ -123,14 +131,37 @@ public:
                          [this](const pass::Context& f) { blur(f, 0, size_); },
                          [this](const pass::Context& f, int y0, int y1) { blur(f, y0, y1); }});
         }
+        if (fogMap_)
+            p.push_back(
+                {"fog",
+                 {},
+                 {"shadow.fog"},
+                 [this](const pass::Context& f) { fogMap_->run(f, 0, size_); },
+                 [this](const pass::Context& f, int y0, int y1) { fogMap_->run(f, y0, y1); }});
         return p;
     }
     std::vector<std::string> receiverResources() const override {
-        return {"shadow.depth", mode_ == Mode::Stochastic ? "shadow.stochastic" : "shadow.vsm"};
+        std::vector<std::string> r = {
+            "shadow.depth", mode_ == Mode::Stochastic ? "shadow.stochastic" : "shadow.vsm"};
+        if (fogMap_) r.push_back("shadow.fog");
+        return r;
     }
+    // With `fog`, the fog samples read the media's optical depth from the fog map, so the
+    // marcher's own self-shadowing is off.
+    bool attenuatesMedia() const override { return fogMap_.has_value(); }
     void bindForReceivers() const override {
         depth_.bind();
         (mode_ == Mode::Stochastic ? msDepth_ : vsm_).bind(VEIL_TEX_SHADOW1);
+        if (fogMap_) fogMap_->bind();
+    }
+    void prepareReceiver(const gpu::Program& program, const pass::Context&) const override {
+        if (fogMap_)
+            fogMap_->prepareReceiver(program);
+        else
+            program.set("shadowFog", 0);
+    }
+    WorkEstimate work(int, int viewCount, bool media) const override {
+        return fogMap_ ? fogMap_->work(viewCount, media) : WorkEstimate{};
     }
     void fillParams(ShadowsBlock& block) const override {
         block.params[0] = glm::vec4(bias_, static_cast<float>(pcfRadius_), 0.0f, 0.0f);
@@ -143,6 +174,7 @@ public:
     }
     const gpu::Texture* resourceTexture(const std::string& name) const override {
         if (name == "shadow.depth") return &depth_.texture();
+        if (name == "shadow.fog") return fogMap_ ? &fogMap_->texture() : nullptr;
         if (mode_ == Mode::Stochastic) return name == "shadow.stochastic" ? &msDepth_ : nullptr;
         if (name == "shadow.moments") return &moments_;
         if (name == "shadow.vsm") return &vsm_;
@@ -155,7 +187,7 @@ public:
         const std::size_t texels = std::size_t(size_) * size_;
         std::size_t bytes = depth_.gpuBytes() + texels * samples_ * 4 * msLayers_;
         if (mode_ == Mode::Vsm) bytes += 3 * texels * 8 * std::max(views_, 1) * channels_;
-        return bytes;
+        return bytes + (fogMap_ ? fogMap_->gpuBytes() : 0);
     }
     nlohmann::json stats() const override {
         nlohmann::json s = {{"effective_samples", samples_}, {"layers_per_view", channels_}};
@@ -276,6 +308,7 @@ private:
     gpu::Texture msDepth_{gpu::NoCreate};
     gpu::Texture moments_{gpu::NoCreate}, blurTmp_{gpu::NoCreate}, vsm_{gpu::NoCreate};
     gpu::Framebuffer framebuffer_{gpu::NoCreate};
+    std::optional<FogDepthMap> fogMap_;
     int size_ = 0, views_ = 0, msLayers_ = 0;
 };
 
@@ -295,6 +328,7 @@ void add(Registry& registry, const char* id, Mode mode, const char* description)
     PropertySchema schema = commonProperties(); // 2048: the opaque map shares the size
     addOpaqueMapProperties(schema);
     addStochasticProperties(schema);
+    addFogDepthProperties(schema, true);
     if (mode == Mode::Stochastic) {
         schema.integer("filter_radius", 2, 0, 8,
                        "PCF of the stochastic map over (2r+1)^2 texels x S samples (surfaces; "
@@ -336,10 +370,12 @@ int stochasticVsmBlurTexels(int blurRadius, int size) {
 void registerStochastic(Registry& registry) {
     add(registry, "stochastic", Mode::Stochastic,
         "stochastic shadow maps of the transparent casters (MSAA, stratified sample masks, one "
-        "map per channel) read by PCF, with the opaque Williams map [Enderton11]");
+        "map per channel) read by PCF, with the opaque Williams map [Enderton11], times the "
+        "density volumes' optical depth along the light views (`fog`)");
     add(registry, "stochastic-vsm", Mode::Vsm,
         "caustic colored stochastic shadow maps converted to blurred variance shadow maps, "
-        "Chebyshev bound, with the opaque Williams map [McGuire16]");
+        "Chebyshev bound, with the opaque Williams map [McGuire16], times the density volumes' "
+        "optical depth along the light views (`fog`)");
 }
 
 } // namespace veil::shadows

@@ -2,6 +2,7 @@
 
 #include "base/error.h"
 #include "shadows/common/depth_maps.h"
+#include "shadows/common/fog_depth.h"
 #include "shadows/opaque/opaque.h"
 
 #include <fmt/format.h>
@@ -98,8 +99,7 @@ public:
         : programs_(programs), depth_(programs), bias_(p.getFloat("bias")),
           pcfRadius_(p.getInt("pcf_radius")), slices_(p.getInt("slices")),
           local_(p.getBool("local_slicing")), maxClasses_(p.getInt("classes")),
-          fog_(p.getBool("fog")), fogColumns_(p.getInt("fog_columns")),
-          fogSubsteps_(p.getInt("fog_substeps")) {
+          fog_(p.getBool("fog")) {
         const std::string method = p.getString("method");
         VEIL_CHECK(method == "raster" || method == "conservative",
                    "transmittance-slicemap: method '{}' is not available for light views (it "
@@ -109,8 +109,7 @@ public:
                    method);
         method_ = method;
         if (fog_)
-            fogProgram_ =
-                programs.add(gpu::ProgramDesc::compute("shadows/transmittance_slicemap/fog.comp"));
+            fogMap_.emplace(programs, p.getInt("fog_columns"), slices_, p.getInt("fog_substeps"));
     }
 
     std::string name() const override { return "transmittance-slicemap"; }
@@ -123,15 +122,7 @@ public:
         size_ = mapSize;
         views_ = viewCount;
         wordsBytes_ = 0;
-        fogTau_ = gpu::Texture(GL_TEXTURE_3D);
-        fogTau_
-            .storage3D(1, GL_R32F, fog_ ? fogColumns_ : 1, fog_ ? fogColumns_ : 1,
-                       fog_ ? std::max(views_, 1) * (slices_ + 1) : 1)
-            .parameter(GL_TEXTURE_MIN_FILTER, GL_LINEAR)
-            .parameter(GL_TEXTURE_MAG_FILTER, GL_LINEAR)
-            .parameter(GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE)
-            .parameter(GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE)
-            .parameter(GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+        if (fogMap_) fogMap_->resize(mapSize, viewCount);
     }
     // The slice map of the transparent casters: the frame's voxelize pass writes it (the
     // resource shadow.slices) before these passes, with this technique's class grouping
@@ -168,11 +159,12 @@ public:
              [this](const pass::Context& f) { depth_.render(f); },
              [this](const pass::Context& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }}};
         if (fog_)
-            p.push_back({"fog",
-                         {},
-                         {"shadow.fog"},
-                         [this](const pass::Context& f) { fog(f, 0, size_); },
-                         [this](const pass::Context& f, int y0, int y1) { fog(f, y0, y1); }});
+            p.push_back(
+                {"fog",
+                 {},
+                 {"shadow.fog"},
+                 [this](const pass::Context& f) { fogMap_->run(f, 0, size_); },
+                 [this](const pass::Context& f, int y0, int y1) { fogMap_->run(f, y0, y1); }});
         return p;
     }
     std::vector<std::string> receiverResources() const override {
@@ -182,7 +174,7 @@ public:
     bool attenuatesMedia() const override { return fog_; }
     void bindForReceivers() const override {
         depth_.bind();
-        fogTau_.bind(VEIL_TEX_SHADOW2);
+        if (fogMap_) fogMap_->bind();
     }
     void fillParams(ShadowsBlock& block) const override {
         block.params[0] = glm::vec4(bias_, float(pcfRadius_), float(slices_), local_ ? 1.0f : 0.0f);
@@ -200,12 +192,16 @@ public:
         std::vector<glm::vec3> t(3, glm::vec3(1.0f));
         for (int c = 0; c < classCount(); ++c)
             t[c] = glm::vec3(classT_[c]);
-        program.set("slmClasses", classCount()).set("slmFog", fogActive_ ? 1 : 0);
+        program.set("slmClasses", classCount());
+        if (fogMap_)
+            fogMap_->prepareReceiver(program);
+        else
+            program.set("shadowFog", 0);
         glProgramUniform3fv(program.id(), program.uniformLocation("slmClassT"), 3, &t[0].x);
     }
     const gpu::Texture* resourceTexture(const std::string& name) const override {
         if (name == "shadow.depth") return &depth_.texture();
-        if (name == "shadow.fog") return &fogTau_;
+        if (name == "shadow.fog" && fogMap_) return &fogMap_->texture();
         return nullptr;
     }
     // Slices of the casters and of the media along the light views: no camera.
@@ -213,20 +209,14 @@ public:
     // With the slice map the voxelize pass keeps for this technique (words, range, targets).
     std::size_t gpuBytes() const override {
         const std::size_t targets = std::min(8, (std::min(slices_, 1024) + 127) / 128);
-        return depth_.gpuBytes() + wordsBytes_ +
-               (fog_ ? std::size_t(fogColumns_) * fogColumns_ * views_ * (slices_ + 1) * 4 : 0) +
+        return depth_.gpuBytes() + wordsBytes_ + (fogMap_ ? fogMap_->gpuBytes() : 0) +
                std::size_t(size_) * size_ * (8 + 16 * targets) * std::max(views_, 1);
     }
     // The fog pass: fog_columns^2 columns x views x (slices + 1) slices x fog_substeps density
-    // samples (fog.comp), when there are grid volumes to march.
+    // samples (common/fog_depth.comp), when there are grid volumes to march.
     WorkEstimate work(int mapSize, int viewCount, bool media) const override {
         (void)mapSize;
-        if (!fog_ || !media) return {};
-        const double views = std::max(viewCount, 1);
-        return {double(fogColumns_) * fogColumns_ * views * (slices_ + 1) * fogSubsteps_,
-                fmt::format("fog optical depth: {}^2 columns (fog_columns) x {} view(s) x {} "
-                            "slices (slices + 1) x {} substeps (fog_substeps)",
-                            fogColumns_, viewCount, slices_ + 1, fogSubsteps_)};
+        return fogMap_ ? fogMap_->work(viewCount, media) : WorkEstimate{};
     }
     nlohmann::json stats() const override {
         nlohmann::json classes = nlohmann::json::array();
@@ -241,33 +231,6 @@ public:
 private:
     int classCount() const { return static_cast<int>(classT_.size()); }
 
-    // Optical depth of the grid density volumes per slice along every fog column (fog.comp),
-    // for the map rows [y0, y1) (all: 0, size_): the column rows [y0 C / size, y1 C / size)
-    // of the C = fog_columns, so consecutive bands of map rows cover the columns once.
-    void fog(const pass::Context& frame, int y0, int y1) {
-        fogActive_ = static_cast<bool>(frame.bindMedia);
-        if (!fogActive_) return;
-        const int c0 = int(std::int64_t(y0) * fogColumns_ / size_);
-        const int c1 = int(std::int64_t(y1) * fogColumns_ / size_);
-        if (c0 >= c1) return;
-        const gpu::Program& p = programs_.get(fogProgram_);
-        p.use();
-        frame.bindMedia(p);
-        glBindImageTexture(VEIL_IMG_VOLUME_LIGHT, fogTau_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
-                           GL_R32F);
-        for (const LightView& view : *frame.lightViews) {
-            p.set("shadowView", view.layer)
-                .set("uSlices", slices_)
-                .set("uSubsteps", fogSubsteps_)
-                .set("uColumns", fogColumns_)
-                .set("uClipToWorld", glm::inverse(view.viewProjection))
-                .set("rows", glm::ivec2(c0, c1));
-            glDispatchCompute((fogColumns_ + 7) / 8, (c1 - c0 + 7) / 8, 1);
-        }
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-        glUseProgram(0);
-    }
-
     gpu::ProgramManager& programs_;
     DepthMaps depth_;
     float bias_;
@@ -275,11 +238,8 @@ private:
     bool local_;
     int maxClasses_;
     bool fog_;
-    int fogColumns_, fogSubsteps_;
-    bool fogActive_ = false;
     std::string method_;
-    gpu::ProgramHandle fogProgram_;
-    gpu::Texture fogTau_{gpu::NoCreate};
+    std::optional<FogDepthMap> fogMap_;
     int size_ = 0, views_ = 0;
     std::size_t wordsBytes_ = 0; // the slice map's words, once the voxelize pass ran
     std::vector<glm::dvec3> classT_;
@@ -294,7 +254,7 @@ void registerTransmittanceSlicemap(Registry& registry) {
                    "slices per light-view column (32 per word; 1024 per geometry pass of 8 "
                    "RGBA32UI targets and per material class)",
                    "[Eisemann06 sec. 2, 3]");
-    schema.boolean("local_slicing", false,
+    schema.boolean("local_slicing", true,
                    "slices subdivide each column's [near, far] of the transparent casters (one "
                    "MIN-blended range pass per view) instead of the whole light view",
                    "[Eisemann06 sec. 2.2]");
@@ -309,18 +269,7 @@ void registerTransmittanceSlicemap(Registry& registry) {
                    "material classes (maps per view): casters are grouped by their transmittance "
                    "per crossing surface 1 - alpha + alpha T; each class has its own T_c",
                    "[Eisemann06 sec. 3] (three leaf colours)");
-    schema.boolean("fog", true,
-                   "the grid density volumes attenuate receivers through a per-slice optical "
-                   "depth along the light view's columns (a compute pass; the fog marcher's own "
-                   "self-shadowing volumes are then off); false: the marcher self-shadows and "
-                   "surfaces get no fog shadow",
-                   "[Eisemann06 sec. 3] (volumetric extinction, deep shadow maps)");
-    schema.integer("fog_columns", 128, 4, 4096,
-                   "fog columns per side of each light view (optical depth is bilinear between "
-                   "them)");
-    schema.integer("fog_substeps", 4, 1, 64,
-                   "midpoint density samples per slice of the fog's optical depth (error of a "
-                   "density edge: sigma x slice length / substeps)");
+    addFogDepthProperties(schema, false);
     registry.add(
         {"transmittance-slicemap",
          "[Eisemann06] transmittance shadow maps: light-space slice maps of the semi-transparent "

@@ -561,7 +561,8 @@ void registerVolume(Registry& registry) {
          "stencil shadow volumes (depth-fail, caps, infinite extrusion with depth clamp) "
          "of the opaque casters, exact per pixel for opaque receivers, culled and "
          "clamped with the light's slice map of the visible receivers [Eisemann06 sec. 3.2]; "
-         "transparent receivers and fog get the opaque map",
+         "transparent receivers and fog get the opaque map; opaque casters only: transparent "
+         "casters and density volumes cast no shadow (the closed-form cases expect T = 1)",
          nullptr,
          [](gpu::ProgramManager& programs, const Properties& p) {
              return std::make_unique<VolumeTechnique>(programs, p);

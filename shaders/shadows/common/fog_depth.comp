@@ -1,11 +1,12 @@
 #version 450 core
-// `transmittance-slicemap` fog: per light view, the optical depth of the grid density volumes
-// along every fog column of the view, accumulated slice by slice (the slices of the view's
-// uniform [near, far] range). Texel (x, y, view * (slices + 1) + k) holds the optical depth from
-// the near plane to slice boundary k = 0 .. slices (boundary 0 = 0), so a receiver at slice coordinate fs reads
-// it with linear filtering at fs (visibility.glsl) and gets exp(-tau). Each slice integrates
-// `uSubsteps` midpoint samples of the density along the column's centre ray.
-#include "../common/views.glsl"
+// FogDepthMap (src/shadows/common/fog_depth.h): per light view, the optical depth of the grid
+// density volumes along every fog column of the view, accumulated slice by slice (uniform
+// slices of the view's [near, far] range). Texel (x, y, view * (slices + 1) + k) holds the
+// optical depth from the near plane to slice boundary k = 0 .. slices (boundary 0 = 0), so a
+// receiver at slice coordinate fs reads it with linear filtering at fs (fog_depth.glsl) and
+// gets exp(-tau). Each slice integrates `uSubsteps` midpoint samples of the density along the
+// column's centre ray.
+#include "views.glsl"
 #include "../../volume/volume_common.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
