@@ -82,7 +82,8 @@ def take(argv, flag):
 def main(argv):
     maps = take(argv, "--error-map")
     for image, out in take(argv, "--png"):
-        write_png(tone_map(read_rgb(image))[::-1], out)
+        runs = image.split(",")  # several runs: their mean
+        write_png(tone_map(sum(read_rgb(r) for r in runs) / len(runs))[::-1], out)
     if len(argv) < 3:
         print(__doc__.strip().splitlines()[2], file=sys.stderr)
         return 2
