@@ -4,8 +4,8 @@
 usage: volume_error.py REFERENCE.exr[,...] REFERENCE-stderr.exr[,...] BACKGROUND_R,G,B IMAGE.exr [...]
        [--bin K] [--error-map IMAGE.exr OUT.png]... [--png IMAGE.exr OUT.png]...
 
-Reads linear EXR radiance (several reference runs with different seeds: their mean) through oiiotool (FITS, float). The volume's pixels are those where
-the reference's luminance differs from the background's by more than 2 % of it. Per image:
+Reads linear EXR radiance (several reference runs with different seeds: their mean)
+through oiiotool --dumpdata. The volume's pixels are those where the reference's luminance differs from the background's by more than 2 % of it. Per image:
 mean and 99th percentile of |Y - Y_ref| / Y_ref (Y: Rec. 709 luminance) over those pixels,
 and the reference's own mean relative standard error there (its noise floor). --error-map
 writes |Y - Y_ref| / Y_ref as a false-colour PNG (0 black .. 0.5 white) through oiiotool;
@@ -23,23 +23,22 @@ import numpy as np
 
 
 def read_rgb(path):
-    with tempfile.TemporaryDirectory() as d:
-        fits = os.path.join(d, "x.fits")
-        subprocess.run(["oiiotool", path, "--ch", "R,G,B", "-d", "float", "-o", fits],
-                       check=True)
-        raw = open(fits, "rb").read()
-    header, pos = {}, 0
-    while True:
-        card = raw[pos:pos + 80].decode("ascii")
-        pos += 80
-        if card.startswith("END"):
-            break
-        if "=" in card:
-            k, v = card.split("=", 1)
-            header[k.strip()] = v.split("/")[0].strip()
-    pos = (pos + 2879) // 2880 * 2880
-    c, w, h = (int(header[k]) for k in ("NAXIS1", "NAXIS2", "NAXIS3"))
-    return np.frombuffer(raw, ">f4", c * w * h, pos).reshape(h, w, c).astype(np.float64)
+    """RGB of an image file, top row first (oiiotool --dumpdata: text at full precision)."""
+    out = subprocess.run(["oiiotool", "--info", "--dumpdata", path], check=True,
+                         capture_output=True, text=True).stdout
+    pixels = {}
+    for line in out.splitlines():
+        line = line.strip()
+        if line.startswith("Pixel ("):
+            xy, values = line[len("Pixel ("):].split("):")
+            x, y = (int(v) for v in xy.split(","))
+            pixels[(x, y)] = [float(v) for v in values.split()[:3]]
+    w = 1 + max(x for x, _ in pixels)
+    h = 1 + max(y for _, y in pixels)
+    rgb = np.zeros((h, w, 3))
+    for (x, y), v in pixels.items():
+        rgb[y, x] = v
+    return rgb
 
 
 def bin_to(y, k):
@@ -83,7 +82,7 @@ def main(argv):
     maps = take(argv, "--error-map")
     for image, out in take(argv, "--png"):
         runs = image.split(",")  # several runs: their mean
-        write_png(tone_map(sum(read_rgb(r) for r in runs) / len(runs))[::-1], out)
+        write_png(tone_map(sum(read_rgb(r) for r in runs) / len(runs)), out)
     if len(argv) < 3:
         print(__doc__.strip().splitlines()[2], file=sys.stderr)
         return 2
@@ -112,7 +111,7 @@ def main(argv):
         for image, out in maps:
             if image == path:
                 err = np.where(mask, np.clip(rel / 0.5, 0.0, 1.0), 0.0)
-                write_png(np.stack([err, err ** 2, err ** 4], axis=-1)[::-1], out)
+                write_png(np.stack([err, err ** 2, err ** 4], axis=-1), out)
     return 0
 
 
