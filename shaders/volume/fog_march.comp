@@ -1,7 +1,8 @@
 #version 450 core
 // The fog marcher (issue: OpenVDB density fields ray-marched as fog). Per pixel of the fog
 // target (full, 1/2 or 1/4 resolution) from the eye to the opaque depth: extinction, single
-// scattering with Henyey-Greenstein, albedo, emission, an ambient term, and light visibility
+// scattering with Henyey-Greenstein (or multiple scattering by octaves, fog_medium.glsl),
+// albedo, emission, an ambient term, and light visibility
 // = opaque shadow map x transmittance through the volumes (light_transmittance.comp) x
 // homogeneous fog toward point and spot lights (fog_medium.glsl). Each step is integrated
 // analytically (constant coefficients over the step), accumulated in registers and written

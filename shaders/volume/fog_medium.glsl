@@ -20,6 +20,13 @@ uniform int primaryLight; // light whose transmittance volumes were computed (-1
 uniform float globalDensity;
 uniform vec3 globalAlbedo;
 uniform float globalAnisotropy;
+// Multiple scattering by octaves [Wrenninge13], [Hillaire16]: octave n scatters with
+// the extinction toward the light times a^n, the scattering times b^n and the anisotropy times
+// c^n (octaveParams = (a, b, c)); 1 octave is single scattering. ambientScale scales the
+// isotropic ambient (sky) in-scattering.
+uniform int octaves;
+uniform vec3 octaveParams;
+uniform float ambientScale;
 
 float hash(uvec3 v) {
     v = v * 1664525u + 1013904223u;
@@ -111,24 +118,34 @@ bool fogMedium(vec3 P, vec3 V, out float sigma, out vec3 source) {
     if (allEmpty) return false;
     if (sigma <= 0.0 && all(equal(emitted, vec3(0.0)))) return true;
     // In-scattering: sum over lights of phase x incident radiance x visibility.
-    vec3 inscatter = lighting.ambient.rgb * scatterAlbedo; // isotropic ambient radiance
+    vec3 inscatter = lighting.ambient.rgb * scatterAlbedo * ambientScale; // isotropic ambient
     for (int l = 0; l < lighting.lightCount.x; ++l) {
         vec3 L;
         vec3 e = incidentRadiance(l, P, L);
         if (all(equal(e, vec3(0.0)))) continue;
         lightAttenuateInMedium(l, P, e); // the shadow technique's visibility
-        float vis = 1.0;
-        if (l == primaryLight) vis *= volumeTransmittanceToLight(P);
+        // Transmittance toward the light through the volumes and the homogeneous fog; octave n
+        // raises it to the power a^n (its extinction times a^n).
+        float volumeT = l == primaryLight ? volumeTransmittanceToLight(P) : 1.0;
+        float fogTau = 0.0;
         if (globalDensity > 0.0 && int(lighting.lights[l].positionType.w) != VEIL_LIGHT_DIRECTIONAL)
-            vis *= exp(-globalDensity * length(lighting.lights[l].positionType.xyz - P));
+            fogTau = globalDensity * length(lighting.lights[l].positionType.xyz - P);
         float cosTheta = dot(-L, V); // light travels along -L, leaves toward V
-        vec3 phaseAlbedo =
-            globalDensity * globalAlbedo * henyeyGreenstein(cosTheta, globalAnisotropy);
-        for (int i = 0; i < VEIL_VOLUME_SLOTS; ++i)
-            if (i < volumeCount)
-                phaseAlbedo +=
-                    sig[i] * volumes[i].albedo * henyeyGreenstein(cosTheta, volumes[i].anisotropy);
-        inscatter += e * vis * phaseAlbedo;
+        float an = 1.0, bn = 1.0, cn = 1.0;
+        for (int n = 0; n < octaves; ++n) {
+            float vis = n == 0 ? volumeT * exp(-fogTau)
+                               : exp2(an * log2(max(volumeT, 1e-30))) * exp(-an * fogTau);
+            vec3 phaseAlbedo = globalDensity * globalAlbedo *
+                               henyeyGreenstein(cosTheta, cn * globalAnisotropy);
+            for (int i = 0; i < VEIL_VOLUME_SLOTS; ++i)
+                if (i < volumeCount)
+                    phaseAlbedo += sig[i] * volumes[i].albedo *
+                                   henyeyGreenstein(cosTheta, cn * volumes[i].anisotropy);
+            inscatter += e * (vis * bn) * phaseAlbedo;
+            an *= octaveParams.x;
+            bn *= octaveParams.y;
+            cn *= octaveParams.z;
+        }
     }
     source = inscatter + emitted;
     return true;

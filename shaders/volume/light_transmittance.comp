@@ -5,7 +5,7 @@
 #include "volume_common.glsl"
 
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
-layout(binding = VEIL_IMG_VOLUME_LIGHT, r16f) uniform writeonly image3D lightTransmittance;
+layout(binding = VEIL_IMG_VOLUME_LIGHT, r32f) uniform writeonly image3D lightTransmittance;
 
 uniform mat4 lightToWorld; // [0,1]^3 of the target texture -> world
 uniform vec4 lightPositionType; // xyz position (or travel direction for directional), w = type

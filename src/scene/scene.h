@@ -106,6 +106,14 @@ struct RenderSettings {
     int fogSteps = 128;
     int fogResolution = 1;
     bool fogJitter = true;
+    // Multiple scattering in the fog marcher by octaves [Wrenninge13, Hillaire16]:
+    // octave n (0 .. fogOctaves-1) scatters light with extinction toward the light times a^n,
+    // scattering times b^n and phase anisotropy times c^n; 1 octave = single scattering.
+    int fogOctaves = 1;
+    float fogOctaveExtinction = 0.5f; // a
+    float fogOctaveScattering = 0.5f; // b
+    float fogOctaveAnisotropy = 0.5f; // c
+    float fogAmbient = 1.0f;          // scale of the isotropic ambient (sky) in-scattering
     // GPU memory budget for all volumes (MiB); larger grids are coarsened or refused.
     int volumeBudgetMiB = 1024;
     // Memory for procedural geometry (particle clouds): larger clouds are refused before

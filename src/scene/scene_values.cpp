@@ -134,6 +134,24 @@ const std::vector<ValueDecl<RenderSettings>>& renderValueDecls() {
             .boolean("fog_jitter", &R::fogJitter,
                      "per-pixel random start offset of the march (seeded by render.seed)")
             .edited(ValueGroup::FogMarcher)
+            .integer("fog_octaves", &R::fogOctaves, 1, 16,
+                     "multiple-scattering octaves of the fog marcher (1 = single scattering)",
+                     "[Wrenninge13], [Hillaire16]")
+            .edited(ValueGroup::FogMarcher)
+            .real("fog_octave_extinction", &R::fogOctaveExtinction, kUnit, 0.0, 1.0,
+                  "a: octave n's extinction toward the light is a^n times the medium's",
+                  "[Wrenninge13]")
+            .edited(ValueGroup::FogMarcher)
+            .real("fog_octave_scattering", &R::fogOctaveScattering, kUnit, 0.0, 1.0,
+                  "b: octave n's scattering is b^n times the medium's", "[Wrenninge13]")
+            .edited(ValueGroup::FogMarcher)
+            .real("fog_octave_anisotropy", &R::fogOctaveAnisotropy, kUnit, 0.0, 1.0,
+                  "c: octave n's Henyey-Greenstein g is c^n times the medium's", "[Wrenninge13]")
+            .edited(ValueGroup::FogMarcher)
+            .real("fog_ambient", &R::fogAmbient, kNonNegative, 0.0, 4.0,
+                  "scale of the fog's isotropic ambient (sky) in-scattering, render.ambient x "
+                  "sigma_s x fog_ambient")
+            .edited(ValueGroup::FogMarcher)
             .integer("volume_budget_mib", &R::volumeBudgetMiB, 1, 1 << 20,
                      "GPU memory for all volumes, MiB (larger grids: volume_over_budget)")
             .choice("volume_over_budget", &R::volumeOverBudget, {"coarsen", "refuse"},

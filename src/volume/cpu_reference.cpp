@@ -136,7 +136,8 @@ FogSample CpuFogReference::pixel(const scene::Camera& camera, int width, int hei
             emitted += glm::dvec3(volumes_[i].ref->emission) * d;
         }
         if (sigma <= 0.0 && emitted == glm::dvec3(0.0)) continue;
-        glm::dvec3 inscatter = glm::dvec3(scene_.render.ambient) * albedoSigma;
+        glm::dvec3 inscatter =
+            glm::dvec3(scene_.render.ambient) * albedoSigma * double(scene_.render.fogAmbient);
         for (std::size_t l = 0; l < scene_.lights.size() && l < 8; ++l) {
             const scene::Light& light = scene_.lights[l];
             glm::dvec3 L, e = glm::dvec3(light.color) * double(light.intensity);
@@ -155,12 +156,20 @@ FogSample CpuFogReference::pixel(const scene::Camera& camera, int width, int hei
             if (e == glm::dvec3(0.0)) continue;
             const double vis = transmittanceToLight(P, static_cast<int>(l));
             const double cosTheta = glm::dot(-L, V);
-            glm::dvec3 phaseAlbedo =
-                globalAlbedo_ * globalDensity_ * henyeyGreenstein(cosTheta, globalAnisotropy_);
-            for (std::size_t i = 0; i < volumes_.size(); ++i)
-                phaseAlbedo += glm::dvec3(volumes_[i].ref->albedo) * sig[i] *
-                               henyeyGreenstein(cosTheta, volumes_[i].ref->anisotropy);
-            inscatter += e * vis * phaseAlbedo;
+            // Octave n: transmittance to the light ^ a^n, scattering x b^n, g x c^n.
+            const scene::RenderSettings& r = scene_.render;
+            double an = 1.0, bn = 1.0, cn = 1.0;
+            for (int n = 0; n < r.fogOctaves; ++n) {
+                glm::dvec3 phaseAlbedo = globalAlbedo_ * globalDensity_ *
+                                         henyeyGreenstein(cosTheta, cn * globalAnisotropy_);
+                for (std::size_t i = 0; i < volumes_.size(); ++i)
+                    phaseAlbedo += glm::dvec3(volumes_[i].ref->albedo) * sig[i] *
+                                   henyeyGreenstein(cosTheta, cn * volumes_[i].ref->anisotropy);
+                inscatter += e * (std::pow(vis, an) * bn) * phaseAlbedo;
+                an *= r.fogOctaveExtinction;
+                bn *= r.fogOctaveScattering;
+                cn *= r.fogOctaveAnisotropy;
+            }
         }
         const double stepT = std::exp(-sigma * dt);
         const double integral = sigma > 1e-12 ? (1.0 - stepT) / sigma : dt;

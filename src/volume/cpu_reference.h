@@ -1,6 +1,7 @@
 // CPU reference of the fog marcher, in double precision over the same openvdb::FloatGrid:
 // transmittance and single-scattered radiance along camera rays, with the lighting model of
-// shaders/volume/fog_march.comp (Henyey-Greenstein phase, albedo, emission, ambient, spot cone
+// shaders/volume/fog_march.comp (Henyey-Greenstein phase, albedo, emission, ambient, the
+// multiple-scattering octaves of render.fog_octaves, spot cone
 // and 1/d^2 falloff, transmittance toward each light marched exactly through the density).
 // What it leaves out: opaque occluders (no shadow map) and surfaces; tests use scenes where
 // those do not matter. Lights other than the GPU's primary light are not self-shadowed on the

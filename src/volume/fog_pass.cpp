@@ -88,7 +88,7 @@ FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
             glm::clamp(glm::ivec3(glm::ceil(extent / (2.0f * e.gpu->voxelSize()))), glm::ivec3(4),
                        glm::ivec3(128));
         e.light = gpu::Texture(GL_TEXTURE_3D);
-        e.light.storage3D(1, GL_R16F, dims.x, dims.y, dims.z)
+        e.light.storage3D(1, GL_R32F, dims.x, dims.y, dims.z)
             .parameter(GL_TEXTURE_MIN_FILTER, GL_LINEAR)
             .parameter(GL_TEXTURE_MAG_FILTER, GL_LINEAR)
             .parameter(GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE)
@@ -112,7 +112,7 @@ std::size_t FogPass::gpuBytes() const {
     std::size_t bytes = 0;
     for (const auto& e : volumes_)
         bytes += e.gpu->stats().gpuBytes +
-                 std::size_t(e.light.width()) * e.light.height() * e.light.depth() * 2;
+                 std::size_t(e.light.width()) * e.light.height() * e.light.depth() * 4;
     return bytes + std::size_t(width_) * height_ * 16;
 }
 
@@ -238,7 +238,7 @@ bool FogPass::updateLightVolumesSlab(const pass::Context& targets, int slabTexel
         .set("lightToWorld", e.lightToWorld)
         .set("zRange", glm::ivec2(z0, z1));
     lp.use();
-    glBindImageTexture(VEIL_IMG_VOLUME_LIGHT, e.light.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R16F);
+    glBindImageTexture(VEIL_IMG_VOLUME_LIGHT, e.light.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32F);
     glDispatchCompute((e.light.width() + 3) / 4, (e.light.height() + 3) / 4, (z1 - z0 + 3) / 4);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     ++lightSlabs_;
@@ -268,7 +268,12 @@ void FogPass::setMarchUniforms(const gpu::Program& program, const pass::Context&
         .set("primaryLight", volumes_.empty() || !selfShadowing_ ? -1 : primaryLight_)
         .set("globalDensity", globalDensity_)
         .set("globalAlbedo", globalAlbedo_)
-        .set("globalAnisotropy", globalAnisotropy_);
+        .set("globalAnisotropy", globalAnisotropy_)
+        .set("octaves", scene_.render.fogOctaves)
+        .set("octaveParams",
+             glm::vec3(scene_.render.fogOctaveExtinction, scene_.render.fogOctaveScattering,
+                       scene_.render.fogOctaveAnisotropy))
+        .set("ambientScale", scene_.render.fogAmbient);
     if (targets.prepareReceiver) targets.prepareReceiver(program);
     targets.depth->bind(VEIL_TEX_DEPTH);
 }

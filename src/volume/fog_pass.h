@@ -8,7 +8,9 @@
 // Parameters (scene "render" block): fog_steps (steps per ray through the volumes' bounds,
 // default 128), fog_resolution (1, 2 or 4: marching resolution divisor; upsampled with a joint
 // bilateral filter keyed on depth, [McGuire16 sec. 5]), fog_jitter (per-pixel random start offset,
-// seeded by render.seed), volume_budget_mib / volume_over_budget (coarsen or refuse).
+// seeded by render.seed), volume_budget_mib / volume_over_budget (coarsen or refuse),
+// fog_octaves / fog_octave_extinction / fog_octave_scattering / fog_octave_anisotropy
+// (multiple scattering by octaves [Wrenninge13, Hillaire16], docs/volumes.md), fog_ambient.
 // Per volume: density_scale (extinction per unit density), albedo, anisotropy g
 // (Henyey-Greenstein), emission. "homogeneous" volumes add global fog of constant density.
 #pragma once

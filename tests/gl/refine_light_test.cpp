@@ -17,9 +17,9 @@ namespace veil::test {
 
 namespace {
 
-// The R16F texels as stored (bits, not values: the comparison is exact).
-std::vector<std::uint16_t> halfTexels(const gpu::Texture& t) {
-    return texelBits<std::uint16_t>(t, GL_RED, GL_HALF_FLOAT, 1);
+// The R32F texels as stored (bits, not values: the comparison is exact).
+std::vector<std::uint32_t> floatTexels(const gpu::Texture& t) {
+    return texelBits<std::uint32_t>(t, GL_RED, GL_FLOAT, 1);
 }
 
 } // namespace
@@ -42,7 +42,7 @@ TEST_F(RefineLightTest, SlabsEqualTheVolumeInOnePieceOneSlabPerStep) {
     const gpu::Texture* wholeLight = whole.fog()->lightTransmittanceTexture(0);
     ASSERT_NE(wholeLight, nullptr);
     whole.render();
-    const std::vector<std::uint16_t> expected = halfTexels(*wholeLight);
+    const std::vector<std::uint32_t> expected = floatTexels(*wholeLight);
     const std::vector<std::uint8_t> expectedLdr = rgba8(whole.ldrTexture());
 
     frame::Renderer tiled(s, info());
@@ -75,7 +75,7 @@ TEST_F(RefineLightTest, SlabsEqualTheVolumeInOnePieceOneSlabPerStep) {
     EXPECT_EQ(slabSteps, wantSlabs);
     EXPECT_EQ(tiled.refinement().lightSlabs, wantSlabs);
     EXPECT_EQ(tileSteps, 4);
-    const std::vector<std::uint16_t> got = halfTexels(*fog.lightTransmittanceTexture(0));
+    const std::vector<std::uint32_t> got = floatTexels(*fog.lightTransmittanceTexture(0));
     ASSERT_EQ(got.size(), expected.size());
     std::size_t differ = 0, lit = 0;
     for (std::size_t i = 0; i < got.size(); ++i) {
