@@ -59,7 +59,8 @@ TEST(SceneValuesTest, UnknownKeyListsTheAcceptedKeysInOrder) {
     EXPECT_NE(parseError(doc).find(
                   "/render/fog_stepz: unknown key (known: width, height, camera, oit, shadows, ao, "
                   "pathtraced, "
-                  "seed, ambient, background, exposure, tonemap, shadow_map_size, shadow_bias, "
+                  "seed, ambient, background, exposure, oit_rasterizer, tonemap, shadow_map_size, "
+                  "shadow_bias, "
                   "pcf_radius, fog_steps, fog_resolution, fog_jitter, volume_budget_mib, "
                   "volume_over_budget, geometry_budget_mib, fog_sample_limit)"),
               std::string::npos)
