@@ -17,10 +17,10 @@ void main() {
     uint tri = gl_GlobalInvocationID.x;
     if (tri >= triangleCount) return;
     RasterTriangle t = rasterTriangles[tri];
-    uint subtriangles = uint(t.y.w);
+    uint subtriangles = uint(t.y.w) & 7u;
     if (subtriangles == 0u) return;
     ivec4 b = t.bounds;
-    uint extra = floatBitsToUint(t.z.w);
+    uint extra = uint(t.y.w) >> 3;
     for (uint k = 1u; k < subtriangles; ++k) {
         ivec4 e = rasterTriangles[extra + k - 1u].bounds;
         if (e.x > e.z) continue;

@@ -98,9 +98,10 @@ void main() {
         if (mine) {
             for (uint k = 0u; k < n; ++k) {
                 uint tri = ordered[k];
-                uint subtriangles = uint(rasterTriangles[tri].y.w);
+                uint meta = uint(rasterTriangles[tri].y.w);
+                uint subtriangles = meta & 7u;
                 shadeTriangle(tri, pixel, centre, opaqueDepth);
-                uint extra = floatBitsToUint(rasterTriangles[tri].z.w);
+                uint extra = meta >> 3;
                 for (uint s = 1u; s < subtriangles; ++s)
                     shadeTriangle(extra + s - 1u, pixel, centre, opaqueDepth);
             }

@@ -14,7 +14,8 @@
 struct RasterTriangle {
     ivec4 x;      // xyz: the vertices' fixed-point x; w: object index
     ivec4 y;      // xyz: fixed-point y; w (first record of an input triangle): its subtriangles
-    vec4 z;       // xyz: window depth [0, 1]; w: first further subtriangle's record (bits)
+                  // (bits 0-2) and the record of the second one (bits 3-30)
+    vec4 z;       // xyz: window depth [0, 1]
     vec4 invW;    // xyz: 1 / w_clip (perspective-correct interpolation)
     ivec4 bounds; // pixels whose centres it may cover, x0 y0 x1 y1 inclusive (x0 > x1: none)
 };

@@ -80,8 +80,8 @@ void writeTriangle(uint record, ClipVertex v0, ClipVertex v1, ClipVertex v2, uin
         float tz = z1; z1 = z2; z2 = tz;
     }
     t.x = ivec4(p0.x, p1.x, p2.x, int(objectIndex));
-    t.y = ivec4(p0.y, p1.y, p2.y, int(subtriangles));
-    t.z = vec4(z0, z1, z2, uintBitsToFloat(extraFirst));
+    t.y = ivec4(p0.y, p1.y, p2.y, int((extraFirst << 3) | subtriangles));
+    t.z = vec4(z0, z1, z2, 0.0);
     t.invW = vec4(1.0 / v0.position.w, 1.0 / v1.position.w, 1.0 / v2.position.w, 0.0);
     // Pixel x is covered only if its centre x * S + S / 2 lies in [min, max].
     const int S = RASTER_SUBPIXEL, H = RASTER_SUBPIXEL / 2;

@@ -98,8 +98,9 @@ void ComputeRaster::setup(const pass::Context& context) {
     for (std::uint32_t c : counts)
         total += c;
     stats_.triangles = total;
-    VEIL_CHECK(total < (std::uint64_t(1) << 31),
-               "compute rasterizer: {} transparent triangles, more than 2^31", total);
+    // Records are indexed with 28 bits (shaders/oit/compute_raster/raster.glsl).
+    VEIL_CHECK(total < (std::uint64_t(1) << 27),
+               "compute rasterizer: {} transparent triangles, more than 2^27", total);
     std::size_t countersNeed = 16 + counts.size() * 6 * 16;
     ensureBuffer(counters_, countersBytes_, countersNeed);
     // A power-of-two pixel span of the guard band: window coordinates within +-16384 pixels,
@@ -147,6 +148,10 @@ void ComputeRaster::setup(const pass::Context& context) {
         if (extra <= triangleCapacity_ - total) return;
         // Clipping split more triangles than the extra region holds: grow it, set up again.
         extraCapacity_ = nextPowerOfTwo(extra);
+        VEIL_CHECK(total + extraCapacity_ < (std::uint64_t(1) << 28),
+                   "compute rasterizer: {} triangles and {} clipped subtriangles exceed 2^28 "
+                   "records",
+                   total, extra);
         log::info("compute rasterizer: {} clipped subtriangles, extra records grown to {}", extra,
                   extraCapacity_);
     }
