@@ -97,6 +97,22 @@
 #define VEIL_TEX_VOX0 16
 #define VEIL_TEX_VOX_RANGE 24
 
+// The compute rasterizer of the transparent pass (src/oit/compute_raster): an object's mesh
+// buffers as SSBOs (frame::dispatchObjects, shaders/frame/raster_surface.glsl), and its own
+// triangle records, counters, per-tile starts, per-(batch, tile) offsets and tile lists.
+#define VEIL_SSBO_MESH_POSITIONS 25
+#define VEIL_SSBO_MESH_NORMALS 26
+#define VEIL_SSBO_MESH_UVS 27
+#define VEIL_SSBO_MESH_SIZES 28
+#define VEIL_SSBO_MESH_INDICES 29
+#define VEIL_SSBO_RASTER_TRIANGLES 30
+#define VEIL_SSBO_RASTER_COUNTERS 31
+#define VEIL_SSBO_RASTER_TILE_STARTS 0
+#define VEIL_SSBO_RASTER_BIN_OFFSETS 3
+#define VEIL_SSBO_RASTER_TILE_LISTS 7
+// The triangle records' attributes: the voxelization's slot (its passes bind their own).
+#define VEIL_SSBO_RASTER_ATTRIBUTES 8
+
 #define VEIL_ATTR_POSITION 0
 #define VEIL_ATTR_NORMAL 1
 #define VEIL_ATTR_UV 2

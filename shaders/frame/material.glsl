@@ -1,29 +1,45 @@
 // Per-draw material uniforms (scene::Material) and the view-dependent shading inputs.
+// Three callers: the fragment stage (uniforms and interpolated inputs); with SURFACE_UNIFORMS_ONLY
+// a compute shader that reads an object's uniforms (the compute rasterizer's setup); with
+// SURFACE_FROM_RECORD a compute shader that sets them per fragment as plain globals from the
+// setup's records (frame/raster_surface.glsl: the compute rasterizer's fine stage).
+#ifdef SURFACE_FROM_RECORD
+#define SURFACE_VALUE
+#else
+#define SURFACE_VALUE uniform
+#endif
 #include "../common/lights.glsl"
 
-uniform vec3 baseColor;
-uniform float roughness;
-uniform float metalness;
-uniform vec3 emission;
-uniform float coverage;      // coverage alpha
-uniform vec3 transmission;   // T, [McGuire16 Eq. 2]
-uniform float collimation;   // c, [McGuire16 sec. 4.1]
-uniform float ior;           // eta of the medium behind the surface, [McGuire16 Eq. 8]
-uniform bool billboard;
+SURFACE_VALUE vec3 baseColor;
+SURFACE_VALUE float roughness;
+SURFACE_VALUE float metalness;
+SURFACE_VALUE vec3 emission;
+SURFACE_VALUE float coverage;      // coverage alpha
+SURFACE_VALUE vec3 transmission;   // T, [McGuire16 Eq. 2]
+SURFACE_VALUE float collimation;   // c, [McGuire16 sec. 4.1]
+SURFACE_VALUE float ior;           // eta of the medium behind the surface, [McGuire16 Eq. 8]
+SURFACE_VALUE bool billboard;
 // [McGuire17 sec. 6]: coverage from a binary mask whose filtered edge is coverageEdge wide (UV
 // units; scene::Material::coverageEdge); binaryCoverage = baseMIPisBinary (no transmission).
-uniform float coverageEdge;
-uniform bool binaryCoverage;
+SURFACE_VALUE float coverageEdge;
+SURFACE_VALUE bool binaryCoverage;
 // KHR_materials_volume (scene::Material): attenuationColor^(distance / attenuationDistance) is
 // the transmittance of the medium behind the surface; attenuationDistance 0 = no absorption.
-uniform vec3 attenuationColor;
-uniform float attenuationDistance;
+SURFACE_VALUE vec3 attenuationColor;
+SURFACE_VALUE float attenuationDistance;
 #define VEIL_MATERIAL_UNIFORMS 1
 
+#if defined(SURFACE_FROM_RECORD)
+vec3 vWorldPos;
+vec3 vNormal;
+vec2 vUv;
+float vViewDepth;
+#elif !defined(SURFACE_UNIFORMS_ONLY)
 in vec3 vWorldPos;
 in vec3 vNormal;
 in vec2 vUv;
 in float vViewDepth;
+#endif
 
 SurfaceMaterial currentMaterial() {
     SurfaceMaterial m;
@@ -36,6 +52,7 @@ SurfaceMaterial currentMaterial() {
     return m;
 }
 
+#ifndef SURFACE_UNIFORMS_ONLY // what reads the interpolated inputs
 // Coverage alpha of this fragment: the material's, with the soft round falloff of particles
 // (billboard quads: Gaussian over the quad, nothing outside the unit disc).
 float surfaceCoverage() {
@@ -59,3 +76,4 @@ vec3 facingNormal(vec3 V) {
     vec3 N = normalize(vNormal);
     return dot(N, V) < 0.0 ? -N : N;
 }
+#endif

@@ -1,6 +1,6 @@
 #version 450 core
 // Vertex stage shared by the opaque, transparent and shadow passes.
-#include "../common/camera.glsl"
+#include "mesh_vertex.glsl"
 
 layout(location = VEIL_ATTR_POSITION) in vec3 inPosition;
 layout(location = VEIL_ATTR_NORMAL) in vec3 inNormal;
@@ -21,18 +21,13 @@ out vec2 vUv;
 out float vViewDepth;
 
 void main() {
-    vec3 world = (model * vec4(inPosition, 1.0)).xyz;
-    vec3 normal = normalize(normalMatrix * inNormal);
-    if (billboard) {
-        vec3 right = useOverride ? overrideRight : camera.cameraRight.xyz;
-        vec3 up = useOverride ? overrideUp : camera.cameraUp.xyz;
-        world += (right * inUv.x + up * inUv.y) * inSize;
-        normal = useOverride ? normalize(cross(right, up)) : viewVector(world);
-    }
-    vWorldPos = world;
-    vNormal = normal;
+    vec3 right = useOverride ? overrideRight : camera.cameraRight.xyz;
+    vec3 up = useOverride ? overrideUp : camera.cameraUp.xyz;
+    MeshVertex v = meshVertex(inPosition, inNormal, inUv, inSize, model, normalMatrix, billboard,
+                              right, up, useOverride);
+    vWorldPos = v.world;
+    vNormal = v.normal;
     vUv = inUv;
-    vec4 viewPos = camera.view * vec4(world, 1.0);
-    vViewDepth = -viewPos.z;
-    gl_Position = (useOverride ? viewProjection : camera.viewProjection) * vec4(world, 1.0);
+    vViewDepth = v.viewDepth;
+    gl_Position = (useOverride ? viewProjection : camera.viewProjection) * vec4(v.world, 1.0);
 }

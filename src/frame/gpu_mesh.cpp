@@ -36,10 +36,22 @@ std::size_t GpuMesh::gpuBytes() const {
     return positions_.size() + normals_.size() + uvs_.size() + sizes_.size() + indices_.size();
 }
 
-void drawObjects(const scene::Scene& scene, const std::vector<GpuMesh>& meshes,
-                 const gpu::Program& program, pass::ObjectSet set) {
+void GpuMesh::bindStorage() const {
+    positions_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_MESH_POSITIONS);
+    normals_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_MESH_NORMALS);
+    uvs_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_MESH_UVS);
+    sizes_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_MESH_SIZES);
+    indices_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_MESH_INDICES);
+}
+
+namespace {
+
+// Calls each(object, mesh) for the objects of `set` in drawing order, after setting their
+// uniforms on `program` (when given).
+template <class F>
+void forEachObject(const scene::Scene& scene, const std::vector<GpuMesh>& meshes,
+                   const gpu::Program* program, pass::ObjectSet set, F each) {
     using pass::ObjectSet;
-    program.use();
     for (const auto& object : scene.objects) {
         const scene::Material& m = scene.materials.at(object.material);
         const bool transparent = m.isTransparent();
@@ -50,24 +62,53 @@ void drawObjects(const scene::Scene& scene, const std::vector<GpuMesh>& meshes,
         if (set == ObjectSet::OpaqueCasters && (transparent || !object.castShadows)) continue;
         if (set == ObjectSet::TransparentCasters && (!transparent || !object.castShadows)) continue;
         const GpuMesh& mesh = meshes.at(object.mesh);
-        program.set("model", object.transform)
-            .set("normalMatrix", glm::inverseTranspose(glm::mat3(object.transform)))
-            .set("billboard", mesh.billboard() ? 1 : 0)
-            .set("baseColor", m.baseColor)
-            .set("roughness", m.roughness)
-            .set("metalness", m.metalness)
-            .set("emission", m.emission)
-            .set("coverage", m.alpha)
-            .set("coverageEdge", m.coverageEdge)
-            .set("binaryCoverage", binary ? 1 : 0)
-            .set("transmission", m.transmission)
-            .set("collimation", m.collimation)
-            .set("ior", m.ior)
-            .set("attenuationColor", m.attenuationColor)
-            .set("attenuationDistance", m.attenuationDistance);
-        mesh.draw();
+        if (program)
+            program->set("model", object.transform)
+                .set("normalMatrix", glm::inverseTranspose(glm::mat3(object.transform)))
+                .set("billboard", mesh.billboard() ? 1 : 0)
+                .set("baseColor", m.baseColor)
+                .set("roughness", m.roughness)
+                .set("metalness", m.metalness)
+                .set("emission", m.emission)
+                .set("coverage", m.alpha)
+                .set("coverageEdge", m.coverageEdge)
+                .set("binaryCoverage", binary ? 1 : 0)
+                .set("transmission", m.transmission)
+                .set("collimation", m.collimation)
+                .set("ior", m.ior)
+                .set("attenuationColor", m.attenuationColor)
+                .set("attenuationDistance", m.attenuationDistance);
+        each(mesh);
     }
+}
+
+} // namespace
+
+void drawObjects(const scene::Scene& scene, const std::vector<GpuMesh>& meshes,
+                 const gpu::Program& program, pass::ObjectSet set) {
+    program.use();
+    forEachObject(scene, meshes, &program, set, [](const GpuMesh& mesh) { mesh.draw(); });
     glBindVertexArray(0);
+}
+
+std::vector<std::uint32_t> objectTriangles(const scene::Scene& scene,
+                                           const std::vector<GpuMesh>& meshes,
+                                           pass::ObjectSet set) {
+    std::vector<std::uint32_t> counts;
+    forEachObject(scene, meshes, nullptr, set,
+                  [&](const GpuMesh& mesh) { counts.push_back(mesh.triangleCount()); });
+    return counts;
+}
+
+void dispatchObjects(const scene::Scene& scene, const std::vector<GpuMesh>& meshes,
+                     const gpu::Program& program, pass::ObjectSet set,
+                     const std::function<void(std::uint32_t, std::uint32_t)>& dispatch) {
+    program.use();
+    std::uint32_t index = 0;
+    forEachObject(scene, meshes, &program, set, [&](const GpuMesh& mesh) {
+        mesh.bindStorage();
+        dispatch(index++, mesh.triangleCount());
+    });
 }
 
 } // namespace veil::frame

@@ -8,6 +8,8 @@
 #include "scene/mesh.h"
 #include "scene/scene.h"
 
+#include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace veil::frame {
@@ -16,6 +18,9 @@ class GpuMesh {
 public:
     explicit GpuMesh(const scene::MeshData& mesh);
     void draw() const;
+    // Binds the attribute and index buffers as SSBOs at VEIL_SSBO_MESH_* (compute readers).
+    void bindStorage() const;
+    std::uint32_t triangleCount() const { return static_cast<std::uint32_t>(indexCount_ / 3); }
     bool billboard() const { return billboard_; }
     std::size_t gpuBytes() const;
 
@@ -31,5 +36,11 @@ private:
 // per object. What every pass gets as pass::Context::drawObjects.
 void drawObjects(const scene::Scene& scene, const std::vector<GpuMesh>& meshes,
                  const gpu::Program& program, pass::ObjectSet set);
+// The same objects for a compute program (pass::Context::objectTriangles, dispatchObjects).
+std::vector<std::uint32_t> objectTriangles(const scene::Scene& scene,
+                                           const std::vector<GpuMesh>& meshes, pass::ObjectSet set);
+void dispatchObjects(const scene::Scene& scene, const std::vector<GpuMesh>& meshes,
+                     const gpu::Program& program, pass::ObjectSet set,
+                     const std::function<void(std::uint32_t, std::uint32_t)>& dispatch);
 
 } // namespace veil::frame

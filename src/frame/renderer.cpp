@@ -83,6 +83,7 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
                                     static_cast<int>(shadowSet_.lights.size()), shadowsWhere);
     const std::size_t passMark = programs_.size();
     transparency_ = buildTransparencyPrograms(*oit_, fog_.get(), programs_, visibility);
+    computeRaster_ = makeComputeRaster();
     for (gpu::ProgramHandle h : programs_.handlesFrom(passMark))
         oitPrograms_.push_back(h);
 
@@ -103,6 +104,13 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
     pass_.drawObjects = [this](const gpu::Program& program, pass::ObjectSet set) {
         drawObjects(scene_, meshes_, program, set);
     };
+    pass_.objectTriangles = [this](pass::ObjectSet set) {
+        return objectTriangles(scene_, meshes_, set);
+    };
+    pass_.dispatchObjects = [this](const gpu::Program& program, pass::ObjectSet set,
+                                   const std::function<void(std::uint32_t, std::uint32_t)>& f) {
+        dispatchObjects(scene_, meshes_, program, set, f);
+    };
     if (fog_ && fog_->hasGridVolumes())
         pass_.bindMedia = [this](const gpu::Program& program) { fog_->bindVolumes(program); };
 
@@ -118,6 +126,16 @@ Renderer::Renderer(const scene::Scene& scene, const gpu::ContextInfo& context,
 
 Renderer::~Renderer() = default;
 
+std::unique_ptr<oit::ComputeRaster> Renderer::makeComputeRaster() {
+    if (scene_.render.oitRasterizer != "compute") return nullptr;
+    return std::make_unique<oit::ComputeRaster>(
+        programs_, *oit_,
+        gpu::IncludeAliases{{"veil:raster_setup", "frame/raster_setup.glsl"},
+                            {"veil:raster_surface", "frame/raster_surface.glsl"},
+                            {"veil:raster_layout", "frame/raster_layout.glsl"},
+                            {"veil:light_visibility", shadows_->visibilityInclude()}});
+}
+
 void Renderer::setOitTechnique(const std::string& name, const nlohmann::json& properties,
                                const std::string& where) {
     // Built aside first: a failure leaves the current technique and programs in place. Every
@@ -127,6 +145,7 @@ void Renderer::setOitTechnique(const std::string& name, const nlohmann::json& pr
     std::unique_ptr<oit::Technique> next;
     const std::string previousName = oitName_;
     const TransparencyPrograms previous = transparency_;
+    std::unique_ptr<oit::ComputeRaster> previousRaster = std::move(computeRaster_);
     const volume::FogPass::SegmentsState segments =
         fog_ ? fog_->segmentsState() : volume::FogPass::SegmentsState{};
     try {
@@ -136,6 +155,7 @@ void Renderer::setOitTechnique(const std::string& name, const nlohmann::json& pr
         transparency_ =
             buildTransparencyPrograms(*oit_, fog_.get(), programs_,
                                       {{"veil:light_visibility", shadows_->visibilityInclude()}});
+        computeRaster_ = makeComputeRaster();
         oit_->resize(pass_);
         rebuildPasses(); // the technique's targets are frame resources
     } catch (...) {
@@ -144,6 +164,7 @@ void Renderer::setOitTechnique(const std::string& name, const nlohmann::json& pr
         if (next) std::swap(oit_, next); // the previous technique back
         oitName_ = previousName;
         transparency_ = previous;
+        computeRaster_ = std::move(previousRaster);
         if (fog_) fog_->restoreSegments(segments); // the previous technique's, still built
         rebuildPasses();
         throw;

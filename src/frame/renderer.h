@@ -26,6 +26,7 @@
 #include "gpu/readback.h"
 #include "gpu/shader.h"
 #include "gpu/timer.h"
+#include "oit/compute_raster/compute_raster.h"
 #include "oit/technique.h"
 #include "scene/scene.h"
 #include "shadows/technique.h"
@@ -175,6 +176,9 @@ private:
     std::unique_ptr<AmbientOcclusion> ao_;
     std::vector<GpuMesh> meshes_;
     std::unique_ptr<oit::Technique> oit_;
+    // The transparent pass's compute rasterizer (render.oit_rasterizer = compute), else null.
+    std::unique_ptr<oit::ComputeRaster> computeRaster_;
+    std::unique_ptr<oit::ComputeRaster> makeComputeRaster();
     // Every program the OIT technique brought (its own, transparent, fog emission, fog
     // segments): released when setOitTechnique() replaces it.
     std::vector<gpu::ProgramHandle> oitPrograms_;

@@ -65,8 +65,10 @@ void Renderer::buildPasses() {
         fog_->addResources(resources_);
         transparentReads.push_back("fog.radiance");
     }
-    for (pass::Pass& p : oit_->passes(
-             transparencyHooks(*oit_, fog_.get(), programs_, transparency_, transparentReads)))
+    oit::Technique::GeometryHooks hooks =
+        transparencyHooks(*oit_, fog_.get(), programs_, transparency_, transparentReads);
+    for (pass::Pass& p : computeRaster_ ? computeRaster_->passes(*oit_, std::move(hooks))
+                                        : oit_->passes(std::move(hooks)))
         addPass(std::move(p));
     for (const oit::Technique::Resource& r : oit_->resources())
         resources_.add(r.name, r.texture);

@@ -195,6 +195,10 @@ struct TechniqueInfo {
     // Creates the technique from validated, complete properties of `properties` below.
     std::function<std::unique_ptr<Technique>(gpu::ProgramManager&, const Properties&)> create;
     PropertySchema properties; // declared once: scene, --set, report, `veil techniques`
+    // Runs on the compute rasterizer (render.oit_rasterizer = compute,
+    // src/oit/compute_raster): its emit file's OIT_COMPUTE form holds for surface fragments
+    // (several per pixel, in order, from the pixel's one invocation).
+    bool computeRaster = false;
 };
 
 // Technique ids in one registry (base/named_registry.h): find, names, get and resolve come

@@ -140,6 +140,15 @@ struct Context {
     // Draws the objects of `set` with `program` in use (frame/mesh.vert inputs and the
     // material uniforms of shaders/frame/material.glsl set per object; frame::drawObjects).
     std::function<void(const gpu::Program&, ObjectSet)> drawObjects;
+    // The same objects for a compute shader (the compute rasterizer's setup): the triangle
+    // count of each object of `set` in drawing order, and, with `program` in use, for each of
+    // them the per-object uniforms drawObjects sets and its mesh's buffers bound as SSBOs
+    // (VEIL_SSBO_MESH_*: positions, normals, uvs, billboard sizes as tightly packed floats,
+    // indices), then dispatch(object's place in that order, its triangles).
+    std::function<std::vector<std::uint32_t>(ObjectSet)> objectTriangles;
+    std::function<void(const gpu::Program&, ObjectSet,
+                       const std::function<void(std::uint32_t, std::uint32_t)>& dispatch)>
+        dispatchObjects;
     // Binds the scene's density volumes for shaders/volume/volume_common.glsl (textures and
     // the uniforms of `program`); null when the scene has no grid volumes.
     std::function<void(const gpu::Program&)> bindMedia;

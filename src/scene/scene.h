@@ -87,6 +87,9 @@ struct RenderSettings {
     // properties when the frame creates it; oitWhere names the place for messages.
     nlohmann::json oitProperties;
     std::string oitWhere = "render.oit";
+    // Who rasterizes the transparent pass: "raster" (the hardware) or "compute"
+    // (src/oit/compute_raster, the techniques that support it).
+    std::string oitRasterizer = "raster";
     std::uint32_t seed = 1;
     glm::vec3 ambient{0.03f};   // constant ambient irradiance term (times base color)
     glm::vec3 background{0.0f}; // radiance where nothing is drawn

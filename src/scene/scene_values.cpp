@@ -119,6 +119,10 @@ const std::vector<ValueDecl<RenderSettings>>& renderValueDecls() {
             .real("exposure", &R::exposure, kPositive, 1e-3, 1e3,
                   "multiplies the linear radiance before the tone map")
             .edited(ValueGroup::RenderOutput, ~0u, -1)
+            .choice("oit_rasterizer", &R::oitRasterizer, {"raster", "compute"},
+                    "who rasterizes the transparent pass: the hardware, or compute shaders "
+                    "(blend, wboit, reference; docs/oit.md \"Compute rasterizer\")",
+                    "[Laine11]")
             .choice("tonemap", &R::tonemap, {"aces", "clamp"},
                     "aces: Narkowicz's fit of the ACES filmic curve; clamp: none", "[Narkowicz16]")
             .edited(ValueGroup::RenderOutput)

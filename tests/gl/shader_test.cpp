@@ -4,6 +4,7 @@
 
 #include "base/error.h"
 #include "gpu/shader.h"
+#include "oit/compute_raster/compute_raster.h"
 #include "oit/phenomenological/phenomenological.h"
 #include "oit/reference/reference.h"
 #include "oit/technique.h"
@@ -223,6 +224,14 @@ ProjectPrograms projectPrograms(const gpu::ContextInfo& info, gpu::ProgramManage
                     P.push_back(
                         ProgramDesc::compute("volume/fog_segments.comp", defines, {v[0], emit[0]}));
         }
+        // The compute rasterizer's stages with the technique's emit file (its constructor adds
+        // them to the manager), as frame::Renderer builds them.
+        if (t.computeRaster)
+            oit::ComputeRaster(manager, *technique,
+                               {{"veil:raster_setup", "frame/raster_setup.glsl"},
+                                {"veil:raster_surface", "frame/raster_surface.glsl"},
+                                {"veil:raster_layout", "frame/raster_layout.glsl"},
+                                visibility[0]});
     }
     // The technique template (src/oit/_template), not registered by default.
     {

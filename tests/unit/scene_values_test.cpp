@@ -59,8 +59,8 @@ TEST(SceneValuesTest, UnknownKeyListsTheAcceptedKeysInOrder) {
     EXPECT_NE(parseError(doc).find(
                   "/render/fog_stepz: unknown key (known: width, height, camera, oit, shadows, ao, "
                   "pathtraced, "
-                  "seed, ambient, background, exposure, tonemap, shadow_map_size, shadow_bias, "
-                  "pcf_radius, fog_steps, fog_resolution, fog_jitter, fog_octaves, "
+                  "seed, ambient, background, exposure, oit_rasterizer, tonemap, shadow_map_size, "
+                  "shadow_bias, pcf_radius, fog_steps, fog_resolution, fog_jitter, fog_octaves, "
                   "fog_octave_extinction, fog_octave_scattering, fog_octave_anisotropy, "
                   "fog_ambient, volume_budget_mib, "
                   "volume_over_budget, geometry_budget_mib, fog_sample_limit)"),

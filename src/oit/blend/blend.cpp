@@ -51,7 +51,8 @@ void registerBlend(Registry& registry) {
          "unsorted alpha blending (single-pass baseline, order-dependent)",
          nullptr,
          [](gpu::ProgramManager&, const Properties&) { return std::make_unique<BlendTechnique>(); },
-         {}});
+         {},
+         true});
 }
 
 } // namespace veil::oit

@@ -195,7 +195,8 @@ void registerReference(Registry& registry) {
                       limits.dropPastCap = p.getString("pool_overflow") == "drop";
                       return std::make_unique<ReferenceTechnique>(programs, limits);
                   },
-                  std::move(schema)});
+                  std::move(schema),
+                  true});
 }
 
 } // namespace veil::oit

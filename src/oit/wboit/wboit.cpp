@@ -87,7 +87,8 @@ void registerWboit(Registry& registry) {
                   [](gpu::ProgramManager& programs, const Properties&) {
                       return std::make_unique<WboitTechnique>(programs);
                   },
-                  {}});
+                  {},
+                  true});
 }
 
 } // namespace veil::oit
