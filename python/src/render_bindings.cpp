@@ -20,6 +20,25 @@ namespace veil::python {
 
 namespace {
 
+// `out`: a writable, C-contiguous float32 array of shape (height, width, 4), or veil.Error.
+py::array_t<float> checkedOutArray(const py::object& out, int height, int width) {
+    const auto name = [](const py::handle& o) {
+        return py::str(o.get_type().attr("__name__")).cast<std::string>();
+    };
+    VEIL_CHECK(py::isinstance<py::array>(out), "out: expected a numpy array, got {}", name(out));
+    const auto a = py::reinterpret_borrow<py::array>(out);
+    std::vector<py::ssize_t> shape(a.shape(), a.shape() + a.ndim());
+    VEIL_CHECK(a.dtype().is(py::dtype::of<float>()), "out: dtype {}, expected float32",
+               py::str(a.dtype()).cast<std::string>());
+    VEIL_CHECK(a.ndim() == 3 && shape[0] == height && shape[1] == width && shape[2] == 4,
+               "out: shape ({}), expected ({}, {}, 4) for a {}x{} frame", fmt::join(shape, ", "),
+               height, width, width, height);
+    VEIL_CHECK(a.flags() & py::array::c_style, "out: not C-contiguous (use numpy.ascontiguousarray "
+                                               "or numpy.empty)");
+    VEIL_CHECK(a.writeable(), "out: read-only array");
+    return py::reinterpret_borrow<py::array_t<float>>(out);
+}
+
 // One headless GL context (EGL; llvmpipe without a GPU) for every frame of a Renderer.
 class PyRenderer {
 public:
@@ -44,7 +63,7 @@ public:
 
     py::dict render(const PyScene& scene, int width, int height, const std::string& oit,
                     const std::string& shadows, const std::string& camera,
-                    const std::vector<std::string>& aovs) {
+                    const std::vector<std::string>& aovs, py::object outArray) {
         VEIL_CHECK(width >= 0 && width <= 16384, "width {} not in range [1, 16384]", width);
         VEIL_CHECK(height >= 0 && height <= 16384, "height {} not in range [1, 16384]", height);
         capture::FrameRequest request;
@@ -67,6 +86,15 @@ public:
         request.oit = oitName;
         request.shadows = shadows;
         request.camera = camera;
+        // A caller's array receives the HDR read-back directly (no copy on the CPU side).
+        py::array_t<float> hdrOut;
+        if (!outArray.is_none()) {
+            const int w = width > 0 ? width : s.render.width;
+            const int h = height > 0 ? height : s.render.height;
+            hdrOut = checkedOutArray(outArray, h, w);
+            request.hdrOut = hdrOut.mutable_data();
+            request.hdrOutCount = static_cast<std::size_t>(hdrOut.size());
+        }
 
         const auto start = std::chrono::steady_clock::now();
         capture::RenderedFrame f =
@@ -89,7 +117,10 @@ public:
         report["seconds"] = seconds;
 
         py::dict out;
-        out["rgba"] = toArray(std::move(f.hdr));
+        if (request.hdrOut)
+            out["rgba"] = hdrOut;
+        else
+            out["rgba"] = toArray(std::move(f.hdr));
         out["ldr"] = toArray(std::move(f.ldr));
         out["depth"] = toArray(std::move(f.extras.viewDepth));
         if (request.fogAov) {
@@ -163,13 +194,13 @@ void bindRenderer(py::module_& m) {
             "_render",
             [](PyRenderer& r, py::object scene, int width, int height, const std::string& oit,
                const std::string& shadows, const std::string& camera,
-               const std::vector<std::string>& aovs) {
+               const std::vector<std::string>& aovs, py::object out) {
                 const PyScene s = sceneArgument(scene);
-                return r.render(s, width, height, oit, shadows, camera, aovs);
+                return r.render(s, width, height, oit, shadows, camera, aovs, out);
             },
             py::arg("scene"), py::arg("width") = 0, py::arg("height") = 0, py::arg("oit") = "",
             py::arg("shadows") = "", py::arg("camera") = "",
-            py::arg("aovs") = std::vector<std::string>{})
+            py::arg("aovs") = std::vector<std::string>{}, py::arg("out") = py::none())
         .def(
             "_render_loop",
             [](PyRenderer& r, py::object scene, int frames, int width, int height) {

@@ -87,19 +87,21 @@ class Renderer(_veil._Renderer):
         super().__init__(device)
 
     def render(self, scene, width=None, height=None, oit=None, shadows=None, camera=None,
-               aovs=()):
+               aovs=(), out=None):
         """Render one frame of `scene` (a Scene, a scene file path, a .vdb path or a dict) as
         `veil render` does, and return a Frame.
 
         width, height: image size (default the scene's render.width/height); oit: the OIT
         technique (default the scene's render.oit; see techniques()); shadows: the shadow
         technique; camera: a camera name; aovs: ["fog"] adds the fog's radiance and
-        transmittance. The result equals `veil render -o x.exr` of the same scene bit for bit.
+        transmittance; out: a float32 C-contiguous H x W x 4 array that receives the linear
+        HDR image without a copy (frame.rgba is then `out` itself; reuse it across a sweep).
+        The result equals `veil render -o x.exr` of the same scene bit for bit.
         """
         if isinstance(aovs, str):
             aovs = [aovs]
         out = self._render(scene, width or 0, height or 0, oit or "", shadows or "",
-                           camera or "", list(aovs))
+                           camera or "", list(aovs), out)
         extra = {}
         if "fog" in out:
             extra = {"fog": out["fog"], "fog.transmittance": out["fog_transmittance"]}

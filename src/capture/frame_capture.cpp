@@ -26,7 +26,10 @@ RenderedFrame renderFrame(const scene::Scene& scene, const gpu::ContextInfo& inf
     renderer.render();
     RenderedFrame r;
     r.oit = renderer.oitName();
-    r.hdr = renderer.readHdr();
+    if (request.hdrOut)
+        renderer.readHdrInto(request.hdrOut, request.hdrOutCount);
+    else
+        r.hdr = renderer.readHdr();
     r.ldr = renderer.readLdr();
     for (const auto& p : renderer.passTimes()) {
         r.passes.push_back({{"name", p.name}, {"ms", p.milliseconds}});

@@ -26,6 +26,10 @@ struct FrameRequest {
     nlohmann::json shadowProperties;
     bool fogAov = false;           // read fog.R/G/B and fog.transmittance (needs fog)
     std::filesystem::path dumpDir; // not empty: every frame resource into it (capture/dump.h)
+    // Not null: the linear HDR image goes into these hdrOutCount floats (RGBA, top row first;
+    // the frame's width * height * 4) instead of RenderedFrame::hdr, which stays empty.
+    float* hdrOut = nullptr;
+    std::size_t hdrOutCount = 0;
 };
 
 struct RenderedFrame {

@@ -310,6 +310,9 @@ void Renderer::runLightPasses() {
 }
 
 gpu::ImageF Renderer::readHdr() const { return gpu::readTexture(hdr_); }
+void Renderer::readHdrInto(float* pixels, std::size_t count) const {
+    gpu::readTextureInto(hdr_, 4, pixels, count);
+}
 gpu::ImageF Renderer::readLdr() const { return gpu::readTexture(ldr_); }
 
 std::size_t Renderer::gpuBytes() const {

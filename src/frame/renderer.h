@@ -66,6 +66,8 @@ public:
     const std::vector<gpu::PassTime>& passTimes() const { return passTimes_; }
 
     gpu::ImageF readHdr() const; // linear radiance, RGBA float, top row first
+    // readHdr into a caller's width() * height() * 4 floats.
+    void readHdrInto(float* pixels, std::size_t count) const;
     gpu::ImageF readLdr() const; // tone-mapped sRGB in [0,1], RGBA
     const gpu::Texture& hdrTexture() const { return hdr_; }
     const gpu::Texture& ldrTexture() const { return ldr_; }

@@ -7,22 +7,27 @@
 namespace veil::gpu {
 
 ImageF readTexture(const Texture& texture, int channels) {
-    VEIL_CHECK(channels == 1 || channels == 4, "readTexture: {} channels unsupported", channels);
     ImageF image;
     image.width = texture.width();
     image.height = texture.height();
     image.channels = channels;
-    const std::size_t row = static_cast<std::size_t>(image.width) * channels;
-    image.pixels.resize(row * image.height);
+    image.pixels.resize(static_cast<std::size_t>(image.width) * image.height * channels);
+    readTextureInto(texture, channels, image.pixels.data(), image.pixels.size());
+    return image;
+}
+
+void readTextureInto(const Texture& texture, int channels, float* pixels, std::size_t count) {
+    VEIL_CHECK(channels == 1 || channels == 4, "readTexture: {} channels unsupported", channels);
+    const std::size_t row = static_cast<std::size_t>(texture.width()) * channels;
+    const int height = texture.height();
+    VEIL_CHECK(count == row * height, "readTexture: buffer of {} floats for a {}x{}x{} texture",
+               count, texture.width(), height, channels);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glGetTextureImage(texture.id(), 0, channels == 4 ? GL_RGBA : GL_RED, GL_FLOAT,
-                      static_cast<GLsizei>(image.pixels.size() * sizeof(float)),
-                      image.pixels.data());
+                      static_cast<GLsizei>(count * sizeof(float)), pixels);
     // GL's row 0 is the bottom; images are stored top-down.
-    for (int y = 0; y < image.height / 2; ++y)
-        std::swap_ranges(image.pixels.begin() + y * row, image.pixels.begin() + (y + 1) * row,
-                         image.pixels.begin() + (image.height - 1 - y) * row);
-    return image;
+    for (int y = 0; y < height / 2; ++y)
+        std::swap_ranges(pixels + y * row, pixels + (y + 1) * row, pixels + (height - 1 - y) * row);
 }
 
 } // namespace veil::gpu

@@ -14,4 +14,8 @@ using veil::ImageF;
 // that row 0 is the top of the image.
 ImageF readTexture(const Texture& texture, int channels = 4);
 
+// The same into a caller's buffer of width * height * channels floats (the texture's size),
+// with no copy on the CPU side: the driver writes into `pixels`, then rows are flipped in place.
+void readTextureInto(const Texture& texture, int channels, float* pixels, std::size_t count);
+
 } // namespace veil::gpu

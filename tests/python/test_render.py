@@ -97,6 +97,35 @@ def test_render_options(renderer):
     assert vdb.rgb.max() > 0
 
 
+def test_render_into_a_callers_array(renderer):
+    scene = veil.Scene.load(SMOKE_GLASS)
+    plain = renderer.render(scene, width=40, height=24)
+    stack = np.full((2, 24, 40, 4), np.nan, dtype=np.float32)
+    into = renderer.render(scene, width=40, height=24, out=stack[1])
+    # The read-back went into the caller's memory, and equals the frame rendered without it.
+    assert np.shares_memory(into.rgba, stack[1]) and into.rgb.base is not None
+    assert np.array_equal(stack[1], plain.rgba)
+    assert np.isnan(stack[0]).all()
+    # The scene's own size when width/height are not given.
+    small = scene.copy()
+    small.set("render.width", 32)
+    small.set("render.height", 16)
+    full = np.empty((16, 32, 4), dtype=np.float32)
+    assert np.shares_memory(renderer.render(small, out=full).rgba, full)
+    bad = [(np.empty((24, 40, 3), np.float32), "shape (24, 40, 3), expected (24, 40, 4)"),
+           (np.empty((40, 24, 4), np.float32), "expected (24, 40, 4)"),
+           (np.empty((24, 40, 4), np.float64), "dtype float64, expected float32"),
+           (np.empty((24, 80, 4), np.float32)[:, ::2], "not C-contiguous"),
+           ([[0.0]], "expected a numpy array, got list")]
+    readonly = np.empty((24, 40, 4), np.float32)
+    readonly.flags.writeable = False
+    bad.append((readonly, "read-only"))
+    for array, message in bad:
+        with pytest.raises(veil.Error, match=message.replace("(", r"\(").replace(")", r"\)")):
+            renderer.render(scene, width=40, height=24, out=array)
+    assert np.array_equal(renderer.render(scene, width=40, height=24).rgba, plain.rgba)
+
+
 def test_render_errors(renderer, veil_exe, tmp_path):
     scene = veil.Scene.load(SMOKE_GLASS)
     with pytest.raises(veil.Error, match="unknown OIT technique 'bogus'"):
