@@ -29,15 +29,17 @@
 namespace {
 
 void usage() {
-    std::puts("usage: veil-bench <scene.json> [--width W] [--height H] [--frames N] [--warmup N]\n"
-              "                  [--oit NAME] [--set key=value]... [--json out.json]\n"
-              "                  [--viewer]  (the frames of `veil view`, windowless)\n"
-              "                  [--cpu-fog W H]  also time the CPU fog reference (double\n"
-              "                                   precision, all cores) on the same view at W x H\n"
-              "                  [--error-vs NAME] also render the last frame with OIT technique\n"
-              "                                   NAME (e.g. reference) and report the HDR\n"
-              "                                   difference (rgb rmse, max) as error_vs\n"
-              "                  [--relight]      recompute the fog's light volumes every frame");
+    std::puts(
+        "usage: veil-bench <scene.json> [--width W] [--height H] [--frames N] [--warmup N]\n"
+        "                  [--oit NAME] [--set key=value]... [--json out.json]\n"
+        "                  [--viewer]  (the frames of `veil view`, windowless)\n"
+        "                  [--cpu-fog W H]  also time the CPU fog reference (double\n"
+        "                                   precision, all cores) on the same view at W x H\n"
+        "                  [--error-vs NAME] also render the last frame with OIT technique\n"
+        "                                   NAME (e.g. reference) and report the HDR\n"
+        "                                   difference (rgb rmse, max) as error_vs\n"
+        "                  [--relight]      recompute the fog's light volumes every frame\n"
+        "                  [--ppm out.ppm]  write the last frame as displayed (8-bit binary PPM)");
 }
 
 // Prints the result and writes it to `jsonPath` (atomically) when given; the exit status.
@@ -146,10 +148,30 @@ int viewerBench(const std::string& scenePath, const std::vector<std::string>& ov
     return printResult(out, jsonPath);
 }
 
+// The displayed (tone-mapped, sRGB-encoded) frame as an 8-bit binary PPM: no image library in
+// the benchmark programs, so that they bundle small (bench/gpu-bundle.sh).
+void writePpm(const std::string& path, const veil::ImageF& image) {
+    veil::writeFileAtomically(path, [&](const std::filesystem::path& tmp) {
+        std::ofstream f(tmp, std::ios::binary);
+        f << "P6\n" << image.width << " " << image.height << "\n255\n";
+        std::vector<unsigned char> row(std::size_t(image.width) * 3);
+        for (int y = 0; y < image.height; ++y) {
+            for (int x = 0; x < image.width; ++x)
+                for (int c = 0; c < 3; ++c) {
+                    const float v = image.at(x, y, c);
+                    row[std::size_t(x) * 3 + c] =
+                        static_cast<unsigned char>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+                }
+            f.write(reinterpret_cast<const char*>(row.data()), std::streamsize(row.size()));
+        }
+        VEIL_CHECK(f.good(), "cannot write {}", path);
+    });
+}
+
 } // namespace
 
 int main(int argc, char** argv) try {
-    std::string scenePath, jsonPath, oit, errorVs;
+    std::string scenePath, jsonPath, oit, errorVs, ppmPath;
     int width = 1920, height = 1080, frames = 100, warmup = 20, cpuFogW = 0, cpuFogH = 0;
     bool relight = false;
     bool viewer = false;
@@ -180,6 +202,8 @@ int main(int argc, char** argv) try {
             viewer = true;
         else if (a == "--error-vs")
             errorVs = next();
+        else if (a == "--ppm")
+            ppmPath = next();
         else if (a == "--cpu-fog") {
             cpuFogW = std::stoi(next());
             cpuFogH = std::stoi(next());
@@ -253,6 +277,10 @@ int main(int argc, char** argv) try {
     out["total_min_ms"] = *std::min_element(totals.begin(), totals.end());
     out["total_max_ms"] = *std::max_element(totals.begin(), totals.end());
     out["oit_stats"] = renderer.technique().stats();
+    if (!ppmPath.empty()) {
+        writePpm(ppmPath, renderer.readLdr());
+        out["ppm"] = ppmPath;
+    }
     if (cpuFogW > 0 && cpuFogH > 0) {
         // The CPU reference of the fog on the same camera (src/volume/cpu_reference.h).
         std::vector<openvdb::FloatGrid::ConstPtr> grids;
