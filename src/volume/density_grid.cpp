@@ -253,6 +253,7 @@ void saveGrids(const fs::path& path, const openvdb::GridPtrVec& grids) {
     initOpenVdb();
     writeFileAtomically(path, [&](const fs::path& tmp) {
         try {
+            const std::lock_guard registries(openVdbIoMutex());
             openvdb::io::File file(tmp.string());
             file.write(grids);
             file.close();

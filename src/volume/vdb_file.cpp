@@ -338,7 +338,11 @@ openvdb::GridPtrVecPtr readInChild(const fs::path& path, std::uint64_t size) {
     // A pipe of 1 MiB (Linux's default upper limit for unprivileged processes) instead of 64 KiB:
     // the grids pass in a few writes rather than one context switch per 64 KiB. Best effort.
     ::fcntl(fds[1], F_SETPIPE_SZ, 1 << 20);
-    const pid_t pid = ::fork();
+    pid_t pid = 0;
+    {
+        const std::lock_guard registries(openVdbIoMutex());
+        pid = ::fork();
+    }
     if (pid < 0) {
         const int err = errno;
         ::close(fds[0]);
@@ -421,6 +425,7 @@ openvdb::GridPtrVecPtr readInChild(const fs::path& path, std::uint64_t size) {
         reply.erase(0, 1);
         std::istringstream in(std::move(reply), std::ios::binary);
         try {
+            const std::lock_guard registries(openVdbIoMutex());
             openvdb::io::Stream stream(in, /*delayLoad=*/false);
             openvdb::GridPtrVecPtr grids = stream.getGrids();
             VEIL_CHECK(grids && !in.fail(), "the re-encoding ends early");
@@ -442,6 +447,11 @@ openvdb::GridPtrVecPtr readInChild(const fs::path& path, std::uint64_t size) {
 }
 
 } // namespace
+
+std::mutex& openVdbIoMutex() {
+    static std::mutex m;
+    return m;
+}
 
 void setAfterTrialReadHookForTesting(std::function<void()> hook) {
     gAfterTrialRead = std::move(hook);

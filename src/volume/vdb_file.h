@@ -26,6 +26,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <mutex>
 #include <string>
 
 namespace veil::volume {
@@ -38,6 +39,14 @@ openvdb::GridPtrVecPtr readVdbFile(const std::filesystem::path& path);
 // Called in this process after the child's reply arrived and before it is decoded (tests:
 // replacing the file there shows that this process does not read it again). Empty: none.
 void setAfterTrialReadHookForTesting(std::function<void()> hook);
+
+// OpenVDB guards its type registries (grids, metadata, maps) with mutexes of its own, taken for
+// every grid and metadata item a read creates. A trial read's child forked while another thread
+// of this process held one of them would wait on it for ever (the child has only the forking
+// thread). So the fork, the decoding of a child's reply and every OpenVDB read or write of this
+// process that can run beside another thread's read (the prefetch workers, the viewer's frame
+// cache) hold this lock.
+std::mutex& openVdbIoMutex();
 
 // `text` on one line (control bytes replaced) and at most `limit` characters.
 std::string boundedText(const std::string& text, std::size_t limit = 300);

@@ -2,6 +2,7 @@
 
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "volume/vdb_file.h"
 
 #include <openvdb/io/File.h>
 #include <openvdb/tools/Filter.h>
@@ -106,6 +107,7 @@ void writeVdb(const std::filesystem::path& path, const VdbGrids& grids) {
     openvdb::initialize();
     writeFileAtomically(path, [&](const std::filesystem::path& tmp) {
         openvdb::GridPtrVec out{grids.density, grids.mask};
+        const std::lock_guard registries(volume::openVdbIoMutex());
         openvdb::io::File file(tmp.string());
         try {
             file.write(out);

@@ -1,0 +1,58 @@
+// OpenVDB files read on several threads at once, as the prefetch workers and the viewer's frame
+// cache do. Each read forks a child for the trial read (volume/vdb_file.h); a child forked while
+// another thread of this process held one of OpenVDB's registry locks (taken for every grid and
+// metadata item a decode creates) would wait on that lock for ever.
+#include "support/test_support.h"
+#include "volume/vdb_file.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace veil::test {
+
+TEST(VdbConcurrentReadTest, ReadersOnSeveralThreadsAllFinish) {
+    std::vector<std::filesystem::path> files;
+    for (int i = 1; i <= 4; ++i)
+        files.push_back(dataDir() /
+                        ("vdb-embergen-fire-seq/embergen_fire_a_" + std::to_string(i) + ".vdb"));
+    constexpr int kThreads = 4, kReads = 30;
+    std::atomic<int> done{0}, failed{0};
+    std::vector<std::thread> readers;
+    for (int t = 0; t < kThreads; ++t)
+        readers.emplace_back([&, t] {
+            for (int i = 0; i < kReads; ++i) {
+                try {
+                    if (volume::readVdbFile(files[std::size_t(t + i) % files.size()])->empty())
+                        ++failed;
+                } catch (const std::exception&) {
+                    ++failed;
+                }
+                ++done;
+            }
+        });
+    // A hung child holds its reader for the trial read's timeout (minutes): give up long before,
+    // without joining the readers that will not come back.
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(90);
+    while (done < kThreads * kReads && std::chrono::steady_clock::now() < deadline)
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    if (done < kThreads * kReads) {
+        std::fprintf(stderr,
+                     "VdbConcurrentReadTest: %d of %d reads finished in 90 s: a trial "
+                     "read's child is stuck\n",
+                     done.load(), kThreads * kReads);
+        std::fflush(stderr);
+        std::_Exit(1);
+    }
+    for (std::thread& r : readers)
+        r.join();
+    EXPECT_EQ(failed, 0);
+}
+
+} // namespace veil::test
