@@ -361,7 +361,9 @@ TEST_F(AmbientOcclusionGLTest, InferredAoAtPartialCoverageMatchesListing2) {
 // AO off (no render.ao, or enabled false): the image main rendered before AO existed, bit for
 // bit (same llvmpipe; tests/gl/data/ao_off_golden.exr, made by main's veil from the scene;
 // remade on 2026-12-01 when phenomenological's refraction target became RG16F: the old image
-// differs from it in 55 of 15552 values by at most 2.4e-4, one RGBA16F step).
+// differs from it in 55 of 15552 values by at most 2.4e-4, one RGBA16F step; remade on
+// 2026-12-04 for the receiver-plane shadow bias: the floor's acne pattern is gone, and with the
+// slope forced to zero the new code renders the old image bit for bit).
 TEST_F(AmbientOcclusionGLTest, AoOffGivesTheOldImageBitExact) {
     const auto dir = sourceDir() / "tests/gl/data";
     nlohmann::json doc;
