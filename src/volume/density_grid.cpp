@@ -110,7 +110,12 @@ std::size_t sanitizeDensity(openvdb::FloatGrid& grid) {
     return changed;
 }
 
-openvdb::FloatGrid::Ptr loadDensityGrid(const fs::path& path, const std::string& gridName) {
+namespace {
+
+// A scalar grid of a file; `role` names what it is for in the messages ("density",
+// "temperature_grid", ...).
+openvdb::FloatGrid::Ptr loadScalarGrid(const fs::path& path, const std::string& gridName,
+                                       const std::string& role) {
     const openvdb::GridPtrVecPtr grids = readAllGrids(path);
     openvdb::GridBase::Ptr found;
     std::string names;
@@ -119,11 +124,11 @@ openvdb::FloatGrid::Ptr loadDensityGrid(const fs::path& path, const std::string&
                              boundedText(g->getName(), 60), boundedText(g->valueType(), 20));
         if (!found && g->getName() == gridName) found = g;
     }
-    VEIL_CHECK(found, "volume '{}' has no grid named '{}' (grids: {})", path.string(), gridName,
-               names.empty() ? "none" : names);
+    VEIL_CHECK(found, "volume '{}' has no grid named '{}'{} (grids: {})", path.string(), gridName,
+               role == "density" ? "" : fmt::format(" ({})", role), names.empty() ? "none" : names);
     auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(found);
-    VEIL_CHECK(grid, "grid '{}' of '{}' holds {} values; a density must be a scalar float grid",
-               gridName, path.string(), found->valueType());
+    VEIL_CHECK(grid, "grid '{}' of '{}' holds {} values; a {} must be a scalar float grid",
+               gridName, path.string(), found->valueType(), role);
     VEIL_CHECK(grid->activeVoxelCount() > 0, "grid '{}' of '{}' is empty (no active voxels)",
                gridName, path.string());
     if (grid->getGridClass() == openvdb::GRID_LEVEL_SET) {
@@ -134,11 +139,27 @@ openvdb::FloatGrid::Ptr loadDensityGrid(const fs::path& path, const std::string&
         openvdb::tools::sdfToFogVolume(*grid);
     }
     if (const std::size_t bad = sanitizeDensity(*grid))
-        log::warn("grid '{}' of '{}': {} NaN, infinite or negative densities set to 0", gridName,
+        log::warn("grid '{}' of '{}': {} NaN, infinite or negative values set to 0", gridName,
                   path.string(), bad);
     VEIL_CHECK(grid->activeVoxelCount() > 0, "grid '{}' of '{}' is empty (no active voxels)",
                gridName, path.string());
     return grid;
+}
+
+} // namespace
+
+openvdb::FloatGrid::Ptr loadDensityGrid(const fs::path& path, const std::string& gridName) {
+    return loadScalarGrid(path, gridName, "density");
+}
+
+openvdb::FloatGrid::Ptr loadEmissionChannel(const scene::VolumeRef& ref) {
+    const bool temperature = !ref.temperatureGrid.empty();
+    if (!temperature && ref.emissionGrid.empty()) return nullptr;
+    VEIL_CHECK(ref.procedural.empty(), "volume '{}' is procedural and has no file to read {} from",
+               ref.name, temperature ? "temperature_grid" : "emission_grid");
+    const std::string& name = temperature ? ref.temperatureGrid : ref.emissionGrid;
+    if (openvdb::FloatGrid::Ptr preloaded = findPreloadedGrid(ref.path, name)) return preloaded;
+    return loadScalarGrid(ref.path, name, temperature ? "temperature_grid" : "emission_grid");
 }
 
 openvdb::FloatGrid::Ptr makeProceduralGrid(const std::string& kind, const glm::vec3& size,

@@ -12,7 +12,9 @@
 // fog_octaves / fog_octave_extinction / fog_octave_scattering / fog_octave_anisotropy
 // (multiple scattering by octaves [Wrenninge13, Hillaire16], docs/volumes.md), fog_ambient.
 // Per volume: density_scale (extinction per unit density), albedo, anisotropy g
-// (Henyey-Greenstein), emission. "homogeneous" volumes add global fog of constant density.
+// (Henyey-Greenstein), emission, emission_grid or temperature_grid (a second texture of the
+// density's layout, docs/volumes.md "Emission"). "homogeneous" volumes add global fog of constant
+// density.
 #pragma once
 
 #include "gpu/objects.h"
@@ -140,6 +142,7 @@ private:
     void setVolumeUniforms(const gpu::Program& program) const;
     void setMarchUniforms(const gpu::Program& program, const pass::Context& targets) const;
     std::string slotsDefine() const;
+    std::vector<std::string> marchDefines() const; // slots, and emission where a volume has it
 
     const scene::Scene& scene_;
     gpu::ProgramManager& programs_;
@@ -174,6 +177,8 @@ private:
     int lightSlabs_ = 0;
     bool selfShadowing_ = true;
     gpu::Texture radiance_{gpu::NoCreate}, transmittance_{gpu::NoCreate};
+    bool emissive_ = false;                 // a volume has an emission channel
+    gpu::Texture blackbody_{gpu::NoCreate}; // blackbodyTable() for fog_medium.glsl
     gpu::VertexArray emptyVao_{gpu::NoCreate};
 };
 

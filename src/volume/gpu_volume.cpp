@@ -57,6 +57,7 @@ void GpuVolume::upload(const GridConversion& c, const glm::mat4& objectToWorld) 
     leafOrigin_ = c.leafOrigin;
     bricksPerAxis_ = c.bricksPerAxis;
     data_ = makeDensityTexture(c.dataSize, c.values);
+    if (!c.channel.empty()) channel_ = makeDensityTexture(c.dataSize, c.channel);
     if (c.stats.dense) return;
     indirection_ = gpu::Texture(GL_TEXTURE_3D);
     indirection_.storage3D(1, GL_R32UI, c.tableSize.x, c.tableSize.y, c.tableSize.z)

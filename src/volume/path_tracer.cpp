@@ -1,5 +1,7 @@
 #include "volume/path_tracer.h"
 
+#include "volume/density_grid.h"
+#include "volume/emission.h"
 #include "volume/ray_box.h"
 
 #include "base/error.h"
@@ -11,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace veil::volume {
 
@@ -135,6 +138,7 @@ SlabTally traceSlab(double tau, double albedo, double g, std::uint64_t paths, st
 
 struct VolumePathTracer::Lookup {
     std::vector<openvdb::FloatGrid::ConstAccessor> accessors;
+    std::vector<std::optional<openvdb::FloatGrid::ConstAccessor>> channels;
 };
 
 VolumePathTracer::VolumePathTracer(const scene::Scene& scene,
@@ -149,8 +153,10 @@ VolumePathTracer::VolumePathTracer(const scene::Scene& scene,
                    ref.name);
         VEIL_CHECK(gi < grids.size() && grids[gi], "path tracer: no grid for volume '{}'",
                    ref.name);
-        Volume v{&ref, grids[gi++], glm::inverse(glm::dmat4(ref.transform)), {}, {}};
+        Volume v{&ref, grids[gi++], glm::inverse(glm::dmat4(ref.transform)), {}, {}, nullptr};
         gridWorldBox(*v.grid, ref.transform, v.lo, v.hi);
+        v.channel = loadEmissionChannel(ref);
+        widenToEmission(ref, v.channel.get(), v.lo, v.hi);
         const auto range = openvdb::tools::minMax(v.grid->tree());
         majorant_ += double(ref.densityScale) * std::max(0.0, double(range.max()));
         volumes_.push_back(v);
@@ -162,17 +168,21 @@ VolumePathTracer::Medium VolumePathTracer::mediumAt(Lookup& lookup, const glm::d
     Medium m;
     for (std::size_t i = 0; i < volumes_.size(); ++i) {
         const Volume& v = volumes_[i];
-        double density = 0.0;
+        double density = 0.0, channel = 0.0;
         if (!glm::any(glm::lessThan(p, v.lo)) && !glm::any(glm::greaterThan(p, v.hi))) {
             const glm::dvec3 o = glm::dvec3(v.worldToObject * glm::dvec4(p, 1.0));
             const openvdb::Vec3d idx = v.grid->worldToIndex(openvdb::Vec3d(o.x, o.y, o.z));
             density =
                 std::max(0.0, double(openvdb::tools::BoxSampler::sample(lookup.accessors[i], idx)));
+            if (v.channel)
+                channel = openvdb::tools::BoxSampler::sample(
+                    *lookup.channels[i], v.channel->worldToIndex(openvdb::Vec3d(o.x, o.y, o.z)));
         }
         const double sigma = double(v.ref->densityScale) * density;
         if (perVolume) (*perVolume)[i] = sigma;
         m.sigma += sigma;
-        m.emission += glm::dvec3(v.ref->emission) * density;
+        if (density > 0.0 || channel != 0.0)
+            m.emission += emittedRadiance(*v.ref, density, channel);
     }
     return m;
 }
@@ -284,8 +294,11 @@ glm::dvec3 VolumePathTracer::sample(const scene::Camera& camera, int width, int 
     const double tEnd = glm::length(re - ro);
     Pcg32 rng(mix64((std::uint64_t(settings_.seed) << 32) ^ index), mix64(pixel + 1));
     Lookup lookup;
-    for (const auto& v : volumes_)
+    for (const auto& v : volumes_) {
         lookup.accessors.push_back(v.grid->getConstAccessor());
+        lookup.channels.emplace_back();
+        if (v.channel) lookup.channels.back().emplace(v.channel->getConstAccessor());
+    }
     return trace(lookup, ro, (re - ro) / tEnd, tEnd, rng);
 }
 
