@@ -45,7 +45,7 @@ glm::dvec2 chromaticity(const glm::dvec3& rgb) {
 }
 
 // density 1 in index box x, z in [-16, 15], y in [-4, 3] (voxel 1/16: 2 x 0.5 x 2 world units,
-// trilinear thickness exactly 0.5), a temperature of 1 over two more voxels on every side (so
+// trilinear thickness exactly 0.5), a temperature of 2 over two more voxels on every side (so
 // the edges are not cooled by the interpolation), and a vec3 grid.
 std::filesystem::path writeSlab() {
     openvdb::initialize();
@@ -57,7 +57,7 @@ std::filesystem::path writeSlab() {
     auto temperature = openvdb::FloatGrid::create(0.0f);
     temperature->setName("temperature");
     temperature->setTransform(xf);
-    temperature->denseFill(openvdb::CoordBBox({-18, -6, -18}, {17, 5, 17}), 1.0f, true);
+    temperature->denseFill(openvdb::CoordBBox({-18, -6, -18}, {17, 5, 17}), 2.0f, true);
     auto velocity = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
     velocity->setName("velocity");
     velocity->setTransform(xf);
@@ -79,7 +79,8 @@ nlohmann::json slabScene(const std::filesystem::path& vdb, double kelvin,
       "volumes": [{"name": "slab", "density_scale": 2, "albedo": 0}]})");
     doc["volumes"][0]["path"] = vdb.string();
     doc["volumes"][0]["temperature_grid"] = grid;
-    doc["volumes"][0]["temperature_scale"] = kelvin;
+    doc["volumes"][0]["temperature_scale"] = (kelvin - 500.0) / 2.0; // T = scale x 2 + 500
+    doc["volumes"][0]["temperature_offset"] = 500.0;
     return doc;
 }
 
