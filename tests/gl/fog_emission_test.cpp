@@ -162,6 +162,21 @@ TEST_F(FogEmissionTest, ABadTemperatureGridIsOneErrorNamingFileAndGrid) {
         }
         EXPECT_THROW((void)volume::CpuFogReference(s, {volume::loadVolume(s.volumes[0])}), Error);
     }
+    // The command line: exit status 1, one line naming the scene, the file and the grid, no
+    // image written.
+    const auto dir = outputSubdir("fog_emission");
+    const auto scenePath =
+        writeTextFile(dir / "bad.json", slabScene(vdb, 1500.0, "velocity").dump());
+    const auto image = dir / "bad.png";
+    std::filesystem::remove(image);
+    const CommandResult r = runCommand(veilExe() + " render " + shellQuote(scenePath) + " -o " +
+                                       shellQuote(image) + " 2>&1");
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("bad.json: /volumes/0"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("grid 'velocity' of '" + vdb.string() + "' holds vec3s values"),
+              std::string::npos)
+        << r.output;
+    EXPECT_FALSE(std::filesystem::exists(image));
 }
 
 } // namespace veil::test
