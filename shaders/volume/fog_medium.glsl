@@ -48,7 +48,9 @@ vec3 blackbodyRadiance(float kelvin) {
 // Radiance emitted per unit length by volume i at texture coordinate uvw (density d).
 vec3 volumeEmitted(int i, float d, vec3 uvw) {
     if (volumes[i].emissionMode == 0) return d * volumes[i].emission;
-    float c = texture(volumeEmission[i], uvw).r;
+    vec4 e = texture(volumeEmission[i], uvw);
+    if (volumes[i].emissionMode == 3) return e.rgb * volumes[i].emission; // colour grid
+    float c = e.r;
     if (volumes[i].emissionMode == 1) return c * volumes[i].emission;
     vec3 t = volumes[i].temperature;
     return d * (volumes[i].emission + t.z * blackbodyRadiance(t.x * c + t.y));

@@ -14,7 +14,8 @@ struct VolumeInfo {
     float anisotropy;    // Henyey-Greenstein g
     vec3 emission;       // radiance emitted per unit length per unit density
     // Emission channel (fog_medium.glsl): 0 none (emission x density), 1 emission grid
-    // (emission x value), 2 temperature grid (blackbody); temperature = (kelvin per unit,
+    // (emission x value), 2 temperature grid (blackbody), 3 colour emission grid (emission x
+    // rgb); temperature = (kelvin per unit,
     // kelvin offset, temperature_intensity x density_scale).
     int emissionMode;
     vec3 temperature;

@@ -194,8 +194,8 @@ const std::vector<ValueDecl<VolumeRef>>& volumeValueDecls() {
                    "emission_grid where one is named)")
             .edited(ValueGroup::Volume)
             .text("emission_grid", &V::emissionGrid,
-                  "scalar grid of the volume's file whose value times emission is the emitted "
-                  "radiance per unit length (instead of the density)")
+                  "scalar or vec3 (RGB) grid of the volume's file whose value times emission is "
+                  "the emitted radiance per unit length (instead of the density)")
             .text("temperature_grid", &V::temperatureGrid,
                   "scalar grid of the volume's file rendered as blackbody emission")
             .real("temperature_scale", &V::temperatureScale, kNonNegative, 0.0, 10000.0,

@@ -44,10 +44,10 @@ CpuFogReference::CpuFogReference(const scene::Scene& scene,
         }
         VEIL_CHECK(g < grids.size() && grids[g], "CPU fog reference: no grid for volume '{}'",
                    ref.name);
-        Volume v{&ref, grids[g++], glm::inverse(glm::dmat4(ref.transform)), {}, {}, nullptr};
+        Volume v{&ref, grids[g++], glm::inverse(glm::dmat4(ref.transform)), {}, {}, {}};
         gridWorldBox(*v.grid, ref.transform, v.lo, v.hi);
         v.channel = loadEmissionChannel(ref);
-        widenToEmission(ref, v.channel.get(), v.lo, v.hi);
+        widenToEmission(ref, v.channel, v.lo, v.hi);
         volumes_.push_back(v);
     }
     for (std::size_t i = 0; i < scene.lights.size(); ++i)
@@ -66,13 +66,14 @@ double CpuFogReference::densityOf(const Volume& v, const glm::dvec3& world) cons
     return openvdb::tools::BoxSampler::sample(acc, idx);
 }
 
-double CpuFogReference::channelOf(const Volume& v, const glm::dvec3& world) const {
-    if (!v.channel) return 0.0;
-    if (glm::any(glm::lessThan(world, v.lo)) || glm::any(glm::greaterThan(world, v.hi))) return 0.0;
-    const glm::dvec3 o = glm::dvec3(v.worldToObject * glm::dvec4(world, 1.0));
-    const openvdb::Vec3d idx = v.channel->worldToIndex(openvdb::Vec3d(o.x, o.y, o.z));
-    const auto acc = v.channel->getConstAccessor();
-    return openvdb::tools::BoxSampler::sample(acc, idx);
+glm::dvec3 CpuFogReference::channelOf(const Volume& v, const glm::dvec3& world) const {
+    if (v.channel.empty()) return glm::dvec3(0.0);
+    if (glm::any(glm::lessThan(world, v.lo)) || glm::any(glm::greaterThan(world, v.hi)))
+        return glm::dvec3(0.0);
+    std::vector<openvdb::FloatGrid::ConstAccessor> acc;
+    for (const auto& g : v.channel)
+        acc.push_back(g->getConstAccessor());
+    return sampleChannel(v.channel, acc, glm::dvec3(v.worldToObject * glm::dvec4(world, 1.0)));
 }
 
 double CpuFogReference::extinction(const glm::dvec3& world) const {

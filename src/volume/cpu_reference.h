@@ -48,11 +48,11 @@ private:
         const scene::VolumeRef* ref;
         openvdb::FloatGrid::ConstPtr grid;
         glm::dmat4 worldToObject;
-        glm::dvec3 lo, hi;                    // world bounds
-        openvdb::FloatGrid::ConstPtr channel; // emission or temperature grid, or null
+        glm::dvec3 lo, hi;                            // world bounds
+        std::vector<openvdb::FloatGrid::Ptr> channel; // emission / temperature grid(s), or none
     };
     double densityOf(const Volume& v, const glm::dvec3& world) const;
-    double channelOf(const Volume& v, const glm::dvec3& world) const;
+    glm::dvec3 channelOf(const Volume& v, const glm::dvec3& world) const;
     bool interval(const glm::dvec3& ro, const glm::dvec3& rd, double& t0, double& t1) const;
 
     const scene::Scene& scene_;

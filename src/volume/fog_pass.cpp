@@ -28,15 +28,17 @@ constexpr double kBlackbodyMaxKelvin = 25000.0;
 // widened to it (resampled to the density's transform where the two differ), so the
 // texture's leaves hold both.
 openvdb::FloatGrid::Ptr widenedToEmission(const openvdb::FloatGrid& density,
-                                          const openvdb::FloatGrid& emission) {
+                                          const std::vector<openvdb::FloatGrid::Ptr>& emission) {
     openvdb::FloatGrid::Ptr widened = density.deepCopy();
-    if (emission.transform() == density.transform()) {
-        widened->topologyUnion(emission);
-    } else {
-        openvdb::FloatGrid::Ptr resampled = openvdb::FloatGrid::create(0.0f);
-        resampled->setTransform(density.transform().copy());
-        openvdb::tools::resampleToMatch<openvdb::tools::BoxSampler>(emission, *resampled);
-        widened->topologyUnion(*resampled);
+    for (const auto& e : emission) {
+        if (e->transform() == density.transform()) {
+            widened->topologyUnion(*e);
+        } else {
+            openvdb::FloatGrid::Ptr resampled = openvdb::FloatGrid::create(0.0f);
+            resampled->setTransform(density.transform().copy());
+            openvdb::tools::resampleToMatch<openvdb::tools::BoxSampler>(*e, *resampled);
+            widened->topologyUnion(*resampled);
+        }
     }
     return widened;
 }
@@ -77,26 +79,27 @@ FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
         // Converted ahead on a worker thread (grid_preload.h) when the options match.
         GLint max3D = 0;
         glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3D);
-        openvdb::FloatGrid::Ptr channel;
+        std::vector<openvdb::FloatGrid::Ptr> channel;
         try {
             channel = loadEmissionChannel(ref);
         } catch (const Error& e) {
             throw Error(fmt::format("{}: {}", where, e.what()));
         }
-        const auto converted = ref.path.empty() || channel
+        const auto converted = ref.path.empty() || !channel.empty()
                                    ? nullptr
                                    : findPreconverted(ref.path, ref.grid, options, max3D);
         openvdb::FloatGrid::Ptr grid = converted ? nullptr : loadVolume(ref);
         std::unique_ptr<GpuVolume> gpuVolume;
         try {
-            if (channel) {
+            if (!channel.empty()) {
                 // Density and emission channel: two textures of one layout, planned within
-                // half of the budget left (the indirection table is counted twice).
-                if (!ref.emissionGrid.empty()) grid = widenedToEmission(*grid, *channel);
-                GpuVolumeOptions half = options;
-                half.budgetBytes /= 2;
-                GridConversion c = convertGrid(*grid, half, max3D);
-                addChannel(c, *channel);
+                // 1/2 of the budget left (1/5 for an RGBA16F colour; the indirection table is
+                // counted with each).
+                if (!ref.emissionGrid.empty()) grid = widenedToEmission(*grid, channel);
+                GpuVolumeOptions part = options;
+                part.budgetBytes /= channel.size() == 1 ? 2 : 5;
+                GridConversion c = convertGrid(*grid, part, max3D);
+                addChannel(c, channel);
                 gpuVolume = std::make_unique<GpuVolume>(c, ref.transform);
                 emissive_ = true;
             } else {
@@ -218,9 +221,7 @@ void FogPass::setVolumeUniforms(const gpu::Program& program) const {
             .set(name("albedo").c_str(), e.ref->albedo)
             .set(name("anisotropy").c_str(), e.ref->anisotropy)
             .set(name("emission").c_str(), e.ref->emission)
-            .set(name("emissionMode").c_str(), !e.gpu->channel()                ? 0
-                                               : e.ref->temperatureGrid.empty() ? 1
-                                                                                : 2)
+            .set(name("emissionMode").c_str(), emissionMode(e))
             .set(name("temperature").c_str(),
                  glm::vec3(e.ref->temperatureScale, e.ref->temperatureOffset,
                            e.ref->temperatureIntensity * e.ref->densityScale));
@@ -316,6 +317,14 @@ bool FogPass::updateLightVolumesSlab(const pass::Context& targets, int slabTexel
         }
     }
     return true;
+}
+
+int FogPass::emissionMode(const Entry& e) {
+    // fog_medium.glsl volumeEmitted(): 0 emission x density, 1 scalar emission grid,
+    // 2 temperature grid, 3 colour emission grid.
+    if (!e.gpu->channel()) return 0;
+    if (!e.ref->temperatureGrid.empty()) return 2;
+    return e.gpu->channelComponents() == 1 ? 1 : 3;
 }
 
 std::vector<std::string> FogPass::marchDefines() const {

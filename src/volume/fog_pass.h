@@ -142,7 +142,6 @@ private:
     void setVolumeUniforms(const gpu::Program& program) const;
     void setMarchUniforms(const gpu::Program& program, const pass::Context& targets) const;
     std::string slotsDefine() const;
-    std::vector<std::string> marchDefines() const; // slots, and emission where a volume has it
 
     const scene::Scene& scene_;
     gpu::ProgramManager& programs_;
@@ -158,6 +157,8 @@ private:
         glm::mat4 lightToWorld{1.0f};
     };
     std::vector<Entry> volumes_;
+    std::vector<std::string> marchDefines() const; // slots, and emission where a volume has it
+    static int emissionMode(const Entry& e);
     float globalDensity_ = 0.0f;
     glm::vec3 globalAlbedo_{0.0f};
     float globalAnisotropy_ = 0.0f;

@@ -333,22 +333,34 @@ GridConversion convertGrid(const openvdb::FloatGrid& grid, const GpuVolumeOption
     return arena.execute([&] { return convert(grid, options, max3D); });
 }
 
-void addChannel(GridConversion& c, const openvdb::FloatGrid& grid) {
+void addChannel(GridConversion& c, const std::vector<openvdb::FloatGrid::Ptr>& grids) {
+    VEIL_CHECK(grids.size() == 1 || grids.size() == 3, "addChannel: {} grids (1 or 3)",
+               grids.size());
     const glm::ivec3 n = c.dataSize;
-    c.channel.assign(c.values.size(), 0.0f);
+    const std::size_t components = grids.size() == 1 ? 1 : 4;
+    c.channelComponents = int(components);
+    c.channel.assign(c.values.size() * components, 0.0f);
     // Index coordinate of the conversion -> world (the grid's own transform, before the scene
-    // entry's) -> index coordinate of `grid`.
+    // entry's) -> index coordinate of each grid.
     const glm::dmat4 toWorld(c.indexToWorld);
-    auto fill = [&](const openvdb::FloatGrid::ConstAccessor& acc, const glm::ivec3& texel,
-                    const glm::dvec3& index) {
+    using Accessors = std::vector<openvdb::FloatGrid::ConstAccessor>;
+    auto accessors = [&grids] {
+        Accessors a;
+        for (const auto& g : grids)
+            a.push_back(g->getConstAccessor());
+        return a;
+    };
+    auto fill = [&](Accessors& acc, const glm::ivec3& texel, const glm::dvec3& index) {
         const glm::dvec3 w = glm::dvec3(toWorld * glm::dvec4(index, 1.0));
-        const openvdb::Vec3d gi = grid.worldToIndex(openvdb::Vec3d(w.x, w.y, w.z));
-        c.channel[(std::size_t(texel.z) * n.y + texel.y) * n.x + texel.x] =
-            openvdb::tools::BoxSampler::sample(acc, gi);
+        const std::size_t at =
+            ((std::size_t(texel.z) * n.y + texel.y) * n.x + texel.x) * components;
+        for (std::size_t k = 0; k < grids.size(); ++k)
+            c.channel[at + k] = openvdb::tools::BoxSampler::sample(
+                acc[k], grids[k]->worldToIndex(openvdb::Vec3d(w.x, w.y, w.z)));
     };
     if (c.stats.dense) {
         tbb::parallel_for(0, n.z, [&](int z) {
-            const auto acc = grid.getConstAccessor();
+            Accessors acc = accessors();
             for (int y = 0; y < n.y; ++y)
                 for (int x = 0; x < n.x; ++x)
                     fill(acc, {x, y, z}, glm::dvec3(c.indexMin) + glm::dvec3(x, y, z));
@@ -356,7 +368,7 @@ void addChannel(GridConversion& c, const openvdb::FloatGrid& grid) {
     } else {
         const glm::ivec3 t = c.tableSize, per = c.bricksPerAxis;
         tbb::parallel_for(0, t.z, [&](int lz) {
-            const auto acc = grid.getConstAccessor();
+            Accessors acc = accessors();
             for (int ly = 0; ly < t.y; ++ly)
                 for (int lx = 0; lx < t.x; ++lx) {
                     const std::uint32_t b = c.table[(std::size_t(lz) * t.y + ly) * t.x + lx];

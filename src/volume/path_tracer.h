@@ -96,7 +96,7 @@ private:
         openvdb::FloatGrid::ConstPtr grid;
         glm::dmat4 worldToObject;
         glm::dvec3 lo, hi;
-        openvdb::FloatGrid::ConstPtr channel; // emission or temperature grid, or null
+        std::vector<openvdb::FloatGrid::Ptr> channel; // emission / temperature grid(s), or none
     };
     struct Lookup;
     struct Medium {

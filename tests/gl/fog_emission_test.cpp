@@ -6,7 +6,8 @@
 // Krystek's rational approximation [Krystek85] (as tests/unit/blackbody_test.cpp, which checks
 // the integration itself), within 0.005. The GPU's magnitude is checked against
 // B(T) (1 - exp(-tau)) too (half-float texels and output, the table's interpolation: 3 %).
-// Bad grids (a vector grid, a missing name) end in one error naming the file and the grid.
+// A colour (vec3) emission grid: GPU against the CPU reference. Bad grids (a vector grid as
+// temperature, a missing name) end in one error naming the file and the grid.
 #include "gl_fixture.h"
 
 #include "base/error.h"
@@ -46,7 +47,8 @@ glm::dvec2 chromaticity(const glm::dvec3& rgb) {
 
 // density 1 in index box x, z in [-16, 15], y in [-4, 3] (voxel 1/16: 2 x 0.5 x 2 world units,
 // trilinear thickness exactly 0.5), a temperature of 2 over two more voxels on every side (so
-// the edges are not cooled by the interpolation), and a vec3 grid.
+// the edges are not cooled by the interpolation), a colour (vec3) emission grid over the same
+// box, and a vec3 grid of another size.
 std::filesystem::path writeSlab() {
     openvdb::initialize();
     const auto xf = openvdb::math::Transform::createLinearTransform(1.0 / 16.0);
@@ -58,12 +60,17 @@ std::filesystem::path writeSlab() {
     temperature->setName("temperature");
     temperature->setTransform(xf);
     temperature->denseFill(openvdb::CoordBBox({-18, -6, -18}, {17, 5, 17}), 2.0f, true);
+    auto glow = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+    glow->setName("glow");
+    glow->setTransform(xf);
+    glow->denseFill(openvdb::CoordBBox({-18, -6, -18}, {17, 5, 17}),
+                    openvdb::Vec3s(0.2f, 0.5f, 1.0f), true);
     auto velocity = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
     velocity->setName("velocity");
     velocity->setTransform(xf);
     velocity->denseFill(openvdb::CoordBBox({-2, -2, -2}, {1, 1, 1}), openvdb::Vec3s(1.0f), true);
     const auto path = outputSubdir("fog_emission") / "slab.vdb";
-    volume::saveGrids(path, {density, temperature, velocity});
+    volume::saveGrids(path, {density, temperature, glow, velocity});
     return path;
 }
 
@@ -140,6 +147,38 @@ TEST_F(FogEmissionTest, UniformSlabGlowsWithTheBlackbodyColour) {
                     expected.y);
         EXPECT_NEAR(ptRgb.y, expected.y, 3.0 * se + 0.01 * expected.y) << kelvin << " K";
     }
+}
+
+TEST_F(FogEmissionTest, ColourEmissionGridMatchesTheCpuReference) {
+    // emission_grid "glow" (0.2, 0.5, 1) x emission (1, 2, 0.5) = (0.2, 1, 0.5) per unit length,
+    // over a box two voxels larger than the density's (its topology widens the density's).
+    const auto vdb = writeSlab();
+    nlohmann::json doc = slabScene(vdb, 1500.0);
+    doc["volumes"][0].erase("temperature_grid");
+    doc["volumes"][0]["emission_grid"] = "glow";
+    doc["volumes"][0]["emission"] = {1.0, 2.0, 0.5};
+    const scene::Scene s = scene::parseScene(doc, sourceDir());
+    frame::Renderer r(s, info(), {0, 0, "", "blend"});
+    r.render();
+    const glm::dvec3 gpu = meanRgb(r.readHdr());
+    const auto grid = volume::loadVolume(s.volumes[0]);
+    const glm::dvec3 cpu =
+        meanRgb(volume::CpuFogReference(s, {grid}).render(s.cameras[0], 8, 8, 64));
+    volume::PathTracerSettings settings;
+    settings.spp = 4;
+    const glm::dvec3 pt =
+        meanRgb(volume::VolumePathTracer(s, {grid}, settings).render(s.cameras[0], 4, 4).radiance);
+    std::printf("colour emission: GPU (%.5g %.5g %.5g), CPU reference (%.5g %.5g %.5g), path "
+                "tracer (%.5g %.5g %.5g)\n",
+                gpu.x, gpu.y, gpu.z, cpu.x, cpu.y, cpu.z, pt.x, pt.y, pt.z);
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(gpu[c] / cpu[c], 1.0, 0.01) << c; // half-float texels and output
+    // Every sample of the path tracer has the colour's ratios (one uniform colour).
+    EXPECT_NEAR(pt.x / pt.y, 0.2, 1e-6);
+    EXPECT_NEAR(pt.z / pt.y, 0.5, 1e-6);
+    EXPECT_NEAR(cpu.x / cpu.y, 0.2, 1e-9);
+    EXPECT_NEAR(cpu.z / cpu.y, 0.5, 1e-9);
+    VEIL_EXPECT_NO_GL_ERROR();
 }
 
 TEST_F(FogEmissionTest, ABadTemperatureGridIsOneErrorNamingFileAndGrid) {
