@@ -78,7 +78,7 @@ struct VolumeRef {
     // `emissionGrid` where one is named; plus, with a `temperatureGrid`, blackbody radiance
     // (volume/blackbody.h) at T = temperatureScale x value + temperatureOffset (kelvin) times
     // temperatureIntensity x density_scale x density (docs/volumes.md "Emission"). The grids
-    // are scalar grids of the volume's file (at most one of the two).
+    // are grids of the volume's file (at most one of the two; the emission grid may be RGB).
     glm::vec3 emission{0.0f};
     std::string emissionGrid;
     std::string temperatureGrid;
