@@ -56,6 +56,8 @@
 #define VEIL_TEX_VOLUME_DATA 16
 #define VEIL_TEX_VOLUME_TABLE 20
 #define VEIL_TEX_VOLUME_LIGHT 24
+#define VEIL_TEX_VOLUME_EMISSION 32 // emission channel (temperature or emission grid), 32..35
+#define VEIL_TEX_BLACKBODY 31       // blackbody colour and ln Y by temperature (1D)
 #define VEIL_IMG_FOG_RADIANCE 4
 #define VEIL_IMG_FOG_TRANSMITTANCE 5
 #define VEIL_IMG_VOLUME_LIGHT 6

@@ -28,6 +28,35 @@ uniform int octaves;
 uniform vec3 octaveParams;
 uniform float ambientScale;
 
+#ifdef VEIL_VOLUME_EMISSION
+// Emission channels (src/volume/fog_pass.cpp): per volume a texture of the density's layout,
+// and the blackbody table (src/volume/blackbody.h blackbodyTable(): linear sRGB / Y and ln Y at
+// T = i x blackbodyMaxKelvin / (size - 1)).
+layout(binding = VEIL_TEX_VOLUME_EMISSION) uniform sampler3D volumeEmission[VEIL_VOLUME_SLOTS];
+layout(binding = VEIL_TEX_BLACKBODY) uniform sampler1D blackbodyTable;
+uniform float blackbodyMaxKelvin;
+
+// Planck radiance at `kelvin` integrated against the CIE 1931 functions, linear sRGB
+// (kW m^-2 sr^-1); clamped to the table's last entry above blackbodyMaxKelvin.
+vec3 blackbodyRadiance(float kelvin) {
+    if (kelvin <= 0.0) return vec3(0.0);
+    float n = float(textureSize(blackbodyTable, 0));
+    vec4 c = texture(blackbodyTable, (kelvin / blackbodyMaxKelvin * (n - 1.0) + 0.5) / n);
+    return c.rgb * exp(c.a);
+}
+
+// Radiance emitted per unit length by volume i at texture coordinate uvw (density d).
+vec3 volumeEmitted(int i, float d, vec3 uvw) {
+    if (volumes[i].emissionMode == 0) return d * volumes[i].emission;
+    vec4 e = texture(volumeEmission[i], uvw);
+    if (volumes[i].emissionMode == 3) return e.rgb * volumes[i].emission; // colour grid
+    float c = e.r;
+    if (volumes[i].emissionMode == 1) return c * volumes[i].emission;
+    vec3 t = volumes[i].temperature;
+    return d * (volumes[i].emission + t.z * blackbodyRadiance(t.x * c + t.y));
+}
+#endif
+
 float hash(uvec3 v) {
     v = v * 1664525u + 1013904223u;
     v.x += v.y * v.z;
@@ -107,12 +136,18 @@ bool fogMedium(vec3 P, vec3 V, out float sigma, out vec3 source) {
         if (i < volumeCount) {
             bool empty;
             vec3 pi = (volumes[i].worldToIndex * vec4(P, 1.0)).xyz;
+#ifdef VEIL_VOLUME_EMISSION
+            vec3 uvw = volumeCoord(i, pi, empty);
+            float d = empty ? 0.0 : texture(volumeData[i], uvw).r;
+            if (!empty) emitted += volumeEmitted(i, d, uvw);
+#else
             float d = sampleVolumeIndex(i, pi, empty);
+            emitted += d * volumes[i].emission;
+#endif
             allEmpty = allEmpty && empty;
             sig[i] = volumes[i].densityScale * d;
             sigma += sig[i];
             scatterAlbedo += sig[i] * volumes[i].albedo;
-            emitted += d * volumes[i].emission;
         }
     }
     if (allEmpty) return false;

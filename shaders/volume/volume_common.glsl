@@ -13,6 +13,12 @@ struct VolumeInfo {
     vec3 albedo;
     float anisotropy;    // Henyey-Greenstein g
     vec3 emission;       // radiance emitted per unit length per unit density
+    // Emission channel (fog_medium.glsl): 0 none (emission x density), 1 emission grid
+    // (emission x value), 2 temperature grid (blackbody), 3 colour emission grid (emission x
+    // rgb); temperature = (kelvin per unit,
+    // kelvin offset, temperature_intensity x density_scale).
+    int emissionMode;
+    vec3 temperature;
 };
 
 uniform VolumeInfo volumes[VEIL_MAX_VOLUMES];
@@ -32,29 +38,35 @@ layout(binding = VEIL_TEX_VOLUME_TABLE) uniform usampler3D volumeTable[VEIL_VOLU
 const int kLeafSize = 8;
 const int kBrickSize = 10;
 
-// Unscaled density of volume i at index-space point p (trilinear). emptyLeaf is set where the
-// leaf holds no brick (or p is outside), so the marcher can skip the whole leaf.
-float sampleVolumeIndex(int i, vec3 p, out bool emptyLeaf) {
+// Texture coordinate of index-space point p in volume i's data (atlas or dense; the emission
+// channel has the same layout). emptyLeaf is set where the leaf holds no brick (or p is
+// outside), so the marcher can skip the whole leaf; the coordinate is then meaningless.
+vec3 volumeCoord(int i, vec3 p, out bool emptyLeaf) {
     emptyLeaf = false;
     if (any(lessThan(p, volumes[i].indexMin)) || any(greaterThanEqual(p, volumes[i].indexMax))) {
         emptyLeaf = true;
-        return 0.0;
+        return vec3(0.0);
     }
     vec3 dims = vec3(textureSize(volumeData[i], 0));
-    if (volumes[i].bricksPerAxis.x == 0)
-        return texture(volumeData[i], (p - volumes[i].indexMin + 0.5) / dims).r;
+    if (volumes[i].bricksPerAxis.x == 0) return (p - volumes[i].indexMin + 0.5) / dims;
     ivec3 cell = ivec3(floor(p));
     ivec3 leafCoord = cell >> 3; // floor division by 8, also for negative coordinates
     uint b = texelFetch(volumeTable[i], leafCoord - volumes[i].leafOrigin, 0).r;
     if (b == 0u) {
         emptyLeaf = true;
-        return 0.0;
+        return vec3(0.0);
     }
     b -= 1u;
     uvec3 bpa = uvec3(volumes[i].bricksPerAxis);
     vec3 slot = vec3(b % bpa.x, (b / bpa.x) % bpa.y, b / (bpa.x * bpa.y));
     vec3 local = p - vec3(leafCoord * kLeafSize) + 1.0; // apron of one voxel
-    return texture(volumeData[i], (slot * float(kBrickSize) + local + 0.5) / dims).r;
+    return (slot * float(kBrickSize) + local + 0.5) / dims;
+}
+
+// Unscaled density of volume i at index-space point p (trilinear); emptyLeaf as volumeCoord().
+float sampleVolumeIndex(int i, vec3 p, out bool emptyLeaf) {
+    vec3 uvw = volumeCoord(i, p, emptyLeaf);
+    return emptyLeaf ? 0.0 : texture(volumeData[i], uvw).r;
 }
 
 // Henyey-Greenstein phase function; cosTheta between the light's travel direction and the

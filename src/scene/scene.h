@@ -74,7 +74,17 @@ struct VolumeRef {
     float densityScale = 1.0f;
     glm::vec3 albedo{0.8f};
     float anisotropy = 0.0f; // Henyey-Greenstein g in (-1,1)
+    // Emitted radiance per unit length: emission x density, or emission x the value of
+    // `emissionGrid` where one is named; plus, with a `temperatureGrid`, blackbody radiance
+    // (volume/blackbody.h) at T = temperatureScale x value + temperatureOffset (kelvin) times
+    // temperatureIntensity x density_scale x density (docs/volumes.md "Emission"). The grids
+    // are grids of the volume's file (at most one of the two; the emission grid may be RGB).
     glm::vec3 emission{0.0f};
+    std::string emissionGrid;
+    std::string temperatureGrid;
+    float temperatureScale = 1.0f;
+    float temperatureOffset = 0.0f;
+    float temperatureIntensity = 1.0f;
 };
 
 struct RenderSettings {

@@ -461,6 +461,11 @@ VolumeRef parseVolume(const Context& ctx, const json& j, const std::string& ptr,
     if (const json* t = o.get("transform"))
         v.transform = parseTransform(ctx, *t, o.ptr("transform"));
     readValues(o, volumeValueDecls(), v);
+    for (const char* key : {"emission_grid", "temperature_grid"})
+        if (o.get(key) && v.path.empty())
+            fail(ctx, o.ptr(key), "a procedural volume has no file to read a grid from");
+    if (!v.emissionGrid.empty() && !v.temperatureGrid.empty())
+        fail(ctx, o.ptr("temperature_grid"), "give either emission_grid or temperature_grid");
     return v;
 }
 

@@ -56,6 +56,11 @@ public:
         d.widgetMax = widgetMax;
         return *this;
     }
+    // Any string (a name).
+    Decls& text(std::string key, std::string S::*field, std::string doc) {
+        add(PropertyType::String, std::move(key), field, std::move(doc), {});
+        return *this;
+    }
     Decls& choice(std::string key, std::string S::*field, std::vector<std::string> choices,
                   std::string doc, std::string citation = {}) {
         add(PropertyType::Enum, std::move(key), field, std::move(doc), std::move(citation))
@@ -184,7 +189,24 @@ const std::vector<ValueDecl<VolumeRef>>& volumeValueDecls() {
             .real("anisotropy", &V::anisotropy, {-1.0, 1.0, true, true}, -0.99, 0.99,
                   "Henyey-Greenstein phase function g", "[Henyey41]")
             .edited(ValueGroup::Volume)
-            .color("emission", &V::emission, "emitted radiance per unit density")
+            .color("emission", &V::emission,
+                   "emitted radiance per unit length per unit density (per unit of "
+                   "emission_grid where one is named)")
+            .edited(ValueGroup::Volume)
+            .text("emission_grid", &V::emissionGrid,
+                  "scalar or vec3 (RGB) grid of the volume's file whose value times emission is "
+                  "the emitted radiance per unit length (instead of the density)")
+            .text("temperature_grid", &V::temperatureGrid,
+                  "scalar grid of the volume's file rendered as blackbody emission")
+            .real("temperature_scale", &V::temperatureScale, kNonNegative, 0.0, 10000.0,
+                  "kelvin per unit of temperature_grid (T = scale x value + offset)", "[CIE15]")
+            .edited(ValueGroup::Volume)
+            .real("temperature_offset", &V::temperatureOffset, {-1e5, 1e5}, -1000.0, 5000.0,
+                  "kelvin added to temperature_scale x value")
+            .edited(ValueGroup::Volume)
+            .real("temperature_intensity", &V::temperatureIntensity, kNonNegative, 0.0, 10.0,
+                  "blackbody emission per unit length = intensity x density_scale x density x "
+                  "Planck radiance (kW m^-2 sr^-1, CIE 1931 to linear sRGB); 1 = physical")
             .edited(ValueGroup::Volume)
             .done();
     return decls;

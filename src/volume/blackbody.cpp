@@ -1,5 +1,6 @@
 #include "volume/blackbody.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace veil::volume {
@@ -66,5 +67,18 @@ glm::dvec3 linearSrgbToXyz(const glm::dvec3& c) {
 }
 
 glm::dvec3 blackbodyRgb(double kelvin) { return xyzToLinearSrgb(blackbodyXyz(kelvin)); }
+
+std::vector<glm::vec4> blackbodyTable(int size, double maxKelvin) {
+    std::vector<glm::vec4> table(std::size_t(std::max(size, 2)));
+    for (std::size_t i = 1; i < table.size(); ++i) {
+        const double kelvin = double(i) * maxKelvin / double(table.size() - 1);
+        const glm::dvec3 xyz = blackbodyXyz(kelvin);
+        const double lnY = xyz.y > 0.0 ? std::max(std::log(xyz.y), -80.0) : -80.0;
+        const glm::dvec3 colour = xyz.y > 0.0 ? xyzToLinearSrgb(xyz) / xyz.y : glm::dvec3(0.0);
+        table[i] = glm::vec4(glm::vec3(colour), float(lnY));
+    }
+    table[0] = glm::vec4(glm::vec3(table[1]), -80.0f);
+    return table;
+}
 
 } // namespace veil::volume

@@ -1,5 +1,7 @@
 #include "volume/cpu_reference.h"
 
+#include "volume/density_grid.h"
+#include "volume/emission.h"
 #include "volume/ray_box.h"
 
 #include "base/error.h"
@@ -42,8 +44,10 @@ CpuFogReference::CpuFogReference(const scene::Scene& scene,
         }
         VEIL_CHECK(g < grids.size() && grids[g], "CPU fog reference: no grid for volume '{}'",
                    ref.name);
-        Volume v{&ref, grids[g++], glm::inverse(glm::dmat4(ref.transform)), {}, {}};
+        Volume v{&ref, grids[g++], glm::inverse(glm::dmat4(ref.transform)), {}, {}, {}};
         gridWorldBox(*v.grid, ref.transform, v.lo, v.hi);
+        v.channel = loadEmissionChannel(ref);
+        widenToEmission(ref, v.channel, v.lo, v.hi);
         volumes_.push_back(v);
     }
     for (std::size_t i = 0; i < scene.lights.size(); ++i)
@@ -60,6 +64,16 @@ double CpuFogReference::densityOf(const Volume& v, const glm::dvec3& world) cons
     const openvdb::Vec3d idx = v.grid->worldToIndex(openvdb::Vec3d(o.x, o.y, o.z));
     const auto acc = v.grid->getConstAccessor();
     return openvdb::tools::BoxSampler::sample(acc, idx);
+}
+
+glm::dvec3 CpuFogReference::channelOf(const Volume& v, const glm::dvec3& world) const {
+    if (v.channel.empty()) return glm::dvec3(0.0);
+    if (glm::any(glm::lessThan(world, v.lo)) || glm::any(glm::greaterThan(world, v.hi)))
+        return glm::dvec3(0.0);
+    std::vector<openvdb::FloatGrid::ConstAccessor> acc;
+    for (const auto& g : v.channel)
+        acc.push_back(g->getConstAccessor());
+    return sampleChannel(v.channel, acc, glm::dvec3(v.worldToObject * glm::dvec4(world, 1.0)));
 }
 
 double CpuFogReference::extinction(const glm::dvec3& world) const {
@@ -133,7 +147,7 @@ FogSample CpuFogReference::pixel(const scene::Camera& camera, int width, int hei
             sig[i] = volumes_[i].ref->densityScale * d;
             sigma += sig[i];
             albedoSigma += glm::dvec3(volumes_[i].ref->albedo) * sig[i];
-            emitted += glm::dvec3(volumes_[i].ref->emission) * d;
+            emitted += emittedRadiance(*volumes_[i].ref, d, channelOf(volumes_[i], P));
         }
         if (sigma <= 0.0 && emitted == glm::dvec3(0.0)) continue;
         glm::dvec3 inscatter =

@@ -1,6 +1,7 @@
 // CPU reference of the fog marcher, in double precision over the same openvdb::FloatGrid:
 // transmittance and single-scattered radiance along camera rays, with the lighting model of
-// shaders/volume/fog_march.comp (Henyey-Greenstein phase, albedo, emission, ambient, the
+// shaders/volume/fog_march.comp (Henyey-Greenstein phase, albedo, emission with the volumes'
+// emission and temperature grids (read here from their files, volume/emission.h), ambient, the
 // multiple-scattering octaves of render.fog_octaves, spot cone
 // and 1/d^2 falloff, transmittance toward each light marched exactly through the density).
 // What it leaves out: opaque occluders (no shadow map) and surfaces; tests use scenes where
@@ -26,7 +27,9 @@ struct FogSample {
 
 class CpuFogReference {
 public:
-    // `grids` holds the grid of every non-homogeneous volume of `scene`, in scene order.
+    // `grids` holds the grid of every non-homogeneous volume of `scene`, in scene order. The
+    // emission channels the volumes name are loaded here (throws veil::Error as
+    // loadEmissionChannel()).
     CpuFogReference(const scene::Scene& scene, std::vector<openvdb::FloatGrid::ConstPtr> grids);
 
     // Extinction coefficient at a world point (sum over volumes and homogeneous fog).
@@ -45,9 +48,11 @@ private:
         const scene::VolumeRef* ref;
         openvdb::FloatGrid::ConstPtr grid;
         glm::dmat4 worldToObject;
-        glm::dvec3 lo, hi; // world bounds
+        glm::dvec3 lo, hi;                            // world bounds
+        std::vector<openvdb::FloatGrid::Ptr> channel; // emission / temperature grid(s), or none
     };
     double densityOf(const Volume& v, const glm::dvec3& world) const;
+    glm::dvec3 channelOf(const Volume& v, const glm::dvec3& world) const;
     bool interval(const glm::dvec3& ro, const glm::dvec3& rd, double& t0, double& t1) const;
 
     const scene::Scene& scene_;

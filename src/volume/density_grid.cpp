@@ -110,7 +110,14 @@ std::size_t sanitizeDensity(openvdb::FloatGrid& grid) {
     return changed;
 }
 
-openvdb::FloatGrid::Ptr loadDensityGrid(const fs::path& path, const std::string& gridName) {
+namespace {
+
+// A scalar grid of a file; `role` names what it is for in the messages ("density",
+// "temperature_grid", ...). With `colour`, a vec3s grid is accepted too: it is returned there
+// (null returned).
+openvdb::FloatGrid::Ptr loadScalarGrid(const fs::path& path, const std::string& gridName,
+                                       const std::string& role,
+                                       openvdb::Vec3SGrid::Ptr* colour = nullptr) {
     const openvdb::GridPtrVecPtr grids = readAllGrids(path);
     openvdb::GridBase::Ptr found;
     std::string names;
@@ -119,11 +126,18 @@ openvdb::FloatGrid::Ptr loadDensityGrid(const fs::path& path, const std::string&
                              boundedText(g->getName(), 60), boundedText(g->valueType(), 20));
         if (!found && g->getName() == gridName) found = g;
     }
-    VEIL_CHECK(found, "volume '{}' has no grid named '{}' (grids: {})", path.string(), gridName,
-               names.empty() ? "none" : names);
+    VEIL_CHECK(found, "volume '{}' has no grid named '{}'{} (grids: {})", path.string(), gridName,
+               role == "density" ? "" : fmt::format(" ({})", role), names.empty() ? "none" : names);
+    if (auto vec = colour ? openvdb::gridPtrCast<openvdb::Vec3SGrid>(found) : nullptr) {
+        VEIL_CHECK(vec->activeVoxelCount() > 0, "grid '{}' of '{}' is empty (no active voxels)",
+                   gridName, path.string());
+        *colour = vec;
+        return nullptr;
+    }
     auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(found);
-    VEIL_CHECK(grid, "grid '{}' of '{}' holds {} values; a density must be a scalar float grid",
-               gridName, path.string(), found->valueType());
+    VEIL_CHECK(grid, "grid '{}' of '{}' holds {} values; a {} must be a {} grid", gridName,
+               path.string(), found->valueType(), role,
+               colour ? "scalar float or vec3s" : "scalar float");
     VEIL_CHECK(grid->activeVoxelCount() > 0, "grid '{}' of '{}' is empty (no active voxels)",
                gridName, path.string());
     if (grid->getGridClass() == openvdb::GRID_LEVEL_SET) {
@@ -134,11 +148,54 @@ openvdb::FloatGrid::Ptr loadDensityGrid(const fs::path& path, const std::string&
         openvdb::tools::sdfToFogVolume(*grid);
     }
     if (const std::size_t bad = sanitizeDensity(*grid))
-        log::warn("grid '{}' of '{}': {} NaN, infinite or negative densities set to 0", gridName,
+        log::warn("grid '{}' of '{}': {} NaN, infinite or negative values set to 0", gridName,
                   path.string(), bad);
     VEIL_CHECK(grid->activeVoxelCount() > 0, "grid '{}' of '{}' is empty (no active voxels)",
                gridName, path.string());
     return grid;
+}
+
+} // namespace
+
+openvdb::FloatGrid::Ptr loadDensityGrid(const fs::path& path, const std::string& gridName) {
+    return loadScalarGrid(path, gridName, "density");
+}
+
+std::vector<openvdb::FloatGrid::Ptr> loadEmissionChannel(const scene::VolumeRef& ref) {
+    const bool temperature = !ref.temperatureGrid.empty();
+    if (!temperature && ref.emissionGrid.empty()) return {};
+    VEIL_CHECK(ref.procedural.empty(), "volume '{}' is procedural and has no file to read {} from",
+               ref.name, temperature ? "temperature_grid" : "emission_grid");
+    const std::string& name = temperature ? ref.temperatureGrid : ref.emissionGrid;
+    if (openvdb::FloatGrid::Ptr preloaded = findPreloadedGrid(ref.path, name)) return {preloaded};
+    if (temperature) return {loadScalarGrid(ref.path, name, "temperature_grid")};
+    openvdb::Vec3SGrid::Ptr colour;
+    if (openvdb::FloatGrid::Ptr scalar = loadScalarGrid(ref.path, name, "emission_grid", &colour))
+        return {scalar};
+    // A colour: its components as three float grids (NaN, infinite and negative values 0).
+    std::vector<openvdb::FloatGrid::Ptr> rgb;
+    for (const char* c : {"x", "y", "z"}) {
+        rgb.push_back(openvdb::FloatGrid::create(0.0f));
+        rgb.back()->setTransform(colour->transform().copy());
+        rgb.back()->setName(fmt::format("{}.{}", name, c));
+    }
+    std::vector<openvdb::FloatGrid::Accessor> acc;
+    for (const auto& g : rgb)
+        acc.push_back(g->getAccessor());
+    for (auto it = colour->cbeginValueOn(); it; ++it) {
+        const openvdb::Vec3s v = *it;
+        for (int k = 0; k < 3; ++k) {
+            const float c = std::isfinite(v[k]) && v[k] > 0.0f ? v[k] : 0.0f;
+            if (it.isVoxelValue()) {
+                acc[k].setValue(it.getCoord(), c);
+            } else {
+                openvdb::CoordBBox box;
+                it.getBoundingBox(box);
+                rgb[k]->tree().fill(box, c, true);
+            }
+        }
+    }
+    return rgb;
 }
 
 openvdb::FloatGrid::Ptr makeProceduralGrid(const std::string& kind, const glm::vec3& size,

@@ -34,6 +34,11 @@ std::vector<GridSummary> listGrids(const std::filesystem::path& path);
 openvdb::FloatGrid::Ptr loadDensityGrid(const std::filesystem::path& path,
                                         const std::string& gridName);
 
+// The emission channel a volume entry names, loaded as loadDensityGrid() loads a density (the
+// same checks; the messages name the key): none (empty), one grid (a temperature_grid or a
+// scalar emission_grid) or three (a vec3s emission_grid's x, y, z: linear RGB).
+std::vector<openvdb::FloatGrid::Ptr> loadEmissionChannel(const scene::VolumeRef& ref);
+
 // Procedural density (VolumeRef::procedural other than "homogeneous"): "box", "sphere",
 // "smoke-ball", "noise-cloud"; centred at the origin with `voxelSize`, deterministic per seed.
 // More than 2^25 voxels are not evaluated: the voxel size is doubled until the grid has at most

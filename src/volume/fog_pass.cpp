@@ -3,9 +3,12 @@
 #include "base/error.h"
 #include "base/log.h"
 #include "shaders/common/bindings.h"
+#include "volume/blackbody.h"
 #include "volume/density_grid.h"
 #include "volume/gpu_volume.h"
 #include "volume/grid_preload.h"
+
+#include <openvdb/tools/GridTransformer.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -14,6 +17,33 @@
 #include <limits>
 
 namespace veil::volume {
+
+namespace {
+
+// The blackbody table of fog_medium.glsl (blackbody.h: colour and ln Y, linear in T).
+constexpr int kBlackbodyEntries = 2048;
+constexpr double kBlackbodyMaxKelvin = 25000.0;
+
+// An emission grid may reach past the density's active voxels: the density's topology is
+// widened to it (resampled to the density's transform where the two differ), so the
+// texture's leaves hold both.
+openvdb::FloatGrid::Ptr widenedToEmission(const openvdb::FloatGrid& density,
+                                          const std::vector<openvdb::FloatGrid::Ptr>& emission) {
+    openvdb::FloatGrid::Ptr widened = density.deepCopy();
+    for (const auto& e : emission) {
+        if (e->transform() == density.transform()) {
+            widened->topologyUnion(*e);
+        } else {
+            openvdb::FloatGrid::Ptr resampled = openvdb::FloatGrid::create(0.0f);
+            resampled->setTransform(density.transform().copy());
+            openvdb::tools::resampleToMatch<openvdb::tools::BoxSampler>(*e, *resampled);
+            widened->topologyUnion(*resampled);
+        }
+    }
+    return widened;
+}
+
+} // namespace
 
 FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
                  const gpu::IncludeAliases& lightVisibility)
@@ -49,13 +79,33 @@ FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
         // Converted ahead on a worker thread (grid_preload.h) when the options match.
         GLint max3D = 0;
         glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3D);
-        const auto converted =
-            ref.path.empty() ? nullptr : findPreconverted(ref.path, ref.grid, options, max3D);
+        std::vector<openvdb::FloatGrid::Ptr> channel;
+        try {
+            channel = loadEmissionChannel(ref);
+        } catch (const Error& e) {
+            throw Error(fmt::format("{}: {}", where, e.what()));
+        }
+        const auto converted = ref.path.empty() || !channel.empty()
+                                   ? nullptr
+                                   : findPreconverted(ref.path, ref.grid, options, max3D);
         openvdb::FloatGrid::Ptr grid = converted ? nullptr : loadVolume(ref);
         std::unique_ptr<GpuVolume> gpuVolume;
         try {
-            gpuVolume = converted ? std::make_unique<GpuVolume>(*converted, ref.transform)
-                                  : std::make_unique<GpuVolume>(grid, ref.transform, options);
+            if (!channel.empty()) {
+                // Density and emission channel: two textures of one layout, planned within
+                // 1/2 of the budget left (1/5 for an RGBA16F colour; the indirection table is
+                // counted with each).
+                if (!ref.emissionGrid.empty()) grid = widenedToEmission(*grid, channel);
+                GpuVolumeOptions part = options;
+                part.budgetBytes /= channel.size() == 1 ? 2 : 5;
+                GridConversion c = convertGrid(*grid, part, max3D);
+                addChannel(c, channel);
+                gpuVolume = std::make_unique<GpuVolume>(c, ref.transform);
+                emissive_ = true;
+            } else {
+                gpuVolume = converted ? std::make_unique<GpuVolume>(*converted, ref.transform)
+                                      : std::make_unique<GpuVolume>(grid, ref.transform, options);
+            }
         } catch (const Error& e) {
             throw Error(fmt::format("{}: {}", where, e.what()));
         }
@@ -75,8 +125,18 @@ FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
             break;
         }
     if (primaryLight_ < 0 && !scene.lights.empty()) primaryLight_ = 0;
+    if (emissive_) {
+        const std::vector<glm::vec4> table = blackbodyTable(kBlackbodyEntries, kBlackbodyMaxKelvin);
+        blackbody_ = gpu::Texture(GL_TEXTURE_1D);
+        glTextureStorage1D(blackbody_.id(), 1, GL_RGBA32F, kBlackbodyEntries);
+        blackbody_.parameter(GL_TEXTURE_MIN_FILTER, GL_LINEAR)
+            .parameter(GL_TEXTURE_MAG_FILTER, GL_LINEAR)
+            .parameter(GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTextureSubImage1D(blackbody_.id(), 0, 0, kBlackbodyEntries, GL_RGBA, GL_FLOAT,
+                            table.data());
+    }
     marchProgram_ = programs_.add(
-        gpu::ProgramDesc::compute("volume/fog_march.comp", {slotsDefine()}, lightVisibility));
+        gpu::ProgramDesc::compute("volume/fog_march.comp", marchDefines(), lightVisibility));
     lightProgram_ = programs_.add(
         gpu::ProgramDesc::compute("volume/light_transmittance.comp", {slotsDefine()}));
     // Light transmittance volumes: about 2 voxels per texel, at most 128 per axis.
@@ -113,7 +173,7 @@ std::size_t FogPass::gpuBytes() const {
     for (const auto& e : volumes_)
         bytes += e.gpu->stats().gpuBytes +
                  std::size_t(e.light.width()) * e.light.height() * e.light.depth() * 4;
-    return bytes + std::size_t(width_) * height_ * 16;
+    return bytes + std::size_t(width_) * height_ * 16 + (emissive_ ? kBlackbodyEntries * 16 : 0);
 }
 
 std::vector<pass::Pass> FogPass::passes(int slabTexels) {
@@ -160,8 +220,13 @@ void FogPass::setVolumeUniforms(const gpu::Program& program) const {
             .set(name("densityScale").c_str(), e.ref->densityScale)
             .set(name("albedo").c_str(), e.ref->albedo)
             .set(name("anisotropy").c_str(), e.ref->anisotropy)
-            .set(name("emission").c_str(), e.ref->emission);
+            .set(name("emission").c_str(), e.ref->emission)
+            .set(name("emissionMode").c_str(), emissionMode(e))
+            .set(name("temperature").c_str(),
+                 glm::vec3(e.ref->temperatureScale, e.ref->temperatureOffset,
+                           e.ref->temperatureIntensity * e.ref->densityScale));
         e.gpu->data().bind(VEIL_TEX_VOLUME_DATA + static_cast<GLuint>(i));
+        if (e.gpu->channel()) e.gpu->channel().bind(VEIL_TEX_VOLUME_EMISSION + GLuint(i));
         if (e.gpu->indirection()) e.gpu->indirection().bind(VEIL_TEX_VOLUME_TABLE + GLuint(i));
         e.light.bind(VEIL_TEX_VOLUME_LIGHT + static_cast<GLuint>(i));
     }
@@ -254,6 +319,20 @@ bool FogPass::updateLightVolumesSlab(const pass::Context& targets, int slabTexel
     return true;
 }
 
+int FogPass::emissionMode(const Entry& e) {
+    // fog_medium.glsl volumeEmitted(): 0 emission x density, 1 scalar emission grid,
+    // 2 temperature grid, 3 colour emission grid.
+    if (!e.gpu->channel()) return 0;
+    if (!e.ref->temperatureGrid.empty()) return 2;
+    return e.gpu->channelComponents() == 1 ? 1 : 3;
+}
+
+std::vector<std::string> FogPass::marchDefines() const {
+    std::vector<std::string> defines{slotsDefine()};
+    if (emissive_) defines.push_back("VEIL_VOLUME_EMISSION 1"); // fog_medium.glsl
+    return defines;
+}
+
 std::string FogPass::slotsDefine() const {
     // Sampler arrays of exactly the scene's grid volumes (volume_common.glsl).
     return fmt::format("VEIL_VOLUME_SLOTS {}", std::max<std::size_t>(1, volumes_.size()));
@@ -273,7 +352,9 @@ void FogPass::setMarchUniforms(const gpu::Program& program, const pass::Context&
         .set("octaveParams",
              glm::vec3(scene_.render.fogOctaveExtinction, scene_.render.fogOctaveScattering,
                        scene_.render.fogOctaveAnisotropy))
-        .set("ambientScale", scene_.render.fogAmbient);
+        .set("ambientScale", scene_.render.fogAmbient)
+        .set("blackbodyMaxKelvin", float(kBlackbodyMaxKelvin));
+    if (blackbody_) blackbody_.bind(VEIL_TEX_BLACKBODY);
     if (targets.prepareReceiver) targets.prepareReceiver(program);
     targets.depth->bind(VEIL_TEX_DEPTH);
 }
@@ -282,7 +363,8 @@ void FogPass::enableSegments(std::vector<std::string> oitDefines,
                              const std::filesystem::path& oitEmitInclude) {
     gpu::IncludeAliases aliases = lightVisibility_;
     aliases.push_back({"veil:oit_emit", oitEmitInclude});
-    oitDefines.push_back(slotsDefine());
+    for (std::string& d : marchDefines())
+        oitDefines.push_back(std::move(d));
     segmentsProgram_ = programs_.add(
         gpu::ProgramDesc::compute("volume/fog_segments.comp", std::move(oitDefines), aliases));
     segmentsEnabled_ = true;

@@ -12,7 +12,9 @@
 // fog_octaves / fog_octave_extinction / fog_octave_scattering / fog_octave_anisotropy
 // (multiple scattering by octaves [Wrenninge13, Hillaire16], docs/volumes.md), fog_ambient.
 // Per volume: density_scale (extinction per unit density), albedo, anisotropy g
-// (Henyey-Greenstein), emission. "homogeneous" volumes add global fog of constant density.
+// (Henyey-Greenstein), emission, emission_grid or temperature_grid (a second texture of the
+// density's layout, docs/volumes.md "Emission"). "homogeneous" volumes add global fog of constant
+// density.
 #pragma once
 
 #include "gpu/objects.h"
@@ -155,6 +157,8 @@ private:
         glm::mat4 lightToWorld{1.0f};
     };
     std::vector<Entry> volumes_;
+    std::vector<std::string> marchDefines() const; // slots, and emission where a volume has it
+    static int emissionMode(const Entry& e);
     float globalDensity_ = 0.0f;
     glm::vec3 globalAlbedo_{0.0f};
     float globalAnisotropy_ = 0.0f;
@@ -174,6 +178,8 @@ private:
     int lightSlabs_ = 0;
     bool selfShadowing_ = true;
     gpu::Texture radiance_{gpu::NoCreate}, transmittance_{gpu::NoCreate};
+    bool emissive_ = false;                 // a volume has an emission channel
+    gpu::Texture blackbody_{gpu::NoCreate}; // blackbodyTable() for fog_medium.glsl
     gpu::VertexArray emptyVao_{gpu::NoCreate};
 };
 

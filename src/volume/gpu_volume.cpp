@@ -12,18 +12,20 @@ namespace veil::volume {
 
 namespace {
 
-// R16F 3D texture with trilinear filtering and clamped edges, filled from `values`.
-gpu::Texture makeDensityTexture(const glm::ivec3& size, const std::vector<float>& values) {
+// R16F (or, with 4 components, RGBA16F) 3D texture with trilinear filtering and clamped
+// edges, filled from `values`.
+gpu::Texture makeDensityTexture(const glm::ivec3& size, const std::vector<float>& values,
+                                int components = 1) {
     gpu::Texture t(GL_TEXTURE_3D);
-    t.storage3D(1, GL_R16F, size.x, size.y, size.z)
+    t.storage3D(1, components == 4 ? GL_RGBA16F : GL_R16F, size.x, size.y, size.z)
         .parameter(GL_TEXTURE_MIN_FILTER, GL_LINEAR)
         .parameter(GL_TEXTURE_MAG_FILTER, GL_LINEAR)
         .parameter(GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE)
         .parameter(GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE)
         .parameter(GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage3D(t.id(), 0, 0, 0, 0, size.x, size.y, size.z, GL_RED, GL_FLOAT,
-                        values.data());
+    glTextureSubImage3D(t.id(), 0, 0, 0, 0, size.x, size.y, size.z,
+                        components == 4 ? GL_RGBA : GL_RED, GL_FLOAT, values.data());
     return t;
 }
 
@@ -57,6 +59,10 @@ void GpuVolume::upload(const GridConversion& c, const glm::mat4& objectToWorld) 
     leafOrigin_ = c.leafOrigin;
     bricksPerAxis_ = c.bricksPerAxis;
     data_ = makeDensityTexture(c.dataSize, c.values);
+    if (!c.channel.empty()) {
+        channel_ = makeDensityTexture(c.dataSize, c.channel, c.channelComponents);
+        channelComponents_ = c.channelComponents;
+    }
     if (c.stats.dense) return;
     indirection_ = gpu::Texture(GL_TEXTURE_3D);
     indirection_.storage3D(1, GL_R32UI, c.tableSize.x, c.tableSize.y, c.tableSize.z)

@@ -39,7 +39,11 @@ public:
     GpuVolume(const GridConversion& converted, const glm::mat4& objectToWorld);
 
     const GpuVolumeStats& stats() const { return stats_; }
-    const gpu::Texture& data() const { return data_; }               // atlas or dense R16F
+    const gpu::Texture& data() const { return data_; } // atlas or dense R16F
+    // The conversion's second channel (emission), same layout as data(); null if none. R16F
+    // (1 component) or RGBA16F (4: RGB and 0).
+    const gpu::Texture& channel() const { return channel_; }
+    int channelComponents() const { return channelComponents_; }
     const gpu::Texture& indirection() const { return indirection_; } // R32UI (bricks only)
     const glm::mat4& worldToIndex() const { return worldToIndex_; }
     const glm::mat4& indexToWorld() const { return indexToWorld_; }
@@ -56,7 +60,8 @@ private:
     void upload(const GridConversion& converted, const glm::mat4& objectToWorld);
 
     GpuVolumeStats stats_;
-    gpu::Texture data_{gpu::NoCreate}, indirection_{gpu::NoCreate};
+    gpu::Texture data_{gpu::NoCreate}, indirection_{gpu::NoCreate}, channel_{gpu::NoCreate};
+    int channelComponents_ = 0;
     glm::mat4 worldToIndex_{1.0f}, indexToWorld_{1.0f};
     glm::vec3 indexMin_{0.0f}, indexMax_{0.0f};
     glm::ivec3 leafOrigin_{0}, bricksPerAxis_{0};

@@ -3,6 +3,8 @@
 
 #include "base/error.h"
 
+#include <openvdb/tools/Interpolation.h>
+
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 #include <tbb/task_arena.h>
@@ -329,6 +331,61 @@ GridConversion convertGrid(const openvdb::FloatGrid& grid, const GpuVolumeOption
     if (threads <= 0) return convert(grid, options, max3D);
     tbb::task_arena arena(threads);
     return arena.execute([&] { return convert(grid, options, max3D); });
+}
+
+void addChannel(GridConversion& c, const std::vector<openvdb::FloatGrid::Ptr>& grids) {
+    VEIL_CHECK(grids.size() == 1 || grids.size() == 3, "addChannel: {} grids (1 or 3)",
+               grids.size());
+    const glm::ivec3 n = c.dataSize;
+    const std::size_t components = grids.size() == 1 ? 1 : 4;
+    c.channelComponents = int(components);
+    c.channel.assign(c.values.size() * components, 0.0f);
+    // Index coordinate of the conversion -> world (the grid's own transform, before the scene
+    // entry's) -> index coordinate of each grid.
+    const glm::dmat4 toWorld(c.indexToWorld);
+    using Accessors = std::vector<openvdb::FloatGrid::ConstAccessor>;
+    auto accessors = [&grids] {
+        Accessors a;
+        for (const auto& g : grids)
+            a.push_back(g->getConstAccessor());
+        return a;
+    };
+    auto fill = [&](Accessors& acc, const glm::ivec3& texel, const glm::dvec3& index) {
+        const glm::dvec3 w = glm::dvec3(toWorld * glm::dvec4(index, 1.0));
+        const std::size_t at =
+            ((std::size_t(texel.z) * n.y + texel.y) * n.x + texel.x) * components;
+        for (std::size_t k = 0; k < grids.size(); ++k)
+            c.channel[at + k] = openvdb::tools::BoxSampler::sample(
+                acc[k], grids[k]->worldToIndex(openvdb::Vec3d(w.x, w.y, w.z)));
+    };
+    if (c.stats.dense) {
+        tbb::parallel_for(0, n.z, [&](int z) {
+            Accessors acc = accessors();
+            for (int y = 0; y < n.y; ++y)
+                for (int x = 0; x < n.x; ++x)
+                    fill(acc, {x, y, z}, glm::dvec3(c.indexMin) + glm::dvec3(x, y, z));
+        });
+    } else {
+        const glm::ivec3 t = c.tableSize, per = c.bricksPerAxis;
+        tbb::parallel_for(0, t.z, [&](int lz) {
+            Accessors acc = accessors();
+            for (int ly = 0; ly < t.y; ++ly)
+                for (int lx = 0; lx < t.x; ++lx) {
+                    const std::uint32_t b = c.table[(std::size_t(lz) * t.y + ly) * t.x + lx];
+                    if (b == 0) continue;
+                    const int bi = int(b - 1);
+                    const glm::ivec3 base =
+                        glm::ivec3(bi % per.x, (bi / per.x) % per.y, bi / (per.x * per.y)) * kBrick;
+                    const glm::ivec3 origin = (c.leafOrigin + glm::ivec3(lx, ly, lz)) * kLeaf;
+                    for (int z = 0; z < kBrick; ++z)
+                        for (int y = 0; y < kBrick; ++y)
+                            for (int x = 0; x < kBrick; ++x)
+                                fill(acc, base + glm::ivec3(x, y, z),
+                                     glm::dvec3(origin + glm::ivec3(x - 1, y - 1, z - 1)));
+                }
+        });
+    }
+    c.stats.gpuBytes += c.channel.size() * 2;
 }
 
 std::size_t estimateGpuBytes(const openvdb::FloatGrid& grid, const GpuVolumeOptions& options) {

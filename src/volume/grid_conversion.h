@@ -30,9 +30,15 @@ struct GridConversion {
     std::vector<std::uint32_t> table; // brick index + 1 per leaf, 0 = empty
     glm::vec3 indexMin{0.0f}, indexMax{0.0f};
     glm::ivec3 leafOrigin{0}, bricksPerAxis{0};
+    // A second texture in the same layout (addChannel()): channelComponents (1, or 4: RGB and
+    // an unused 0) floats per texel, or empty.
+    std::vector<float> channel;
+    int channelComponents = 0;
 
     // Host memory the arrays hold.
-    std::size_t bytes() const { return values.size() * sizeof(float) + table.size() * 4; }
+    std::size_t bytes() const {
+        return (values.size() + channel.size()) * sizeof(float) + table.size() * 4;
+    }
 };
 
 // Plans and converts `grid` for a GPU whose GL_MAX_3D_TEXTURE_SIZE is `max3D`. `threads` > 0
@@ -41,6 +47,13 @@ struct GridConversion {
 // index range) with the reasons gpu_volume.h lists.
 GridConversion convertGrid(const openvdb::FloatGrid& grid, const GpuVolumeOptions& options,
                            int max3D, int threads = 0);
+
+// Fills `converted.channel` with `grids` (one, or three: R, G, B) sampled (trilinear, in world
+// space, so any transform and a coarsened conversion are fine) at the position of every texel
+// of the conversion's layout: the emission channel of a volume (temperature or emission grid)
+// beside its density. Adds its half-float texels (R16F, or RGBA16F for three) to
+// stats.gpuBytes. TBB-parallel like convertGrid().
+void addChannel(GridConversion& converted, const std::vector<openvdb::FloatGrid::Ptr>& grids);
 
 // Bytes the GPU representation of `grid` would take (without building it; a lower bound for
 // grids far over the budget, whose tiles are not enumerated).

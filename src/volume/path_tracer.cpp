@@ -1,5 +1,7 @@
 #include "volume/path_tracer.h"
 
+#include "volume/density_grid.h"
+#include "volume/emission.h"
 #include "volume/ray_box.h"
 
 #include "base/error.h"
@@ -135,6 +137,7 @@ SlabTally traceSlab(double tau, double albedo, double g, std::uint64_t paths, st
 
 struct VolumePathTracer::Lookup {
     std::vector<openvdb::FloatGrid::ConstAccessor> accessors;
+    std::vector<std::vector<openvdb::FloatGrid::ConstAccessor>> channels;
 };
 
 VolumePathTracer::VolumePathTracer(const scene::Scene& scene,
@@ -149,8 +152,10 @@ VolumePathTracer::VolumePathTracer(const scene::Scene& scene,
                    ref.name);
         VEIL_CHECK(gi < grids.size() && grids[gi], "path tracer: no grid for volume '{}'",
                    ref.name);
-        Volume v{&ref, grids[gi++], glm::inverse(glm::dmat4(ref.transform)), {}, {}};
+        Volume v{&ref, grids[gi++], glm::inverse(glm::dmat4(ref.transform)), {}, {}, {}};
         gridWorldBox(*v.grid, ref.transform, v.lo, v.hi);
+        v.channel = loadEmissionChannel(ref);
+        widenToEmission(ref, v.channel, v.lo, v.hi);
         const auto range = openvdb::tools::minMax(v.grid->tree());
         majorant_ += double(ref.densityScale) * std::max(0.0, double(range.max()));
         volumes_.push_back(v);
@@ -163,16 +168,19 @@ VolumePathTracer::Medium VolumePathTracer::mediumAt(Lookup& lookup, const glm::d
     for (std::size_t i = 0; i < volumes_.size(); ++i) {
         const Volume& v = volumes_[i];
         double density = 0.0;
+        glm::dvec3 channel(0.0);
         if (!glm::any(glm::lessThan(p, v.lo)) && !glm::any(glm::greaterThan(p, v.hi))) {
             const glm::dvec3 o = glm::dvec3(v.worldToObject * glm::dvec4(p, 1.0));
             const openvdb::Vec3d idx = v.grid->worldToIndex(openvdb::Vec3d(o.x, o.y, o.z));
             density =
                 std::max(0.0, double(openvdb::tools::BoxSampler::sample(lookup.accessors[i], idx)));
+            if (!v.channel.empty()) channel = sampleChannel(v.channel, lookup.channels[i], o);
         }
         const double sigma = double(v.ref->densityScale) * density;
         if (perVolume) (*perVolume)[i] = sigma;
         m.sigma += sigma;
-        m.emission += glm::dvec3(v.ref->emission) * density;
+        if (density > 0.0 || channel != glm::dvec3(0.0))
+            m.emission += emittedRadiance(*v.ref, density, channel);
     }
     return m;
 }
@@ -284,8 +292,12 @@ glm::dvec3 VolumePathTracer::sample(const scene::Camera& camera, int width, int 
     const double tEnd = glm::length(re - ro);
     Pcg32 rng(mix64((std::uint64_t(settings_.seed) << 32) ^ index), mix64(pixel + 1));
     Lookup lookup;
-    for (const auto& v : volumes_)
+    for (const auto& v : volumes_) {
         lookup.accessors.push_back(v.grid->getConstAccessor());
+        lookup.channels.emplace_back();
+        for (const auto& g : v.channel)
+            lookup.channels.back().push_back(g->getConstAccessor());
+    }
     return trace(lookup, ro, (re - ro) / tEnd, tEnd, rng);
 }
 

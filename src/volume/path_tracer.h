@@ -14,7 +14,8 @@
 //   - a path that leaves the volumes after at least one scattering event sees the ambient
 //     radiance render.ambient from every direction (a uniform sky); leaving before any, the
 //     background render.background;
-//   - emission (volume `emission` x density, radiance per unit length) by the null-collision
+//   - emission (radiance per unit length: volume `emission` x density, or the emission or
+//     blackbody temperature grid of volume/emission.h, loaded here) by the null-collision
 //     estimator: weight x emission / majorant at every tentative collision;
 //   - at most max_bounces scattering events (1 = single scattering), Russian roulette on the
 //     path weight from roulette_depth on.
@@ -95,6 +96,7 @@ private:
         openvdb::FloatGrid::ConstPtr grid;
         glm::dmat4 worldToObject;
         glm::dvec3 lo, hi;
+        std::vector<openvdb::FloatGrid::Ptr> channel; // emission / temperature grid(s), or none
     };
     struct Lookup;
     struct Medium {

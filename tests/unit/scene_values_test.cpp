@@ -135,3 +135,34 @@ TEST(SceneValuesTest, ViewerRangesLieInsideTheAcceptedRanges) {
     expectWidgetRangesAccepted(cameraValueDecls());
     expectWidgetRangesAccepted(materialValueDecls());
 }
+
+TEST(SceneValuesTest, EmissionGridsNeedAFileAndExcludeEachOther) {
+    json doc = document();
+    doc["volumes"][0]["temperature_grid"] = "temperature";
+    EXPECT_NE(parseError(doc).find("/volumes/0/temperature_grid: a procedural volume has no file"),
+              std::string::npos)
+        << parseError(doc);
+    doc = document();
+    doc["volumes"][0] = {
+        {"path", std::string(VEIL_DATA_DIR) + "/vdb-embergen-fire-seq/embergen_fire_a_1.vdb"},
+        {"grid", "flames"},
+        {"temperature_grid", "temperature"},
+        {"temperature_scale", 1000},
+        {"temperature_offset", 1000},
+        {"temperature_intensity", 0.5}};
+    const Scene s = parseScene(doc, ".");
+    EXPECT_EQ(s.volumes[0].temperatureGrid, "temperature");
+    EXPECT_FLOAT_EQ(s.volumes[0].temperatureScale, 1000.0f);
+    EXPECT_FLOAT_EQ(s.volumes[0].temperatureOffset, 1000.0f);
+    EXPECT_FLOAT_EQ(s.volumes[0].temperatureIntensity, 0.5f);
+    doc["volumes"][0]["emission_grid"] = "flames";
+    EXPECT_NE(parseError(doc).find(
+                  "/volumes/0/temperature_grid: give either emission_grid or temperature_grid"),
+              std::string::npos)
+        << parseError(doc);
+    doc["volumes"][0].erase("emission_grid");
+    doc["volumes"][0]["temperature_intensity"] = -1;
+    EXPECT_NE(parseError(doc).find("/volumes/0/temperature_intensity: value -1 out of range"),
+              std::string::npos)
+        << parseError(doc);
+}
