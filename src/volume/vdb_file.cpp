@@ -2,6 +2,7 @@
 
 #include "base/error.h"
 #include "base/log.h"
+#include "volume/vdb_reply.h"
 
 #include <openvdb/io/Stream.h>
 
@@ -209,6 +210,14 @@ std::string gridNames(const openvdb::io::File& file) {
     return boundedText(names, 200);
 }
 
+// The child never destroys a grid it read, not even one an exception abandons halfway: a tree's
+// destructor frees its nodes with tbb::parallel_for, and TBB in a forked child waits for ever
+// when the parent's TBB workers were busy at the fork (vdb_reply.h). The child ends with _exit.
+void keepUntilExit(const openvdb::GridBase::Ptr& grid) {
+    static auto* const kept = new openvdb::GridPtrVec; // never freed, see above
+    kept->push_back(grid);
+}
+
 // io::Stream's sequential read, one grid at a time, each checked where OpenVDB actually reads
 // it: io::Stream reads a grid's descriptor where the previous grid's data ended, not at the
 // offset the file gives, so damage inside one grid's data (a flipped mask bit, a compression
@@ -244,6 +253,7 @@ public:
                        file, where, boundedText(gd.gridType(), 60));
             if (check.known()) check.gridHeader(std::int64_t(is.tellg()), where);
             openvdb::GridBase::Ptr grid = openvdb::GridBase::createGrid(gd.gridType());
+            keepUntilExit(grid);
             grid->setSaveFloatAsHalf(gd.saveFloatAsHalf());
             Archive::readGrid(grid, gd, is);
             if (!is) break;
@@ -312,7 +322,7 @@ constexpr std::size_t kMaxErrorReply = 4096;
 
 // The trial read in a child process, which also decides what this process gets: the child
 // reads the untrusted file and, when it read all of it, writes the grids it holds back through
-// the pipe with io::Stream (COMPRESS_NONE: every value plain, no zip, blosc or mask coding), and
+// the pipe (vdb_reply.h: COMPRESS_NONE, every value plain, no zip, blosc or mask coding), and
 // this process decodes only that re-encoding. Reading the original bytes again here would not be
 // safe: a blosc block whose header claims more bytes than its buffer holds overflows the heap
 // without a crash (tests/fuzz/regressions/volume/blosc-heap-overflow.vdb: natively the child read
@@ -329,7 +339,7 @@ constexpr std::size_t kMaxErrorReply = 4096;
 // written in about 5 ms and decoded here in 2-8 ms instead of the 11 ms of the second read).
 // COMPRESS_NONE is the cheapest to write: active-mask coding took 11 ms, blosc 30 ms.
 //
-// Reply: 'K' and the io::Stream bytes, the child exiting 0; or 'E' and an error message of
+// Reply: 'K' and the grids (vdb_reply.h), the child exiting 0; or 'E' and an error message of
 // at most kMaxErrorReply bytes.
 openvdb::GridPtrVecPtr readInChild(const fs::path& path, std::uint64_t size) {
     int fds[2];
@@ -365,12 +375,7 @@ openvdb::GridPtrVecPtr readInChild(const fs::path& path, std::uint64_t size) {
             const openvdb::GridPtrVecPtr grids = readEagerly(path, size);
             std::ostringstream out(std::ios::binary);
             out.put('K');
-            openvdb::io::Stream stream(out);
-            stream.setCompression(openvdb::io::COMPRESS_NONE);
-            // The statistics would be computed with TBB, whose worker threads do not exist in
-            // a forked child; the grids keep the statistics metadata they were read with.
-            stream.setGridStatsMetadataEnabled(false);
-            stream.write(*grids);
+            writeGridReply(out, *grids); // no TBB here: see vdb_reply.h
             reply = std::move(out).str();
         } catch (const std::exception& e) {
             reply = std::string("E") + e.what();
@@ -426,10 +431,7 @@ openvdb::GridPtrVecPtr readInChild(const fs::path& path, std::uint64_t size) {
         std::istringstream in(std::move(reply), std::ios::binary);
         try {
             const std::lock_guard registries(openVdbIoMutex());
-            openvdb::io::Stream stream(in, /*delayLoad=*/false);
-            openvdb::GridPtrVecPtr grids = stream.getGrids();
-            VEIL_CHECK(grids && !in.fail(), "the re-encoding ends early");
-            return grids;
+            return readGridReply(in);
         } catch (const std::exception& e) {
             throw Error(fmt::format("cannot read OpenVDB file '{}': its trial read's "
                                     "re-encoding could not be decoded: {}",

@@ -1,11 +1,15 @@
-// OpenVDB files read on several threads at once, as the prefetch workers and the viewer's frame
-// cache do. Each read forks a child for the trial read (volume/vdb_file.h); a child forked while
-// another thread of this process held one of OpenVDB's registry locks (taken for every grid and
-// metadata item a decode creates) would wait on that lock for ever.
+// OpenVDB files read on several threads at once while other threads run TBB work, as the
+// prefetch workers (one reading, one converting a grid with TBB) and the viewer's frame cache do.
+// Each read forks a child for the trial read (volume/vdb_file.h). A child forked while another
+// thread held one of OpenVDB's registry locks (taken for every grid and metadata item a decode
+// creates) waited on it for ever; so did a child that used TBB (io::Stream's writer) while the
+// parent's TBB workers were busy (volume/vdb_reply.h).
 #include "support/test_support.h"
 #include "volume/vdb_file.h"
 
 #include <gtest/gtest.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <atomic>
 #include <chrono>
@@ -24,6 +28,17 @@ TEST(VdbConcurrentReadTest, ReadersOnSeveralThreadsAllFinish) {
                         ("vdb-embergen-fire-seq/embergen_fire_a_" + std::to_string(i) + ".vdb"));
     constexpr int kThreads = 4, kReads = 30;
     std::atomic<int> done{0}, failed{0};
+    std::atomic<bool> stop{false};
+    // TBB kept busy on 8 threads (more than this machine's cores, as on a GPU machine's 16).
+    std::thread busy([&] {
+        tbb::task_arena arena(8);
+        arena.execute([&] {
+            std::vector<float> v(1 << 16);
+            while (!stop)
+                tbb::parallel_for(std::size_t(0), v.size(),
+                                  [&](std::size_t i) { v[i] = v[i] * 0.5f + float(i); });
+        });
+    });
     std::vector<std::thread> readers;
     for (int t = 0; t < kThreads; ++t)
         readers.emplace_back([&, t] {
@@ -50,6 +65,8 @@ TEST(VdbConcurrentReadTest, ReadersOnSeveralThreadsAllFinish) {
         std::fflush(stderr);
         std::_Exit(1);
     }
+    stop = true;
+    busy.join();
     for (std::thread& r : readers)
         r.join();
     EXPECT_EQ(failed, 0);
