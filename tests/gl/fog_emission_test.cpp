@@ -13,6 +13,7 @@
 #include "base/error.h"
 #include "frame/renderer.h"
 #include "scene/scene.h"
+#include "support/planckian_locus.h"
 #include "support/test_support.h"
 #include "volume/blackbody.h"
 #include "volume/cpu_reference.h"
@@ -30,19 +31,8 @@ namespace veil::test {
 
 namespace {
 
-glm::dvec2 krystekXy(double t) {
-    const double u = (0.860117757 + 1.54118254e-4 * t + 1.28641212e-7 * t * t) /
-                     (1.0 + 8.42420235e-4 * t + 7.08145163e-7 * t * t);
-    const double v = (0.317398726 + 4.22806245e-5 * t + 4.20481691e-8 * t * t) /
-                     (1.0 - 2.89741816e-5 * t + 1.61456053e-7 * t * t);
-    const double d = 2.0 * u - 8.0 * v + 4.0;
-    return {3.0 * u / d, 2.0 * v / d};
-}
-
 glm::dvec2 chromaticity(const glm::dvec3& rgb) {
-    const glm::dvec3 xyz = volume::linearSrgbToXyz(rgb);
-    const double s = xyz.x + xyz.y + xyz.z;
-    return {xyz.x / s, xyz.y / s};
+    return xyChromaticity(volume::linearSrgbToXyz(rgb));
 }
 
 // density 1 in index box x, z in [-16, 15], y in [-4, 3] (voxel 1/16: 2 x 0.5 x 2 world units,

@@ -1,6 +1,7 @@
 // Blackbody colour (src/volume/blackbody.h) against the Planckian locus of Krystek's rational
 // approximation in CIE 1960 UCS [Krystek85] (|du|, |dv| < 1e-4 over 1000..15000 K), which
 // shares nothing with the table integration.
+#include "support/planckian_locus.h"
 #include "volume/blackbody.h"
 
 #include <gtest/gtest.h>
@@ -12,25 +13,10 @@
 
 namespace veil::test {
 
-namespace {
-glm::dvec2 krystekXy(double t) {
-    const double u = (0.860117757 + 1.54118254e-4 * t + 1.28641212e-7 * t * t) /
-                     (1.0 + 8.42420235e-4 * t + 7.08145163e-7 * t * t);
-    const double v = (0.317398726 + 4.22806245e-5 * t + 4.20481691e-8 * t * t) /
-                     (1.0 - 2.89741816e-5 * t + 1.61456053e-7 * t * t);
-    const double d = 2.0 * u - 8.0 * v + 4.0;
-    return {3.0 * u / d, 2.0 * v / d};
-}
-glm::dvec2 chromaticity(const glm::dvec3& xyz) {
-    const double s = xyz.x + xyz.y + xyz.z;
-    return {xyz.x / s, xyz.y / s};
-}
-} // namespace
-
 TEST(Blackbody, ChromaticityIsOnThePlanckianLocus) {
     for (double t : {1500.0, 2500.0, 4000.0, 6500.0, 10000.0}) {
         // Through linear sRGB and back, as a renderer's pixel is read.
-        const glm::dvec2 xy = chromaticity(volume::linearSrgbToXyz(volume::blackbodyRgb(t)));
+        const glm::dvec2 xy = xyChromaticity(volume::linearSrgbToXyz(volume::blackbodyRgb(t)));
         const glm::dvec2 ref = krystekXy(t);
         EXPECT_NEAR(xy.x, ref.x, 0.005) << t << " K";
         EXPECT_NEAR(xy.y, ref.y, 0.005) << t << " K";
@@ -62,8 +48,8 @@ TEST(Blackbody, TableInterpolatesTheIntegral) {
         const glm::dvec3 rgb = glm::dvec3(c) * std::exp(c.w);
         const double y = volume::linearSrgbToXyz(rgb).y, yExact = volume::blackbodyXyz(t).y;
         worst = std::max(worst, std::abs(y / yExact - 1.0));
-        const glm::dvec2 xy = chromaticity(volume::linearSrgbToXyz(rgb));
-        const glm::dvec2 xyExact = chromaticity(volume::blackbodyXyz(t));
+        const glm::dvec2 xy = xyChromaticity(volume::linearSrgbToXyz(rgb));
+        const glm::dvec2 xyExact = xyChromaticity(volume::blackbodyXyz(t));
         EXPECT_NEAR(xy.x, xyExact.x, 1e-4) << t << " K";
         EXPECT_NEAR(xy.y, xyExact.y, 1e-4) << t << " K";
     }
