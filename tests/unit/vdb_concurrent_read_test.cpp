@@ -22,6 +22,13 @@
 namespace veil::test {
 
 TEST(VdbConcurrentReadTest, ReadersOnSeveralThreadsAllFinish) {
+#if defined(__SANITIZE_ADDRESS__)
+    // GCC 12's AddressSanitizer runtime does not take its allocator's lock around fork(): a
+    // child forked while another thread allocates spins on that lock for ever, whatever the
+    // code under test does (seen: the child in __sanitizer::internal_sched_yield). The release
+    // build runs this test.
+    GTEST_SKIP() << "fork beside allocating threads hangs under this ASan runtime";
+#endif
     std::vector<std::filesystem::path> files;
     for (int i = 1; i <= 4; ++i)
         files.push_back(dataDir() /

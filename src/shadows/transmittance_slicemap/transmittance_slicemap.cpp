@@ -96,10 +96,9 @@ namespace {
 class TransmittanceSlicemapTechnique final : public Technique {
 public:
     TransmittanceSlicemapTechnique(gpu::ProgramManager& programs, const Properties& p)
-        : programs_(programs), depth_(programs), bias_(p.getFloat("bias")),
-          pcfRadius_(p.getInt("pcf_radius")), slices_(p.getInt("slices")),
-          local_(p.getBool("local_slicing")), maxClasses_(p.getInt("classes")),
-          fog_(p.getBool("fog")) {
+        : depth_(programs), bias_(p.getFloat("bias")), pcfRadius_(p.getInt("pcf_radius")),
+          slices_(p.getInt("slices")), local_(p.getBool("local_slicing")),
+          maxClasses_(p.getInt("classes")), fog_(p.getBool("fog")) {
         const std::string method = p.getString("method");
         VEIL_CHECK(method == "raster" || method == "conservative",
                    "transmittance-slicemap: method '{}' is not available for light views (it "
@@ -231,7 +230,6 @@ public:
 private:
     int classCount() const { return static_cast<int>(classT_.size()); }
 
-    gpu::ProgramManager& programs_;
     DepthMaps depth_;
     float bias_;
     int pcfRadius_, slices_;
