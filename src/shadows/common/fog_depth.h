@@ -21,6 +21,14 @@ public:
     // [y0, y1) (all: 0, size), so consecutive bands of map rows cover the columns once; does
     // nothing (and leaves the receivers' uniform off) without grid volumes in the frame.
     void run(const pass::Context& frame, int y0, int y1);
+    // run() as the technique's light pass "fog" (writes shadow.fog), refinable in map rows.
+    pass::Pass pass() {
+        return {"fog",
+                {},
+                {"shadow.fog"},
+                [this](const pass::Context& f) { run(f, 0, size_); },
+                [this](const pass::Context& f, int y0, int y1) { run(f, y0, y1); }};
+    }
     // The R32F volume at VEIL_TEX_SHADOW2 and the receiver's uniform shadowFog (1 when this
     // frame's volumes were marched); shadowFogSlices comes from the technique's params.
     void bind() const { tau_.bind(VEIL_TEX_SHADOW2); }

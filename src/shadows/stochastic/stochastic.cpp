@@ -131,13 +131,7 @@ public:
                          [this](const pass::Context& f) { blur(f, 0, size_); },
                          [this](const pass::Context& f, int y0, int y1) { blur(f, y0, y1); }});
         }
-        if (fogMap_)
-            p.push_back(
-                {"fog",
-                 {},
-                 {"shadow.fog"},
-                 [this](const pass::Context& f) { fogMap_->run(f, 0, size_); },
-                 [this](const pass::Context& f, int y0, int y1) { fogMap_->run(f, y0, y1); }});
+        if (fogMap_) p.push_back(fogMap_->pass());
         return p;
     }
     std::vector<std::string> receiverResources() const override {

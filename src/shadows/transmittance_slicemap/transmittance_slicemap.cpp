@@ -157,13 +157,7 @@ public:
              {"shadow.depth"},
              [this](const pass::Context& f) { depth_.render(f); },
              [this](const pass::Context& f, int y0, int y1) { depth_.renderRows(f, y0, y1); }}};
-        if (fog_)
-            p.push_back(
-                {"fog",
-                 {},
-                 {"shadow.fog"},
-                 [this](const pass::Context& f) { fogMap_->run(f, 0, size_); },
-                 [this](const pass::Context& f, int y0, int y1) { fogMap_->run(f, y0, y1); }});
+        if (fog_) p.push_back(fogMap_->pass());
         return p;
     }
     std::vector<std::string> receiverResources() const override {
