@@ -10,6 +10,7 @@
 #include "session/view_session.h"
 #include "volume/cpu_reference.h"
 #include "volume/density_grid.h"
+#include "volume/path_tracer.h"
 
 #include <chrono>
 #include <cmath>
@@ -24,6 +25,7 @@
 #include <iostream>
 #include <map>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace {
@@ -39,7 +41,11 @@ void usage() {
         "                                   NAME (e.g. reference) and report the HDR\n"
         "                                   difference (rgb rmse, max) as error_vs\n"
         "                  [--relight]      recompute the fog's light volumes every frame\n"
-        "                  [--ppm out.ppm]  write the last frame as displayed (8-bit binary PPM)");
+        "                  [--ppm out.ppm]  write the last frame as displayed (8-bit binary PPM)\n"
+        "       veil-bench <scene.json> --pathtraced SPP SEED out.pfm [--width W] [--height H]\n"
+        "                  [--set key=value]...  the CPU path tracer only (no GL): linear\n"
+        "                                   radiance and out-stderr.pfm, all cores, with its\n"
+        "                                   time and samples per second in the JSON");
 }
 
 // Prints the result and writes it to `jsonPath` (atomically) when given; the exit status.
@@ -168,11 +174,62 @@ void writePpm(const std::string& path, const veil::ImageF& image) {
     });
 }
 
+// Little-endian RGB PFM (rows bottom to top), the float format every image tool reads.
+void writePfm(const std::string& path, const veil::ImageF& image) {
+    veil::writeFileAtomically(path, [&](const std::filesystem::path& tmp) {
+        std::ofstream f(tmp, std::ios::binary);
+        f << "PF\n" << image.width << " " << image.height << "\n-1.0\n";
+        std::vector<float> row(std::size_t(image.width) * 3);
+        for (int y = image.height - 1; y >= 0; --y) {
+            for (int x = 0; x < image.width; ++x)
+                for (int c = 0; c < 3; ++c)
+                    row[std::size_t(x) * 3 + c] = image.at(x, y, c);
+            f.write(reinterpret_cast<const char*>(row.data()),
+                    std::streamsize(row.size() * sizeof(float)));
+        }
+        VEIL_CHECK(f.good(), "cannot write {}", path);
+    });
+}
+
+// --pathtraced: the CPU path tracer (src/volume/path_tracer.h) on the scene's camera, all
+// cores; for references made on a machine with more cores than a developer's.
+int pathTracedBench(const std::string& scenePath, const std::vector<std::string>& overrides,
+                    int width, int height, int spp, std::uint32_t seed, const std::string& pfm,
+                    const std::string& jsonPath) {
+    const veil::scene::Scene scene = veil::scene::loadScene(scenePath, overrides);
+    std::vector<openvdb::FloatGrid::ConstPtr> grids;
+    for (const auto& v : scene.volumes)
+        grids.push_back(v.procedural == "homogeneous" ? nullptr : veil::volume::loadVolume(v));
+    veil::volume::PathTracerSettings settings;
+    settings.spp = spp;
+    settings.seed = seed;
+    const veil::volume::VolumePathTracer tracer(scene, grids, settings);
+    const auto t0 = std::chrono::steady_clock::now();
+    const veil::volume::PathTracedImage image = tracer.render(scene.camera(), width, height);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    writePfm(pfm, image.radiance);
+    const std::string stem = pfm.substr(0, pfm.size() - (pfm.ends_with(".pfm") ? 4 : 0));
+    writePfm(stem + "-stderr.pfm", image.standardError);
+    nlohmann::json out{{"scene", scenePath},
+                       {"width", width},
+                       {"height", height},
+                       {"spp", image.samples},
+                       {"seed", seed},
+                       {"seconds", s},
+                       {"threads", std::thread::hardware_concurrency()},
+                       {"samples_per_second", double(width) * height * image.samples / s},
+                       {"majorant", tracer.majorant()},
+                       {"pfm", pfm}};
+    return printResult(out, jsonPath);
+}
+
 } // namespace
 
 int main(int argc, char** argv) try {
-    std::string scenePath, jsonPath, oit, errorVs, ppmPath;
+    std::string scenePath, jsonPath, oit, errorVs, ppmPath, pfmPath;
     int width = 1920, height = 1080, frames = 100, warmup = 20, cpuFogW = 0, cpuFogH = 0;
+    int ptSpp = 0;
+    std::uint32_t ptSeed = 1;
     bool relight = false;
     bool viewer = false;
     std::vector<std::string> overrides;
@@ -204,7 +261,11 @@ int main(int argc, char** argv) try {
             errorVs = next();
         else if (a == "--ppm")
             ppmPath = next();
-        else if (a == "--cpu-fog") {
+        else if (a == "--pathtraced") {
+            ptSpp = std::stoi(next());
+            ptSeed = std::uint32_t(std::stoul(next()));
+            pfmPath = next();
+        } else if (a == "--cpu-fog") {
             cpuFogW = std::stoi(next());
             cpuFogH = std::stoi(next());
         } else if (a == "-h" || a == "--help") {
@@ -220,6 +281,9 @@ int main(int argc, char** argv) try {
         return 2;
     }
     VEIL_CHECK(frames > 0 && warmup >= 0, "--frames must be > 0 and --warmup >= 0");
+    if (ptSpp > 0)
+        return pathTracedBench(scenePath, overrides, width, height, ptSpp, ptSeed, pfmPath,
+                               jsonPath);
     if (viewer) return viewerBench(scenePath, overrides, width, height, frames, warmup, jsonPath);
     const veil::scene::Scene scene = veil::scene::loadScene(scenePath, overrides);
     veil::gpu::HeadlessContext context;

@@ -58,6 +58,9 @@
 #define VEIL_TEX_VOLUME_LIGHT 24
 #define VEIL_TEX_VOLUME_EMISSION 32 // emission channel (temperature or emission grid), 32..35
 #define VEIL_TEX_BLACKBODY 31       // blackbody colour and ln Y by temperature (1D)
+#define VEIL_TEX_VOLUME_NEIGHBOURHOOD                                                              \
+    36                              // mean density per 8^3 voxels (depth-aware octaves), 36..39
+#define VEIL_TEX_SCATTERED_LIGHT 40 // scattered-light cache: mean radiance (40), P1 flux (41)
 #define VEIL_IMG_FOG_RADIANCE 4
 #define VEIL_IMG_FOG_TRANSMITTANCE 5
 #define VEIL_IMG_VOLUME_LIGHT 6

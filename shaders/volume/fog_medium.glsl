@@ -27,6 +27,31 @@ uniform float globalAnisotropy;
 uniform int octaves;
 uniform vec3 octaveParams;
 uniform float ambientScale;
+#ifdef VEIL_OCTAVE_RADIUS
+// Depth-aware octaves (render.fog_octave_radius, docs/volumes.md): octave n >= 1 is also
+// weighted by w^n, w = 1 - exp(-octaveRadius x the extinction averaged over the 8^3-voxel
+// cells around the sample): thin wisps keep single scattering, the core keeps every octave.
+uniform float octaveRadius;
+layout(binding = VEIL_TEX_VOLUME_NEIGHBOURHOOD) uniform sampler3D volumeNeighbourhood[VEIL_VOLUME_SLOTS];
+
+// Mean unscaled density of volume i around index-space point p (volume/neighbourhood.h: cell
+// centres at 8k + 3.5, zero border).
+float neighbourhoodMean(int i, vec3 p) {
+    vec3 size = vec3(textureSize(volumeNeighbourhood[i], 0));
+    vec3 c = (p - 3.5) / 8.0 - vec3(volumes[i].cellOrigin);
+    return texture(volumeNeighbourhood[i], (c + 0.5) / size).r;
+}
+#endif
+
+#ifdef VEIL_SCATTERED_LIGHT
+// The scattered-light cache (render.fog_scattered_light, src/volume/scattered_light_cache.h):
+// over the world box [scatteredLo, scatteredHi], the mean radiance arriving after at least one
+// scattering event or from the sky (rgb, a: luminance) and its P1 flux G (xyz). The
+// in-scattered radiance toward V for phase anisotropy g is mean x (1 + g G.V / mean_Y).
+layout(binding = VEIL_TEX_SCATTERED_LIGHT) uniform sampler3D scatteredMean;
+layout(binding = VEIL_TEX_SCATTERED_LIGHT + 1) uniform sampler3D scatteredFlux;
+uniform vec3 scatteredLo, scatteredHi;
+#endif
 
 #ifdef VEIL_VOLUME_EMISSION
 // Emission channels (src/volume/fog_pass.cpp): per volume a texture of the density's layout,
@@ -130,6 +155,10 @@ bool fogMedium(vec3 P, vec3 V, out float sigma, out vec3 source) {
     vec3 scatterAlbedo = globalDensity * globalAlbedo; // sum of sigma_i * albedo_i
     vec3 emitted = vec3(0.0);
     bool allEmpty = globalDensity == 0.0;
+    float octaveWeight = 1.0;
+#ifdef VEIL_OCTAVE_RADIUS
+    float localSigma = 0.0;
+#endif
     float sig[VEIL_VOLUME_SLOTS];
     for (int i = 0; i < VEIL_VOLUME_SLOTS; ++i) {
         sig[i] = 0.0;
@@ -146,14 +175,34 @@ bool fogMedium(vec3 P, vec3 V, out float sigma, out vec3 source) {
 #endif
             allEmpty = allEmpty && empty;
             sig[i] = volumes[i].densityScale * d;
+#ifdef VEIL_OCTAVE_RADIUS
+            localSigma += volumes[i].densityScale * neighbourhoodMean(i, pi);
+#endif
             sigma += sig[i];
             scatterAlbedo += sig[i] * volumes[i].albedo;
         }
     }
     if (allEmpty) return false;
     if (sigma <= 0.0 && all(equal(emitted, vec3(0.0)))) return true;
+#ifdef VEIL_OCTAVE_RADIUS
+    octaveWeight = 1.0 - exp(-octaveRadius * localSigma);
+#endif
     // In-scattering: sum over lights of phase x incident radiance x visibility.
+#ifdef VEIL_SCATTERED_LIGHT
+    // Light scattered before and the sky, from the cache (no ambient term: the sky is in it).
+    vec3 inscatter = vec3(0.0);
+    {
+        vec3 uvw = (P - scatteredLo) / (scatteredHi - scatteredLo);
+        vec4 m = texture(scatteredMean, uvw);
+        float gv = m.a > 0.0 ? dot(texture(scatteredFlux, uvw).xyz, V) / m.a : 0.0;
+        for (int i = 0; i < VEIL_VOLUME_SLOTS; ++i)
+            if (i < volumeCount)
+                inscatter += m.rgb * (sig[i] * volumes[i].albedo) *
+                             max(0.0, 1.0 + volumes[i].anisotropy * gv);
+    }
+#else
     vec3 inscatter = lighting.ambient.rgb * scatterAlbedo * ambientScale; // isotropic ambient
+#endif
     for (int l = 0; l < lighting.lightCount.x; ++l) {
         vec3 L;
         vec3 e = incidentRadiance(l, P, L);
@@ -178,7 +227,7 @@ bool fogMedium(vec3 P, vec3 V, out float sigma, out vec3 source) {
                                    henyeyGreenstein(cosTheta, cn * volumes[i].anisotropy);
             inscatter += e * (vis * bn) * phaseAlbedo;
             an *= octaveParams.x;
-            bn *= octaveParams.y;
+            bn *= octaveParams.y * octaveWeight;
             cn *= octaveParams.z;
         }
     }

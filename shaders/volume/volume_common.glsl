@@ -9,6 +9,7 @@ struct VolumeInfo {
     vec3 indexMax;
     ivec3 leafOrigin;    // leaf coordinate of indirection texel (0,0,0)
     ivec3 bricksPerAxis; // atlas layout; (0,0,0) for the dense path
+    ivec3 cellOrigin;    // cell (index / 8) of texel (0,0,0) of the neighbourhood-mean texture
     float densityScale;
     vec3 albedo;
     float anisotropy;    // Henyey-Greenstein g

@@ -126,7 +126,17 @@ struct RenderSettings {
     float fogOctaveExtinction = 0.5f; // a
     float fogOctaveScattering = 0.5f; // b
     float fogOctaveAnisotropy = 0.5f; // c
-    float fogAmbient = 1.0f;          // scale of the isotropic ambient (sky) in-scattering
+    // Depth-aware octaves (Veil's addition, docs/volumes.md): octave n >= 1 is weighted by
+    // (1 - exp(-tau))^n, tau = radius x the extinction averaged over the point's 8^3-voxel
+    // neighbourhood (volume/neighbourhood.h); 0 = off (the octaves of [Wrenninge13]).
+    float fogOctaveRadius = 0.0f;
+    // Scattered-light cache (docs/volumes.md): the marcher adds to its single scattering the
+    // light that has scattered before (and the sky), baked by the path tracer on a grid of
+    // fogScatteredLightCell voxels per texel, fogScatteredLightSamples paths per texel.
+    bool fogScatteredLight = false;
+    int fogScatteredLightSamples = 64;
+    float fogScatteredLightCell = 4.0f;
+    float fogAmbient = 1.0f; // scale of the isotropic ambient (sky) in-scattering
     // GPU memory budget for all volumes (MiB); larger grids are coarsened or refused.
     int volumeBudgetMiB = 1024;
     // Memory for procedural geometry (particle clouds): larger clouds are refused before

@@ -157,6 +157,23 @@ const std::vector<ValueDecl<RenderSettings>>& renderValueDecls() {
             .real("fog_octave_anisotropy", &R::fogOctaveAnisotropy, kUnit, 0.0, 1.0,
                   "c: octave n's Henyey-Greenstein g is c^n times the medium's", "[Wrenninge13]")
             .edited(ValueGroup::FogMarcher)
+            .real("fog_octave_radius", &R::fogOctaveRadius, kNonNegative, 0.0, 1e6,
+                  "depth-aware octaves: octave n >= 1 weighted by (1 - exp(-tau))^n, tau = this "
+                  "radius (world units) x the extinction averaged over 8^3 voxels; 0 = off",
+                  "docs/volumes.md")
+            .edited(ValueGroup::FogMarcher)
+            .boolean("fog_scattered_light", &R::fogScatteredLight,
+                     "multiple scattering from a cache of the light scattered before (and the "
+                     "sky), baked by the path tracer per light: P1 per texel (replaces "
+                     "fog_octaves and fog_ambient)",
+                     "docs/volumes.md")
+            .edited(ValueGroup::FogMarcher)
+            .integer("fog_scattered_light_samples", &R::fogScatteredLightSamples, 1, 1 << 16,
+                     "paths traced per texel of the scattered-light cache")
+            .edited(ValueGroup::FogMarcher)
+            .real("fog_scattered_light_cell", &R::fogScatteredLightCell, kNonNegative, 0.25, 64.0,
+                  "voxels per texel of the scattered-light cache (at most 128 texels per axis)")
+            .edited(ValueGroup::FogMarcher)
             .real("fog_ambient", &R::fogAmbient, kNonNegative, 0.0, 4.0,
                   "scale of the fog's isotropic ambient (sky) in-scattering, render.ambient x "
                   "sigma_s x fog_ambient")

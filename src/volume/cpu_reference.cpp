@@ -44,8 +44,10 @@ CpuFogReference::CpuFogReference(const scene::Scene& scene,
         }
         VEIL_CHECK(g < grids.size() && grids[g], "CPU fog reference: no grid for volume '{}'",
                    ref.name);
-        Volume v{&ref, grids[g++], glm::inverse(glm::dmat4(ref.transform)), {}, {}, {}};
+        Volume v{&ref, grids[g++], glm::inverse(glm::dmat4(ref.transform)), {}, {}, {}, {}};
         gridWorldBox(*v.grid, ref.transform, v.lo, v.hi);
+        if (scene.render.fogOctaveRadius > 0.0f && scene.render.fogOctaves > 1)
+            v.neighbourhood = neighbourhoodMean(*v.grid);
         v.channel = loadEmissionChannel(ref);
         widenToEmission(ref, v.channel, v.lo, v.hi);
         volumes_.push_back(v);
@@ -56,6 +58,16 @@ CpuFogReference::CpuFogReference(const scene::Scene& scene,
             break;
         }
     if (primaryLight_ < 0 && !scene.lights.empty()) primaryLight_ = 0;
+    if (scene.render.fogScatteredLight) {
+        // The bake of volume/scattered_light_cache.cpp: same tracer settings, seed and grid.
+        PathTracerSettings settings;
+        settings.seed = scene.render.seed;
+        const VolumePathTracer tracer(scene, grids, settings);
+        glm::dvec3 lo, hi;
+        tracer.worldBounds(lo, hi);
+        scattered_ = tracer.scatteredLight(lo, hi, scatteredLightDims(scene, grids, lo, hi),
+                                           scene.render.fogScatteredLightSamples);
+    }
 }
 
 double CpuFogReference::densityOf(const Volume& v, const glm::dvec3& world) const {
@@ -74,6 +86,17 @@ glm::dvec3 CpuFogReference::channelOf(const Volume& v, const glm::dvec3& world) 
     for (const auto& g : v.channel)
         acc.push_back(g->getConstAccessor());
     return sampleChannel(v.channel, acc, glm::dvec3(v.worldToObject * glm::dvec4(world, 1.0)));
+}
+
+double CpuFogReference::localDepth(const glm::dvec3& world) const {
+    double sigma = 0.0;
+    for (const auto& v : volumes_) {
+        const glm::dvec3 o = glm::dvec3(v.worldToObject * glm::dvec4(world, 1.0));
+        const openvdb::Vec3d idx = v.grid->worldToIndex(openvdb::Vec3d(o.x, o.y, o.z));
+        sigma +=
+            v.ref->densityScale * v.neighbourhood.sample(glm::dvec3(idx.x(), idx.y(), idx.z()));
+    }
+    return double(scene_.render.fogOctaveRadius) * sigma;
 }
 
 double CpuFogReference::extinction(const glm::dvec3& world) const {
@@ -150,8 +173,21 @@ FogSample CpuFogReference::pixel(const scene::Camera& camera, int width, int hei
             emitted += emittedRadiance(*volumes_[i].ref, d, channelOf(volumes_[i], P));
         }
         if (sigma <= 0.0 && emitted == glm::dvec3(0.0)) continue;
-        glm::dvec3 inscatter =
-            glm::dvec3(scene_.render.ambient) * albedoSigma * double(scene_.render.fogAmbient);
+        glm::dvec3 inscatter(0.0);
+        if (scene_.render.fogScatteredLight) {
+            // Light scattered before and the sky, from the cache (volume/path_tracer.h).
+            for (std::size_t i = 0; i < volumes_.size(); ++i)
+                inscatter += glm::dvec3(volumes_[i].ref->albedo) * sig[i] *
+                             scattered_.inscattered(P, V, volumes_[i].ref->anisotropy);
+        } else {
+            inscatter =
+                glm::dvec3(scene_.render.ambient) * albedoSigma * double(scene_.render.fogAmbient);
+        }
+        // Depth-aware octaves: octave n >= 1 also weighted by w^n.
+        const double octaveWeight =
+            scene_.render.fogOctaveRadius > 0.0f && scene_.render.fogOctaves > 1
+                ? 1.0 - std::exp(-localDepth(P))
+                : 1.0;
         for (std::size_t l = 0; l < scene_.lights.size() && l < 8; ++l) {
             const scene::Light& light = scene_.lights[l];
             glm::dvec3 L, e = glm::dvec3(light.color) * double(light.intensity);
@@ -181,7 +217,7 @@ FogSample CpuFogReference::pixel(const scene::Camera& camera, int width, int hei
                                    henyeyGreenstein(cosTheta, cn * volumes_[i].ref->anisotropy);
                 inscatter += e * (std::pow(vis, an) * bn) * phaseAlbedo;
                 an *= r.fogOctaveExtinction;
-                bn *= r.fogOctaveScattering;
+                bn *= r.fogOctaveScattering * octaveWeight;
                 cn *= r.fogOctaveAnisotropy;
             }
         }

@@ -11,6 +11,8 @@
 
 #include "base/image.h"
 #include "scene/scene.h"
+#include "volume/neighbourhood.h"
+#include "volume/path_tracer.h"
 
 #include <openvdb/openvdb.h>
 
@@ -50,8 +52,11 @@ private:
         glm::dmat4 worldToObject;
         glm::dvec3 lo, hi;                            // world bounds
         std::vector<openvdb::FloatGrid::Ptr> channel; // emission / temperature grid(s), or none
+        NeighbourhoodMean neighbourhood;              // render.fog_octave_radius > 0 only
     };
     double densityOf(const Volume& v, const glm::dvec3& world) const;
+    // render.fog_octave_radius x the neighbourhood mean extinction at a world point.
+    double localDepth(const glm::dvec3& world) const;
     glm::dvec3 channelOf(const Volume& v, const glm::dvec3& world) const;
     bool interval(const glm::dvec3& ro, const glm::dvec3& rd, double& t0, double& t1) const;
 
@@ -61,6 +66,7 @@ private:
     glm::dvec3 globalAlbedo_{0.0};
     double globalAnisotropy_ = 0.0;
     int primaryLight_ = -1;
+    ScatteredLight scattered_; // render.fog_scattered_light: the same bake as the GPU's
 };
 
 } // namespace veil::volume

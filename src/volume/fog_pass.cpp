@@ -7,6 +7,7 @@
 #include "volume/density_grid.h"
 #include "volume/gpu_volume.h"
 #include "volume/grid_preload.h"
+#include "volume/scattered_light_cache.h"
 
 #include <openvdb/tools/GridTransformer.h>
 
@@ -53,6 +54,7 @@ FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
     options.budgetBytes = std::size_t(scene.render.volumeBudgetMiB) << 20;
     options.refuseOverBudget = scene.render.volumeOverBudget == "refuse";
     std::size_t used = 0;
+    std::vector<openvdb::FloatGrid::ConstPtr> densities; // the scattered-light cache's input
     const std::string source =
         scene.sourcePath.empty() ? std::string("<scene>") : scene.sourcePath.string();
     for (std::size_t i = 0; i < scene.volumes.size(); ++i) {
@@ -109,6 +111,7 @@ FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
         } catch (const Error& e) {
             throw Error(fmt::format("{}: {}", where, e.what()));
         }
+        if (scene.render.fogScatteredLight) densities.push_back(grid ? grid : loadVolume(ref));
         Entry e{&ref, std::move(gpuVolume), gpu::Texture(gpu::NoCreate), glm::mat4(1.0f)};
         used += e.gpu->stats().gpuBytes;
         log::info("volume '{}': {} active voxels, {} ({} bricks), {:.2f} MiB on the GPU, grid "
@@ -119,6 +122,17 @@ FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
         volumes_.push_back(std::move(e));
     }
     if (!active()) return;
+    if (scene.render.fogScatteredLight) {
+        VEIL_CHECK(scene.render.fogOctaves == 1,
+                   "{}: render.fog_scattered_light and render.fog_octaves {} both add multiple "
+                   "scattering: set fog_octaves to 1",
+                   source, scene.render.fogOctaves);
+        VEIL_CHECK(globalDensity_ == 0.0f && !volumes_.empty(),
+                   "{}: render.fog_scattered_light needs grid volumes and no homogeneous fog (the "
+                   "path tracer that bakes it has no fog filling all space)",
+                   source);
+        scattered_ = std::make_unique<ScatteredLightCache>(scene, std::move(densities));
+    }
     for (std::size_t i = 0; i < scene.lights.size() && i < VEIL_MAX_LIGHTS; ++i)
         if (scene.lights[i].castShadows) {
             primaryLight_ = static_cast<int>(i);
@@ -217,6 +231,7 @@ void FogPass::setVolumeUniforms(const gpu::Program& program) const {
             .set(name("indexMax").c_str(), e.gpu->indexMax())
             .set(name("leafOrigin").c_str(), e.gpu->leafOrigin())
             .set(name("bricksPerAxis").c_str(), e.gpu->bricksPerAxis())
+            .set(name("cellOrigin").c_str(), e.gpu->neighbourhoodOrigin())
             .set(name("densityScale").c_str(), e.ref->densityScale)
             .set(name("albedo").c_str(), e.ref->albedo)
             .set(name("anisotropy").c_str(), e.ref->anisotropy)
@@ -229,6 +244,8 @@ void FogPass::setVolumeUniforms(const gpu::Program& program) const {
         if (e.gpu->channel()) e.gpu->channel().bind(VEIL_TEX_VOLUME_EMISSION + GLuint(i));
         if (e.gpu->indirection()) e.gpu->indirection().bind(VEIL_TEX_VOLUME_TABLE + GLuint(i));
         e.light.bind(VEIL_TEX_VOLUME_LIGHT + static_cast<GLuint>(i));
+        if (e.gpu->neighbourhood())
+            e.gpu->neighbourhood().bind(VEIL_TEX_VOLUME_NEIGHBOURHOOD + GLuint(i));
     }
 }
 
@@ -281,6 +298,7 @@ void FogPass::updateLightVolumes(const pass::Context& targets) {
 }
 
 bool FogPass::updateLightVolumesSlab(const pass::Context& targets, int slabTexels) {
+    if (scattered_) scattered_->ensure(); // bakes again after a light or volume edit
     glm::vec4 key;
     if (!active() || !lightVolumesStale(targets, key)) return false;
     if (!slab_.started || slab_.key != key) slab_ = {true, key, 0, 0};
@@ -330,6 +348,10 @@ int FogPass::emissionMode(const Entry& e) {
 std::vector<std::string> FogPass::marchDefines() const {
     std::vector<std::string> defines{slotsDefine()};
     if (emissive_) defines.push_back("VEIL_VOLUME_EMISSION 1"); // fog_medium.glsl
+    if (scattered_) defines.push_back("VEIL_SCATTERED_LIGHT 1");
+    // Depth-aware octaves (fog_medium.glsl): the neighbourhood textures are sampled.
+    if (scene_.render.fogOctaveRadius > 0.0f && scene_.render.fogOctaves > 1 && !volumes_.empty())
+        defines.push_back("VEIL_OCTAVE_RADIUS 1");
     return defines;
 }
 
@@ -353,8 +375,10 @@ void FogPass::setMarchUniforms(const gpu::Program& program, const pass::Context&
              glm::vec3(scene_.render.fogOctaveExtinction, scene_.render.fogOctaveScattering,
                        scene_.render.fogOctaveAnisotropy))
         .set("ambientScale", scene_.render.fogAmbient)
+        .set("octaveRadius", scene_.render.fogOctaveRadius)
         .set("blackbodyMaxKelvin", float(kBlackbodyMaxKelvin));
     if (blackbody_) blackbody_.bind(VEIL_TEX_BLACKBODY);
+    if (scattered_) scattered_->bind(program);
     if (targets.prepareReceiver) targets.prepareReceiver(program);
     targets.depth->bind(VEIL_TEX_DEPTH);
 }

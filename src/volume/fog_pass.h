@@ -35,6 +35,7 @@
 namespace veil::volume {
 
 class GpuVolume;
+class ScatteredLightCache;
 
 class FogPass {
 public:
@@ -178,8 +179,9 @@ private:
     int lightSlabs_ = 0;
     bool selfShadowing_ = true;
     gpu::Texture radiance_{gpu::NoCreate}, transmittance_{gpu::NoCreate};
-    bool emissive_ = false;                 // a volume has an emission channel
-    gpu::Texture blackbody_{gpu::NoCreate}; // blackbodyTable() for fog_medium.glsl
+    bool emissive_ = false;                          // a volume has an emission channel
+    std::unique_ptr<ScatteredLightCache> scattered_; // render.fog_scattered_light
+    gpu::Texture blackbody_{gpu::NoCreate};          // blackbodyTable() for fog_medium.glsl
     gpu::VertexArray emptyVao_{gpu::NoCreate};
 };
 

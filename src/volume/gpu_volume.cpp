@@ -63,6 +63,22 @@ void GpuVolume::upload(const GridConversion& c, const glm::mat4& objectToWorld) 
         channel_ = makeDensityTexture(c.dataSize, c.channel, c.channelComponents);
         channelComponents_ = c.channelComponents;
     }
+    if (!c.neighbourhood.mean.empty()) {
+        const glm::ivec3 n = c.neighbourhood.size;
+        const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        neighbourhood_ = gpu::Texture(GL_TEXTURE_3D);
+        neighbourhood_.storage3D(1, GL_R32F, n.x, n.y, n.z)
+            .parameter(GL_TEXTURE_MIN_FILTER, GL_LINEAR)
+            .parameter(GL_TEXTURE_MAG_FILTER, GL_LINEAR)
+            .parameter(GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER)
+            .parameter(GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER)
+            .parameter(GL_TEXTURE_WRAP_R, GL_CLAMP_TO_BORDER);
+        glTextureParameterfv(neighbourhood_.id(), GL_TEXTURE_BORDER_COLOR, zero);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+        glTextureSubImage3D(neighbourhood_.id(), 0, 0, 0, 0, n.x, n.y, n.z, GL_RED, GL_FLOAT,
+                            c.neighbourhood.mean.data());
+        neighbourhoodOrigin_ = c.neighbourhood.origin;
+    }
     if (c.stats.dense) return;
     indirection_ = gpu::Texture(GL_TEXTURE_3D);
     indirection_.storage3D(1, GL_R32UI, c.tableSize.x, c.tableSize.y, c.tableSize.z)

@@ -45,6 +45,10 @@ public:
     const gpu::Texture& channel() const { return channel_; }
     int channelComponents() const { return channelComponents_; }
     const gpu::Texture& indirection() const { return indirection_; } // R32UI (bricks only)
+    // The mean density per 8^3-voxel cell (volume/neighbourhood.h), R32F, trilinear, zero
+    // border; cell (0,0,0) of the texture is cell neighbourhoodOrigin() of the grid.
+    const gpu::Texture& neighbourhood() const { return neighbourhood_; }
+    glm::ivec3 neighbourhoodOrigin() const { return neighbourhoodOrigin_; }
     const glm::mat4& worldToIndex() const { return worldToIndex_; }
     const glm::mat4& indexToWorld() const { return indexToWorld_; }
     // Index-space bounds of the stored data, voxel centres at integer coordinates.
@@ -61,6 +65,8 @@ private:
 
     GpuVolumeStats stats_;
     gpu::Texture data_{gpu::NoCreate}, indirection_{gpu::NoCreate}, channel_{gpu::NoCreate};
+    gpu::Texture neighbourhood_{gpu::NoCreate};
+    glm::ivec3 neighbourhoodOrigin_{0};
     int channelComponents_ = 0;
     glm::mat4 worldToIndex_{1.0f}, indexToWorld_{1.0f};
     glm::vec3 indexMin_{0.0f}, indexMax_{0.0f};

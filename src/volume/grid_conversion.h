@@ -8,6 +8,7 @@
 #pragma once
 
 #include "volume/gpu_volume_stats.h"
+#include "volume/neighbourhood.h"
 
 #include <openvdb/openvdb.h>
 
@@ -34,10 +35,13 @@ struct GridConversion {
     // an unused 0) floats per texel, or empty.
     std::vector<float> channel;
     int channelComponents = 0;
+    // The mean density of every 8^3-voxel cell (the depth-aware octaves' texture, R32F).
+    NeighbourhoodMean neighbourhood;
 
     // Host memory the arrays hold.
     std::size_t bytes() const {
-        return (values.size() + channel.size()) * sizeof(float) + table.size() * 4;
+        return (values.size() + channel.size() + neighbourhood.mean.size()) * sizeof(float) +
+               table.size() * 4;
     }
 };
 

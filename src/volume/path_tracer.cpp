@@ -210,7 +210,7 @@ double VolumePathTracer::transmittance(Lookup& lookup, const glm::dvec3& o, cons
 }
 
 glm::dvec3 VolumePathTracer::trace(Lookup& lookup, glm::dvec3 o, glm::dvec3 d, double tMax,
-                                   Pcg32& rng) const {
+                                   Pcg32& rng, bool escapeSeesAmbient) const {
     glm::dvec3 radiance(0.0), weight(1.0);
     std::vector<double> perVolume(volumes_.size());
     int events = 0;
@@ -235,7 +235,8 @@ glm::dvec3 VolumePathTracer::trace(Lookup& lookup, glm::dvec3 o, glm::dvec3 d, d
         }
         if (!collided) {
             radiance +=
-                weight * glm::dvec3(events == 0 ? scene_.render.background : scene_.render.ambient);
+                weight * glm::dvec3(events == 0 && !escapeSeesAmbient ? scene_.render.background
+                                                                      : scene_.render.ambient);
             return radiance;
         }
         if (events >= settings_.maxBounces) return radiance; // the path ends in the medium
@@ -291,6 +292,11 @@ glm::dvec3 VolumePathTracer::sample(const scene::Camera& camera, int width, int 
     const glm::dvec3 ro = glm::dvec3(a) / a.w, re = glm::dvec3(b) / b.w;
     const double tEnd = glm::length(re - ro);
     Pcg32 rng(mix64((std::uint64_t(settings_.seed) << 32) ^ index), mix64(pixel + 1));
+    Lookup lookup = makeLookup();
+    return trace(lookup, ro, (re - ro) / tEnd, tEnd, rng);
+}
+
+VolumePathTracer::Lookup VolumePathTracer::makeLookup() const {
     Lookup lookup;
     for (const auto& v : volumes_) {
         lookup.accessors.push_back(v.grid->getConstAccessor());
@@ -298,7 +304,95 @@ glm::dvec3 VolumePathTracer::sample(const scene::Camera& camera, int width, int 
         for (const auto& g : v.channel)
             lookup.channels.back().push_back(g->getConstAccessor());
     }
-    return trace(lookup, ro, (re - ro) / tEnd, tEnd, rng);
+    return lookup;
+}
+
+void VolumePathTracer::worldBounds(glm::dvec3& lo, glm::dvec3& hi) const {
+    lo = glm::dvec3(1e300);
+    hi = glm::dvec3(-1e300);
+    for (const auto& v : volumes_) {
+        lo = glm::min(lo, v.lo);
+        hi = glm::max(hi, v.hi);
+    }
+}
+
+ScatteredLight VolumePathTracer::scatteredLight(const glm::dvec3& lo, const glm::dvec3& hi,
+                                                const glm::ivec3& dims, int samples) const {
+    VEIL_CHECK(glm::all(glm::greaterThan(dims, glm::ivec3(0))) && samples > 0,
+               "scattered-light cache: empty grid or no samples");
+    ScatteredLight out;
+    out.lo = lo;
+    out.hi = hi;
+    out.dims = dims;
+    out.samples = samples;
+    const std::size_t n = std::size_t(dims.x) * dims.y * dims.z;
+    out.mean.assign(n, glm::vec4(0.0f));
+    out.flux.assign(n, glm::vec4(0.0f));
+    const glm::dvec3 lum(0.2126, 0.7152, 0.0722);
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+        const glm::ivec3 c(int(i % dims.x), int((i / dims.x) % dims.y),
+                           int(i / (std::size_t(dims.x) * dims.y)));
+        const glm::dvec3 x = lo + (glm::dvec3(c) + 0.5) / glm::dvec3(dims) * (hi - lo);
+        Lookup lookup = makeLookup();
+        glm::dvec3 sum(0.0), g(0.0);
+        for (int k = 0; k < samples; ++k) {
+            Pcg32 rng(mix64((std::uint64_t(settings_.seed) << 32) ^ std::uint64_t(k)),
+                      mix64(std::uint64_t(i) + 0x5ca77e7ull));
+            // Uniform direction on the sphere, the path's first direction away from x.
+            const double z = 1.0 - 2.0 * rng.uniform(), phi = 2.0 * kPi * rng.uniform();
+            const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+            const glm::dvec3 d(r * std::cos(phi), r * std::sin(phi), z);
+            const glm::dvec3 l = trace(lookup, x, d, 1e300, rng, true);
+            sum += l;
+            g += glm::dot(l, lum) * -d; // the arriving light travels along -d
+        }
+        const glm::dvec3 mean = sum / double(samples);
+        out.mean[i] = glm::vec4(glm::vec3(mean), float(glm::dot(mean, lum)));
+        out.flux[i] = glm::vec4(glm::vec3(3.0 * g / double(samples)), 0.0f);
+    });
+    return out;
+}
+
+// The cache's grid: fog_scattered_light_cell voxels of the finest volume per texel, over the
+// union of the volumes' bounds, at most kScatteredLightMaxTexels per axis (a coarser cell where the
+// bounds are larger).
+glm::ivec3 scatteredLightDims(const scene::Scene& scene,
+                              const std::vector<openvdb::FloatGrid::ConstPtr>& grids,
+                              const glm::dvec3& lo, const glm::dvec3& hi) {
+    double voxel = 1e300;
+    std::size_t g = 0;
+    for (const auto& ref : scene.volumes) {
+        if (ref.procedural == "homogeneous" || g >= grids.size()) continue;
+        const openvdb::Vec3d v = grids[g++]->voxelSize();
+        const glm::dmat3 m(ref.transform);
+        voxel = std::min({voxel, glm::length(m[0]) * v.x(), glm::length(m[1]) * v.y(),
+                          glm::length(m[2]) * v.z()});
+    }
+    const double cell = std::max(voxel * double(scene.render.fogScatteredLightCell), 1e-12);
+    const glm::dvec3 extent = hi - lo;
+    return glm::clamp(glm::ivec3(glm::ceil(extent / cell)), glm::ivec3(2),
+                      glm::ivec3(kScatteredLightMaxTexels));
+}
+
+glm::dvec3 ScatteredLight::inscattered(const glm::dvec3& world, const glm::dvec3& toEye,
+                                       double g) const {
+    if (mean.empty()) return glm::dvec3(0.0);
+    const glm::dvec3 t = (world - lo) / (hi - lo) * glm::dvec3(dims) - 0.5;
+    const glm::dvec3 f0 = glm::floor(t);
+    const glm::dvec3 f = t - f0;
+    glm::dvec4 m(0.0);
+    glm::dvec3 fl(0.0);
+    for (int k = 0; k < 8; ++k) {
+        const glm::ivec3 o(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+        const double w =
+            (o.x ? f.x : 1.0 - f.x) * (o.y ? f.y : 1.0 - f.y) * (o.z ? f.z : 1.0 - f.z);
+        const glm::ivec3 c = glm::clamp(glm::ivec3(f0) + o, glm::ivec3(0), dims - 1);
+        const std::size_t i = (std::size_t(c.z) * dims.y + c.y) * dims.x + c.x;
+        m += w * glm::dvec4(mean[i]);
+        fl += w * glm::dvec3(flux[i]);
+    }
+    if (m.w <= 0.0) return glm::dvec3(m);
+    return glm::dvec3(m) * std::max(0.0, 1.0 + g * glm::dot(fl, toEye) / m.w);
 }
 
 PathTracedImage VolumePathTracer::render(const scene::Camera& camera, int width, int height,

@@ -73,6 +73,33 @@ struct SlabTally {
 SlabTally traceSlab(double tau, double albedo, double g, std::uint64_t paths, std::uint32_t seed,
                     double majorantFactor = 2.0);
 
+// The light arriving at points of a grid over the volumes' bounds after at least one
+// scattering event, or from the sky (render.ambient) without one: what the fog marcher adds to
+// its single scattering with render.fog_scattered_light (docs/volumes.md "Scattered-light
+// cache"). Per texel, from `samples` paths traced from its centre in uniform random
+// directions (the path tracer's own transport: delta tracking, next-event estimation, roulette,
+// emission), the first two spherical-harmonic bands of the arriving radiance (P1): the mean
+// radiance over directions (RGB) and G = 3 x mean(L_Y w), w the light's travel direction, so
+// that L(w) ~ mean + G . w (luminance Y). Convolved with Henyey-Greenstein(g) toward direction
+// V this is mean x (1 + g G . V / mean_Y): HG's first Legendre coefficient is g.
+struct ScatteredLight {
+    glm::dvec3 lo{0.0}, hi{0.0}; // world box; texel i's centre at lo + (i + 0.5) / dims x (hi - lo)
+    glm::ivec3 dims{0};
+    std::vector<glm::vec4> mean; // rgb: mean arriving radiance, a: its luminance
+    std::vector<glm::vec4> flux; // xyz: G (luminance), w: 0
+    int samples = 0;
+    // Trilinear between texel centres, clamped to the edge texels (as GL_CLAMP_TO_EDGE): the
+    // in-scattered radiance toward direction `toEye` for phase anisotropy g, per unit sigma_s.
+    glm::dvec3 inscattered(const glm::dvec3& world, const glm::dvec3& toEye, double g) const;
+};
+
+// The cache's grid for `scene` over [lo, hi]: render.fog_scattered_light_cell voxels of the
+// finest grid per texel, at most kScatteredLightMaxTexels per axis, at least 2.
+constexpr int kScatteredLightMaxTexels = 128;
+glm::ivec3 scatteredLightDims(const scene::Scene& scene,
+                              const std::vector<openvdb::FloatGrid::ConstPtr>& grids,
+                              const glm::dvec3& lo, const glm::dvec3& hi);
+
 class VolumePathTracer {
 public:
     // `grids` holds the grid of every volume of `scene`, in scene order (as CpuFogReference).
@@ -89,6 +116,14 @@ public:
                            const std::function<bool(int)>& progress = {}) const;
 
     double majorant() const { return majorant_; }
+
+    // The scattered-light cache (ScatteredLight above) on a dims grid over [lo, hi] (TBB over
+    // texels; each texel's random numbers are keyed by (settings.seed, texel, sample), so it
+    // does not depend on the thread count).
+    ScatteredLight scatteredLight(const glm::dvec3& lo, const glm::dvec3& hi,
+                                  const glm::ivec3& dims, int samples) const;
+    // The world box of the volumes (the union of their bounds).
+    void worldBounds(glm::dvec3& lo, glm::dvec3& hi) const;
 
 private:
     struct Volume {
@@ -107,7 +142,11 @@ private:
     bool bounds(const glm::dvec3& o, const glm::dvec3& d, double& t0, double& t1) const;
     double transmittance(Lookup& lookup, const glm::dvec3& o, const glm::dvec3& d, double tMax,
                          Pcg32& rng) const;
-    glm::dvec3 trace(Lookup& lookup, glm::dvec3 o, glm::dvec3 d, double tMax, Pcg32& rng) const;
+    // escapeSeesAmbient: a path leaving before any scattering sees render.ambient (the sky),
+    // not render.background (a camera ray's).
+    glm::dvec3 trace(Lookup& lookup, glm::dvec3 o, glm::dvec3 d, double tMax, Pcg32& rng,
+                     bool escapeSeesAmbient = false) const;
+    Lookup makeLookup() const;
 
     const scene::Scene& scene_;
     PathTracerSettings settings_;

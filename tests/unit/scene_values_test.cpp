@@ -62,6 +62,8 @@ TEST(SceneValuesTest, UnknownKeyListsTheAcceptedKeysInOrder) {
                   "seed, ambient, background, exposure, oit_rasterizer, tonemap, shadow_map_size, "
                   "shadow_bias, pcf_radius, fog_steps, fog_resolution, fog_jitter, fog_octaves, "
                   "fog_octave_extinction, fog_octave_scattering, fog_octave_anisotropy, "
+                  "fog_octave_radius, "
+                  "fog_scattered_light, fog_scattered_light_samples, fog_scattered_light_cell, "
                   "fog_ambient, volume_budget_mib, "
                   "volume_over_budget, geometry_budget_mib, fog_sample_limit)"),
               std::string::npos)
