@@ -13,6 +13,9 @@
 #                               (-runs=0), no mutation: for a target whose open findings
 #                               (tests/fuzz/findings/) would otherwise fail the run
 #   FUZZ_BUILD_JOBS=N           build parallelism (default: nproc)
+#   FUZZ_PRESET=P               the CMake preset whose build holds the targets (default fuzz, -O2;
+#                               CI: asan-ubsan, whose -O1 sanitizer build of the libraries the
+#                               unit tests already made is reused: it builds the fuzz targets too)
 #   FUZZ_TIMEOUT=S              libFuzzer's per-input -timeout (default 10; 60 for volume, below)
 #   FUZZ_PARALLEL=1             run the targets at the same time instead of one after another
 #                               (CI: three targets on two cores for 1.5 x SECONDS each get
@@ -29,12 +32,15 @@ if [[ -n ${FUZZ_TOTAL_SECONDS:-} ]]; then
 fi
 jobs=${FUZZ_JOBS:-1}
 seed=${FUZZ_SEED:-1}
-build=build/fuzz
+preset=${FUZZ_PRESET:-fuzz}
+build=build/$preset
 artifacts=$build/artifacts
 runs=$build/corpus-run
 
-cmake --preset fuzz >/dev/null
-cmake --build --preset fuzz -j "${FUZZ_BUILD_JOBS:-$(nproc)}"
+cmake --preset "$preset" >/dev/null
+fuzz_targets=()
+for t in $targets; do fuzz_targets+=("veil_fuzz_$t"); done
+cmake --build "$build" -j "${FUZZ_BUILD_JOBS:-$(nproc)}" --target "${fuzz_targets[@]}"
 
 # LeakSanitizer stays on (libFuzzer's -detect_leaks=1): OpenVDB's and TBB's global state is
 # still reachable at exit and is not reported. UBSan findings abort (the build also passes
