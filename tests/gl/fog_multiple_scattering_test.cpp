@@ -164,3 +164,33 @@ TEST_F(FogMultipleScatteringTest, SlabReflectionAndTransmissionMatchThePathTrace
 }
 
 } // namespace veil::test
+
+namespace veil::test {
+
+// The cache and the octaves both add multiple scattering; the cache's bake has no fog filling
+// all space: either combination is one message naming the scene, not a wrong image.
+TEST_F(FogMultipleScatteringTest, ScatteredLightCacheRefusesOctavesAndHomogeneousFog) {
+    auto message = [&](nlohmann::json doc) {
+        const scene::Scene s = scene::parseScene(doc, sourceDir());
+        try {
+            frame::Renderer r(s, info(), {0, 0, "", "blend"});
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    nlohmann::json octaves = cachedSlabScene({0.0, 6.0, 3.0}, 1);
+    octaves["render"]["fog_octaves"] = 4;
+    EXPECT_NE(message(octaves).find("render.fog_scattered_light and render.fog_octaves 4 both "
+                                    "add multiple scattering"),
+              std::string::npos)
+        << message(octaves);
+    nlohmann::json haze = cachedSlabScene({0.0, 6.0, 3.0}, 1);
+    haze["volumes"].push_back({{"procedural", "homogeneous"}, {"density_scale", 0.1}});
+    EXPECT_NE(message(haze).find("render.fog_scattered_light needs grid volumes and no "
+                                 "homogeneous fog"),
+              std::string::npos)
+        << message(haze);
+}
+
+} // namespace veil::test
