@@ -28,6 +28,8 @@ void convertAhead(PreparedFrame& p, int max3D) {
         options.budgetBytes = std::size_t(p.scene.render.volumeBudgetMiB) << 20;
         options.budgetBytes = options.budgetBytes > used ? options.budgetBytes - used : 0;
         options.refuseOverBudget = p.scene.render.volumeOverBudget == "refuse";
+        options.neighbourhood =
+            p.scene.render.fogOctaveRadius > 0.0f && p.scene.render.fogOctaves > 1;
         if (g->converted) return; // one grid under two budgets: the renderer converts the rest
         try {
             g->converted = std::make_shared<const volume::GridConversion>(

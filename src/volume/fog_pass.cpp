@@ -53,6 +53,7 @@ FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
     GpuVolumeOptions options;
     options.budgetBytes = std::size_t(scene.render.volumeBudgetMiB) << 20;
     options.refuseOverBudget = scene.render.volumeOverBudget == "refuse";
+    options.neighbourhood = scene.render.fogOctaveRadius > 0.0f && scene.render.fogOctaves > 1;
     std::size_t used = 0;
     std::vector<openvdb::FloatGrid::ConstPtr> densities; // the scattered-light cache's input
     const std::string source =

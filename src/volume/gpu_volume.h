@@ -46,7 +46,8 @@ public:
     int channelComponents() const { return channelComponents_; }
     const gpu::Texture& indirection() const { return indirection_; } // R32UI (bricks only)
     // The mean density per 8^3-voxel cell (volume/neighbourhood.h), R32F, trilinear, zero
-    // border; cell (0,0,0) of the texture is cell neighbourhoodOrigin() of the grid.
+    // border; cell (0,0,0) of the texture is cell neighbourhoodOrigin() of the grid. Null unless
+    // the conversion had GpuVolumeOptions::neighbourhood.
     const gpu::Texture& neighbourhood() const { return neighbourhood_; }
     glm::ivec3 neighbourhoodOrigin() const { return neighbourhoodOrigin_; }
     const glm::mat4& worldToIndex() const { return worldToIndex_; }

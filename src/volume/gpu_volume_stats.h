@@ -12,6 +12,9 @@ struct GpuVolumeOptions {
     std::size_t budgetBytes = std::size_t(1024) << 20;
     bool refuseOverBudget = false; // false: coarsen (voxel size x2 until it fits) with a warning
     std::size_t denseVoxelLimit = std::size_t(96) * 96 * 96; // bounding boxes up to this: dense
+    // Also the mean density per 8^3-voxel cell (volume/neighbourhood.h), for the depth-aware
+    // octaves (render.fog_octave_radius > 0): an array of the indirection table's size.
+    bool neighbourhood = false;
 };
 
 struct GpuVolumeStats {

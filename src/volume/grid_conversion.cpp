@@ -321,8 +321,10 @@ GridConversion convert(const openvdb::FloatGrid& grid, const GpuVolumeOptions& o
         convertDense(*g, out);
     else
         convertBricks(*g, plan.origins, out);
-    out.neighbourhood = neighbourhoodMean(*g);
-    out.stats.gpuBytes += out.neighbourhood.mean.size() * 4;
+    if (options.neighbourhood) {
+        out.neighbourhood = neighbourhoodMean(*g);
+        out.stats.gpuBytes += out.neighbourhood.mean.size() * 4;
+    }
     return out;
 }
 

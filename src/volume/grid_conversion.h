@@ -35,7 +35,8 @@ struct GridConversion {
     // an unused 0) floats per texel, or empty.
     std::vector<float> channel;
     int channelComponents = 0;
-    // The mean density of every 8^3-voxel cell (the depth-aware octaves' texture, R32F).
+    // The mean density of every 8^3-voxel cell (the depth-aware octaves' texture, R32F), with
+    // GpuVolumeOptions::neighbourhood only (else empty).
     NeighbourhoodMean neighbourhood;
 
     // Host memory the arrays hold.

@@ -35,7 +35,8 @@ std::shared_ptr<const GridConversion> findPreconverted(const std::filesystem::pa
         if (g.converted && g.grid == grid && g.path == path && g.max3D == max3D &&
             g.options.budgetBytes == options.budgetBytes &&
             g.options.refuseOverBudget == options.refuseOverBudget &&
-            g.options.denseVoxelLimit == options.denseVoxelLimit)
+            g.options.denseVoxelLimit == options.denseVoxelLimit &&
+            g.options.neighbourhood == options.neighbourhood)
             return g.converted;
     return nullptr;
 }

@@ -44,7 +44,7 @@ NeighbourhoodMean neighbourhoodMean(const openvdb::FloatGrid& grid) {
     const glm::ivec3 last(floorDiv(box.max().x(), n), floorDiv(box.max().y(), n),
                           floorDiv(box.max().z(), n));
     out.size = last - out.origin + 1;
-    std::vector<double> sum(std::size_t(out.size.x) * out.size.y * out.size.z, 0.0);
+    out.mean.assign(std::size_t(out.size.x) * out.size.y * out.size.z, 0.0f);
     auto cellIndex = [&](const openvdb::Coord& c) {
         const glm::ivec3 k =
             glm::ivec3(floorDiv(c.x(), n), floorDiv(c.y(), n), floorDiv(c.z(), n)) - out.origin;
@@ -58,21 +58,19 @@ NeighbourhoodMean neighbourhoodMean(const openvdb::FloatGrid& grid) {
         double s = 0.0;
         for (auto v = leaves[l]->cbeginValueOn(); v; ++v)
             s += double(*v);
-        sum[cellIndex(leaves[l]->origin())] += s;
+        out.mean[cellIndex(leaves[l]->origin())] = float(s / double(n * n * n));
     });
     // Active tiles (above the leaf level) cover whole cells.
-    for (auto it = grid.cbeginValueOn(); it; ++it) {
-        if (it.isVoxelValue()) continue;
+    auto it = grid.cbeginValueOn();
+    it.setMaxDepth(openvdb::FloatGrid::ValueOnCIter::LEAF_DEPTH - 1); // tiles only
+    for (; it; ++it) {
         const openvdb::CoordBBox tile = it.getBoundingBox();
-        const double v = double(*it) * n * n * n;
+        const float v = *it; // a tile's voxels all hold its value
         for (int z = tile.min().z(); z <= tile.max().z(); z += n)
             for (int y = tile.min().y(); y <= tile.max().y(); y += n)
                 for (int x = tile.min().x(); x <= tile.max().x(); x += n)
-                    sum[cellIndex({x, y, z})] += v;
+                    out.mean[cellIndex({x, y, z})] = v;
     }
-    out.mean.resize(sum.size());
-    for (std::size_t i = 0; i < sum.size(); ++i)
-        out.mean[i] = float(sum[i] / double(n * n * n));
     return out;
 }
 
