@@ -10,23 +10,27 @@
 
 namespace veil::volume {
 
-namespace {
-
-// R16F (or, with 4 components, RGBA16F) 3D texture with trilinear filtering and clamped
-// edges, filled from `values`.
-gpu::Texture makeDensityTexture(const glm::ivec3& size, const std::vector<float>& values,
-                                int components = 1) {
+gpu::Texture makeFilteredTexture3D(const glm::ivec3& size, GLenum internalFormat, GLenum format,
+                                   const float* texels, GLenum wrap) {
     gpu::Texture t(GL_TEXTURE_3D);
-    t.storage3D(1, components == 4 ? GL_RGBA16F : GL_R16F, size.x, size.y, size.z)
+    t.storage3D(1, internalFormat, size.x, size.y, size.z)
         .parameter(GL_TEXTURE_MIN_FILTER, GL_LINEAR)
         .parameter(GL_TEXTURE_MAG_FILTER, GL_LINEAR)
-        .parameter(GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE)
-        .parameter(GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE)
-        .parameter(GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+        .parameter(GL_TEXTURE_WRAP_S, GLint(wrap))
+        .parameter(GL_TEXTURE_WRAP_T, GLint(wrap))
+        .parameter(GL_TEXTURE_WRAP_R, GLint(wrap));
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage3D(t.id(), 0, 0, 0, 0, size.x, size.y, size.z,
-                        components == 4 ? GL_RGBA : GL_RED, GL_FLOAT, values.data());
+    glTextureSubImage3D(t.id(), 0, 0, 0, 0, size.x, size.y, size.z, format, GL_FLOAT, texels);
     return t;
+}
+
+namespace {
+
+// R16F (or, with 4 components, RGBA16F) density texture with clamped edges.
+gpu::Texture makeDensityTexture(const glm::ivec3& size, const std::vector<float>& values,
+                                int components = 1) {
+    return makeFilteredTexture3D(size, components == 4 ? GL_RGBA16F : GL_R16F,
+                                 components == 4 ? GL_RGBA : GL_RED, values.data());
 }
 
 } // namespace
@@ -64,19 +68,9 @@ void GpuVolume::upload(const GridConversion& c, const glm::mat4& objectToWorld) 
         channelComponents_ = c.channelComponents;
     }
     if (!c.neighbourhood.mean.empty()) {
-        const glm::ivec3 n = c.neighbourhood.size;
-        const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-        neighbourhood_ = gpu::Texture(GL_TEXTURE_3D);
-        neighbourhood_.storage3D(1, GL_R32F, n.x, n.y, n.z)
-            .parameter(GL_TEXTURE_MIN_FILTER, GL_LINEAR)
-            .parameter(GL_TEXTURE_MAG_FILTER, GL_LINEAR)
-            .parameter(GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER)
-            .parameter(GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER)
-            .parameter(GL_TEXTURE_WRAP_R, GL_CLAMP_TO_BORDER);
-        glTextureParameterfv(neighbourhood_.id(), GL_TEXTURE_BORDER_COLOR, zero);
-        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-        glTextureSubImage3D(neighbourhood_.id(), 0, 0, 0, 0, n.x, n.y, n.z, GL_RED, GL_FLOAT,
-                            c.neighbourhood.mean.data());
+        // GL's default border colour is 0: cells outside the array read 0.
+        neighbourhood_ = makeFilteredTexture3D(c.neighbourhood.size, GL_R32F, GL_RED,
+                                               c.neighbourhood.mean.data(), GL_CLAMP_TO_BORDER);
         neighbourhoodOrigin_ = c.neighbourhood.origin;
     }
     if (c.stats.dense) return;

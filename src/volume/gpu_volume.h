@@ -24,6 +24,11 @@ namespace veil::volume {
 
 static_assert(std::is_same_v<openvdb::Index64, std::uint64_t>);
 
+// A 3D texture of `texels` (floats in `format`, x fastest) stored as `internalFormat`, with
+// trilinear filtering and `wrap` on every axis (GL_CLAMP_TO_BORDER: the default border, 0).
+gpu::Texture makeFilteredTexture3D(const glm::ivec3& size, GLenum internalFormat, GLenum format,
+                                   const float* texels, GLenum wrap = GL_CLAMP_TO_EDGE);
+
 class GpuVolume {
 public:
     // `objectToWorld` is the scene entry's transform, applied after the grid's own

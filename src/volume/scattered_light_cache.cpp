@@ -2,6 +2,7 @@
 
 #include "base/error.h"
 #include "base/log.h"
+#include "volume/gpu_volume.h"
 #include "volume/path_tracer.h"
 
 #include "shaders/common/bindings.h"
@@ -11,22 +12,6 @@
 #include <cmath>
 
 namespace veil::volume {
-
-namespace {
-
-gpu::Texture makeTexture(const glm::ivec3& d, const std::vector<glm::vec4>& texels) {
-    gpu::Texture t(GL_TEXTURE_3D);
-    t.storage3D(1, GL_RGBA32F, d.x, d.y, d.z)
-        .parameter(GL_TEXTURE_MIN_FILTER, GL_LINEAR)
-        .parameter(GL_TEXTURE_MAG_FILTER, GL_LINEAR)
-        .parameter(GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE)
-        .parameter(GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE)
-        .parameter(GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTextureSubImage3D(t.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, texels.data());
-    return t;
-}
-} // namespace
 
 ScatteredLightCache::ScatteredLightCache(const scene::Scene& scene,
                                          std::vector<openvdb::FloatGrid::ConstPtr> grids)
@@ -63,8 +48,8 @@ void ScatteredLightCache::ensure() {
     const ScatteredLight s =
         tracer.scatteredLight(lo_, hi_, dims_, scene_.render.fogScatteredLightSamples);
     seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    mean_ = makeTexture(dims_, s.mean);
-    flux_ = makeTexture(dims_, s.flux);
+    mean_ = makeFilteredTexture3D(dims_, GL_RGBA32F, GL_RGBA, &s.mean[0].x);
+    flux_ = makeFilteredTexture3D(dims_, GL_RGBA32F, GL_RGBA, &s.flux[0].x);
     bakedKey_ = std::move(k);
     ++bakes_;
     log::info("scattered-light cache: {}x{}x{} texels x {} paths baked in {:.2f} s", dims_.x,
