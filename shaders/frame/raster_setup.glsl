@@ -1,5 +1,5 @@
 // The setup half of what the frame gives the compute rasterizer of the transparent pass
-// (shaders/oit/compute_raster/setup.comp, one dispatch per object, the object's uniforms set
+// (shaders/frame/compute_raster/setup.comp, one dispatch per object, the object's uniforms set
 // and mesh buffers bound by frame::dispatchObjects): the mesh's buffers as SSBOs,
 // surfaceTriangleIndex(), surfaceVertex() (frame/mesh.vert's transform: clip position and the
 // SURFACE_ATTRIBUTES floats to interpolate) and surfaceRecord() (the object's material,

@@ -1,4 +1,4 @@
-// What the frame gives the compute rasterizer's fine stage (shaders/oit/compute_raster/
+// What the frame gives the compute rasterizer's fine stage (shaders/frame/compute_raster/
 // fine.comp): surfaceLoad() sets the material and the interpolated inputs of
 // frame/material.glsl from a setup record (frame/raster_setup.glsl) and interpolated
 // attributes, and transparentFragment() (frame/transparent_surface.glsl, the body of

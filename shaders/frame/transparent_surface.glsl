@@ -1,7 +1,7 @@
 // A transparent surface's contribution at one fragment, shaded as in the opaque pass, for the
 // active OIT technique's oitEmit() (docs/architecture.md "Two GLSL interfaces join techniques
 // without joining their code"). One source for the two rasterizers of the transparent pass:
-// the hardware one (frame/transparent.frag) and the compute one (oit/compute_raster/fine.comp
+// the hardware one (frame/transparent.frag) and the compute one (frame/compute_raster/fine.comp
 // through frame/raster_surface.glsl, with SURFACE_FROM_RECORD). False: the fragment is
 // discarded (no coverage, or a binary-coverage material's opaque interior).
 #include "../common/camera.glsl"

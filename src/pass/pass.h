@@ -1,12 +1,13 @@
 // What every module hands the frame: its passes, declared (the model is Falcor's
 // reflect/execute). A pass has a name (its GPU timer's name too), the frame resources it reads
-// and writes, a scope that says when it runs, and execute(context). The frame concatenates the
-// modules' passes into one list (frame/pass_list.h), checks it once, runs it in order
-// (frame::Renderer::render) or split over calls by scope (the viewer's tiled refinement,
-// frame/refinement.cpp), and gives every pass the same Context.
+// and writes, a scope that says when it runs, and execute(context). The frame's stages
+// (pass/stage.h) hand it their passes in order; it concatenates them into one list
+// (frame/pass_list.h), checks it once, runs it in order (frame::Renderer::render) or split
+// over calls by scope (the viewer's tiled refinement, frame/refiner.h), and gives every pass
+// the same Context.
 //
-// The modules below the frame (oit, shadows, volume) include this header only; they never
-// include each other or the frame.
+// The modules below the frame (oit, shadows, fog, voxelize) include this header only; they
+// never include each other or the frame.
 #pragma once
 
 #include "gpu/objects.h"
@@ -33,7 +34,7 @@ namespace veil::pass {
 // When a pass runs. The frame runs the scopes in this order; a list mixing them keeps it.
 enum class Scope {
     // Once per frame from the lights' views (the shadow technique's maps). The viewer may keep
-    // their results across frames (frame::ShadowReuse) and draw them in row bands
+    // their results across frames (frame::ShadowStage::Reuse) and draw them in row bands
     // (Pass::executeRows).
     Lights,
     // Once per frame over the whole image (AO, the opaque image).
@@ -126,7 +127,8 @@ struct Context {
     // composites; depth (DEPTH_COMPONENT32F) is the opaque depth.
     const gpu::Texture* hdrColor = nullptr;
     const gpu::Texture* depth = nullptr;
-    // The ambient visibility (R16F, frame/ambient_occlusion.h) when render.ao is on, else null.
+    // The ambient visibility (R16F, frame/stages/ambient_occlusion.h) when render.ao is on, else
+    // null.
     const gpu::Texture* ambientOcclusion = nullptr;
     // During a refinement tile, the opaque image of the whole frame (hdrColor holds it inside
     // the region only); null otherwise.

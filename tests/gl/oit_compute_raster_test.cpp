@@ -1,5 +1,5 @@
 // The compute rasterizer of the transparent pass (render.oit_rasterizer = compute,
-// src/oit/compute_raster) against the hardware path and against exact composites:
+// src/frame/stages/compute_raster.*) against the hardware path and against exact composites:
 //  - blend, wboit, reference on a scene of triangles crossing tile borders, degenerate and
 //    sliver triangles, a triangle partly behind the camera (near-plane clipping), a triangle
 //    far larger than the screen, particles (uv-dependent coverage) and a light (perspective-
@@ -21,7 +21,7 @@
 
 #include "base/error.h"
 #include "frame/renderer.h"
-#include "frame/renderer_setup.h"
+#include "frame/frame_setup.h"
 #include "io/image_io.h"
 #include "scene/scene.h"
 #include "support/test_support.h"

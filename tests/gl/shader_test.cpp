@@ -4,7 +4,7 @@
 
 #include "base/error.h"
 #include "gpu/shader.h"
-#include "oit/compute_raster/compute_raster.h"
+#include "frame/stages/compute_raster.h"
 #include "oit/phenomenological/phenomenological.h"
 #include "oit/reference/reference.h"
 #include "oit/technique.h"
@@ -125,13 +125,13 @@ TEST_F(ShaderTest, ReloadSwapsProgramBehindStableHandle) {
 namespace {
 
 // Every program the project builds, as src/ builds it:
-//  - frame (src/frame/renderer.cpp): mesh.vert with opaque.frag and shadow.frag, tonemap.comp,
+//  - frame (src/frame/stages): mesh.vert with opaque.frag and shadow.frag, tonemap.comp,
 //    and per OIT technique and geometry pass transparent.frag and the fog's fog_emit.frag or
 //    fog_emit.comp (by perPixelEmit(pass)) with the technique's defines(pass) + "OIT_PASS
 //    <pass>" and "veil:oit_emit" -> emitInclude();
 //  - the OIT techniques' own programs (src/oit/<technique>/*.cpp), which Registry::create
 //    also compiles;
-//  - fog (src/volume/fog_pass.cpp), voxelizer (src/voxelize/gpu_voxelizer.cpp: every
+//  - fog (src/fog/fog_pass.cpp), voxelizer (src/voxelize/gpu_voxelizer.cpp: every
 //    CONSERVATIVE / THREE_AXIS / SOLID / LOCAL / DEPTH_PASS combination its methods use) and
 //    the slice-map query probe (tests/gl/voxelize_solid_local_test.cpp).
 // Techniques this driver lacks (moment *-16: fragment shader interlock) are listed in
@@ -173,6 +173,8 @@ ProjectPrograms projectPrograms(const gpu::ContextInfo& info, gpu::ProgramManage
     }
     const gpu::IncludeAliases visibility = visibilities.at(0); // `opaque`, registered first
     P.push_back(ProgramDesc::compute("frame/tonemap.comp"));
+    // The stage template (src/frame/stages/_template), inserted by its test only.
+    P.push_back(ProgramDesc::compute("frame/_template/template.comp"));
     for (const char* ao : {"frame/ao/csz.comp", "frame/ao/csz_downsample.comp", "frame/ao/sao.comp",
                            "frame/ao/blur.comp"})
         P.push_back(ProgramDesc::compute(ao)); // the frame's AO pass (render.ao)
@@ -218,7 +220,7 @@ ProjectPrograms projectPrograms(const gpu::ContextInfo& info, gpu::ProgramManage
                 P.push_back(ProgramDesc::graphics("volume/fullscreen.vert", "volume/fog_emit.frag",
                                                   defines, emit));
             }
-            // The piecewise fog marcher (src/volume/fog_pass.cpp), with every shadow technique.
+            // The piecewise fog marcher (src/fog/fog_pass.cpp), with every shadow technique.
             if (technique->fogSegments() && pass + 1 == technique->geometryPasses())
                 for (const auto& v : visibilities)
                     P.push_back(
@@ -227,7 +229,7 @@ ProjectPrograms projectPrograms(const gpu::ContextInfo& info, gpu::ProgramManage
         // The compute rasterizer's stages with the technique's emit file (its constructor adds
         // them to the manager), as frame::Renderer builds them.
         if (t.computeRaster)
-            oit::ComputeRaster(manager, *technique,
+            frame::ComputeRaster(manager, *technique,
                                {{"veil:raster_setup", "frame/raster_setup.glsl"},
                                 {"veil:raster_surface", "frame/raster_surface.glsl"},
                                 {"veil:raster_layout", "frame/raster_layout.glsl"},

@@ -26,8 +26,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 namespace veil::test {
 
@@ -66,20 +64,13 @@ double paneRadiance() {
            analytic::brdfCos(0.0, kPaneRoughness, {0, 1, 0}, {0, 1, 0}, {-s, s, 0});
 }
 
-std::string readText(const std::filesystem::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
 } // namespace
 
 class TechniqueTemplateGLTest : public GlTest {
 protected:
     static void SetUpTestSuite() {
         GlTest::SetUpTestSuite();
-        // The one line each technique adds to registerBuiltinTechniques() of its registry.
+        // The one line each technique adds to TechniqueKind::registerBuiltins() of its registry.
         if (!oit::Registry::instance().find("template"))
             oit::registerTemplate(oit::Registry::instance());
         if (!shadows::Registry::instance().find("template"))
@@ -136,8 +127,9 @@ TEST_F(TechniqueTemplateGLTest, ShadowTemplatePropertiesAreDeclared) {
 TEST_F(TechniqueTemplateGLTest, NothingOutsideTheirFoldersNamesTheTemplates) {
     namespace fs = std::filesystem;
     const fs::path root = sourceDir();
-    const fs::path own[] = {root / "src/oit/_template", root / "src/shadows/_template",
-                            root / "shaders/oit/_template", root / "shaders/shadows/_template"};
+    const fs::path own[] = {root / "src/oit/_template",          root / "src/shadows/_template",
+                            root / "src/frame/stages/_template", root / "shaders/oit/_template",
+                            root / "shaders/shadows/_template",  root / "shaders/frame/_template"};
     int files = 0;
     for (const char* dir : {"src", "shaders"})
         for (const auto& e : fs::recursive_directory_iterator(root / dir)) {
@@ -147,7 +139,7 @@ TEST_F(TechniqueTemplateGLTest, NothingOutsideTheirFoldersNamesTheTemplates) {
                 inside = inside || e.path().parent_path() == o;
             if (inside) continue;
             ++files;
-            EXPECT_EQ(readText(e.path()).find("_template"), std::string::npos) << e.path();
+            EXPECT_EQ(readTextFile(e.path()).find("_template"), std::string::npos) << e.path();
         }
     EXPECT_GT(files, 100);
 }

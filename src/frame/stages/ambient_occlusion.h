@@ -34,14 +34,14 @@
 #include "base/properties.h"
 #include "gpu/objects.h"
 #include "gpu/shader.h"
-#include "pass/pass.h"
+#include "pass/stage.h"
 
 #include <string>
 #include <vector>
 
 namespace veil::frame {
 
-class AmbientOcclusion {
+class AmbientOcclusion : public pass::Stage {
 public:
     static const PropertySchema& schema();
 
@@ -56,11 +56,14 @@ public:
     void blur() const; // no-op with blur_radius 0
     // The ambient visibility every receiver reads (blurred, or raw without blur).
     const gpu::Texture& visibility() const;
-    // The passes `ao` (estimate() from the context's depth: writes ao.depth, the z pyramid,
-    // and ao.raw) and `ao.blur` (writes ao.visibility), scope Frame, and their resources.
-    std::vector<pass::Pass> passes() const;
-    void addResources(pass::Resources& resources) const;
-    std::size_t gpuBytes() const;
+    // The stage `ao`: the passes `ao` (estimate() from the context's depth: writes ao.depth,
+    // the z pyramid, and ao.raw) and `ao.blur` (writes ao.visibility), scope Frame, and their
+    // resources; the context's ambientOcclusion is the visibility.
+    std::string name() const override { return "ao"; }
+    std::vector<pass::Pass> passes(const pass::Assembly& assembly) override;
+    void addResources(pass::Resources& resources) const override;
+    std::size_t gpuBytes() const override;
+    void resize(pass::Context& context) override;
     int levels() const { return levels_; }
 
 private:

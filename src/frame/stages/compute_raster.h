@@ -6,7 +6,7 @@
 //   transparent.setup  scope Frame: per object of ObjectSet::Transparent (drawing order), the
 //                      vertex transform of frame/mesh.vert, near-plane and guard-band
 //                      clipping, snapping to 8 sub-pixel bits, pixel bounds
-//                      (shaders/oit/compute_raster/setup.comp)
+//                      (shaders/frame/compute_raster/setup.comp)
 //   transparent.bin    scope Frame: per (batch of 256 input triangles, 16 x 16 tile) counts,
 //                      two scans, per-tile lists (bin.comp, scan_batches.comp, scan_tiles.comp)
 //   transparent        scope Pixels: fine rasterization, one workgroup per tile, the tile's
@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-namespace veil::oit {
+namespace veil::frame {
 
 class ComputeRaster {
 public:
@@ -40,13 +40,13 @@ public:
     // Throws veil::Error naming `technique` when it has no compute-raster emission. `surface`:
     // the frame's "veil:raster_setup", "veil:raster_surface", "veil:raster_layout" and
     // "veil:light_visibility".
-    ComputeRaster(gpu::ProgramManager& programs, const Technique& technique,
+    ComputeRaster(gpu::ProgramManager& programs, const oit::Technique& technique,
                   const gpu::IncludeAliases& surface);
     // The techniques that run on the compute rasterizer, for messages.
     static std::string supportedNames();
 
     // The technique's passes with its transparent pass rasterized here (see above).
-    std::vector<pass::Pass> passes(Technique& technique, Technique::GeometryHooks hooks);
+    std::vector<pass::Pass> passes(oit::Technique& technique, oit::Technique::GeometryHooks hooks);
 
     struct Stats {
         std::uint64_t triangles = 0, extraRecords = 0, listEntries = 0;
@@ -57,7 +57,7 @@ public:
 private:
     void setup(const pass::Context& context);
     void bin(const pass::Context& context);
-    void fine(Technique& technique, const Technique::GeometryHooks& hooks,
+    void fine(oit::Technique& technique, const oit::Technique::GeometryHooks& hooks,
               const pass::Context& context);
     void bindBuffers() const;
 
@@ -73,4 +73,4 @@ private:
     Stats stats_;
 };
 
-} // namespace veil::oit
+} // namespace veil::frame

@@ -1,8 +1,13 @@
-// What a frame::Renderer is built from: its options, the techniques they choose, the checks
-// made before anything is loaded, and the uniform blocks every frame fills.
+// What a frame::Renderer is built from: its options, the techniques they choose, its stages in
+// frame order, the checks made before anything is loaded, and the uniform blocks every frame
+// fills.
 #pragma once
 
 #include "frame/frame_uniforms.h"
+#include "frame/stages/ambient_occlusion.h"
+#include "frame/stages/fog_stage.h"
+#include "frame/stages/shadow_stage.h"
+#include "frame/stages/transparency_stage.h"
 #include "gpu/context.h"
 #include "gpu/shader.h"
 #include "oit/technique.h"
@@ -41,19 +46,35 @@ struct RendererOptions {
     bool reuseShadowMaps = false;
 };
 
-// The OIT technique of `options` (or the scene's render.oit) with its properties: the
-// options' when given, the scene's when it is the scene's technique, else the defaults.
-std::unique_ptr<oit::Technique> createOitTechnique(const scene::Scene& scene,
-                                                   const RendererOptions& options,
-                                                   const gpu::ContextInfo& context,
-                                                   gpu::ProgramManager& programs);
-// The same for the shadow technique; `where` receives where its properties came from (for
-// errors naming the max_lights limit).
-std::unique_ptr<shadows::Technique> createShadowTechnique(const scene::Scene& scene,
-                                                          const RendererOptions& options,
-                                                          const gpu::ContextInfo& context,
-                                                          gpu::ProgramManager& programs,
-                                                          std::string& where);
+// Which technique of a registry a renderer uses, and its properties: the option's technique
+// (empty: the scene's) with the option's properties when given, the scene's when it is the
+// scene's technique, else its defaults. One rule for the OIT and the shadow technique.
+struct TechniqueChoice {
+    std::string name;
+    nlohmann::json properties;
+    std::string where; // where the properties came from (messages)
+};
+TechniqueChoice chooseTechnique(const std::string& option, const nlohmann::json& optionProperties,
+                                const std::string& optionWhere, const std::string& sceneName,
+                                const nlohmann::json& sceneProperties,
+                                const std::string& sceneWhere, const std::string& flag);
+TechniqueChoice oitChoice(const scene::Scene& scene, const RendererOptions& options);
+TechniqueChoice shadowChoice(const scene::Scene& scene, const RendererOptions& options);
+
+// A renderer's stages in frame order: shadows, the depth pre-pass and AO (render.ao), opaque,
+// fog (only with density volumes), transparency, tonemap; and the ones the frame talks to.
+struct FrameStages {
+    std::vector<std::unique_ptr<pass::Stage>> list;
+    ShadowStage* shadows = nullptr;
+    AmbientOcclusion* ao = nullptr;
+    FogStage* fog = nullptr;
+    TransparencyStage* transparency = nullptr;
+};
+// Builds them for a width x height frame (throws veil::Error naming what is wrong: technique,
+// property, budget, volume file). `slabTexels`: the fog's refinement step.
+FrameStages buildStages(const scene::Scene& scene, const gpu::ContextInfo& context,
+                        const RendererOptions& options, gpu::ProgramManager& programs, int width,
+                        int height, int slabTexels);
 
 // Refuses a fog march whose work (marched pixels x steps) is past render.fog_sample_limit
 // before any volume is loaded: on llvmpipe 2048^2 pixels x 4096 steps would take days.

@@ -1,4 +1,4 @@
-// The compute rasterizer's data (src/oit/compute_raster/compute_raster.h), after
+// The compute rasterizer's data (src/frame/stages/compute_raster.h), after
 // [Laine11 sec. 3-4]: triangle setup writes one record per input triangle (and more, from a
 // second region, where clipping splits it), binning builds per-tile lists of input triangles
 // in submission order, fine rasterization runs one workgroup per tile. Included after

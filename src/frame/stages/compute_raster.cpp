@@ -1,4 +1,4 @@
-#include "oit/compute_raster/compute_raster.h"
+#include "frame/stages/compute_raster.h"
 
 #include "base/error.h"
 #include "base/log.h"
@@ -9,7 +9,7 @@
 
 #include <algorithm>
 
-namespace veil::oit {
+namespace veil::frame {
 
 namespace {
 
@@ -39,28 +39,28 @@ constexpr GLbitfield kStorageBarrier = GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER
 
 std::string ComputeRaster::supportedNames() {
     std::string out;
-    for (const TechniqueInfo& info : Registry::instance().all())
+    for (const oit::TechniqueInfo& info : oit::Registry::instance().all())
         if (info.computeRaster) out += (out.empty() ? "" : ", ") + info.name;
     return out;
 }
 
-ComputeRaster::ComputeRaster(gpu::ProgramManager& programs, const Technique& technique,
+ComputeRaster::ComputeRaster(gpu::ProgramManager& programs, const oit::Technique& technique,
                              const gpu::IncludeAliases& surface)
     : programs_(programs) {
-    const TechniqueInfo* info = Registry::instance().find(technique.name());
+    const oit::TechniqueInfo* info = oit::Registry::instance().find(technique.name());
     VEIL_CHECK(info && info->computeRaster,
                "render.oit_rasterizer = compute: OIT technique '{}' has no compute-raster "
                "emission (techniques on the compute rasterizer: {}); use "
                "render.oit_rasterizer = raster",
                technique.name(), supportedNames());
     using gpu::ProgramDesc;
-    setup_ = programs_.add(ProgramDesc::compute("oit/compute_raster/setup.comp", {}, surface));
-    count_ = programs_.add(ProgramDesc::compute("oit/compute_raster/bin.comp", {}, surface));
-    fill_ =
-        programs_.add(ProgramDesc::compute("oit/compute_raster/bin.comp", {"BIN_FILL 1"}, surface));
-    scanBatches_ = programs_.add(ProgramDesc::compute("oit/compute_raster/scan_batches.comp"));
+    setup_ = programs_.add(ProgramDesc::compute("frame/compute_raster/setup.comp", {}, surface));
+    count_ = programs_.add(ProgramDesc::compute("frame/compute_raster/bin.comp", {}, surface));
+    fill_ = programs_.add(
+        ProgramDesc::compute("frame/compute_raster/bin.comp", {"BIN_FILL 1"}, surface));
+    scanBatches_ = programs_.add(ProgramDesc::compute("frame/compute_raster/scan_batches.comp"));
     scanTiles_ =
-        programs_.add(ProgramDesc::compute("oit/compute_raster/scan_tiles.comp", {}, surface));
+        programs_.add(ProgramDesc::compute("frame/compute_raster/scan_tiles.comp", {}, surface));
     for (int pass = 0; pass < technique.geometryPasses(); ++pass) {
         // The emit file in its compute form (OIT_COMPUTE: targets as images at oitPixel).
         std::vector<std::string> defines = {"OIT_COMPUTE 1", "OIT_PIXEL_COORD oitPixel"};
@@ -70,7 +70,7 @@ ComputeRaster::ComputeRaster(gpu::ProgramManager& programs, const Technique& tec
         gpu::IncludeAliases aliases = surface;
         aliases.push_back({"veil:oit_emit", technique.emitInclude()});
         fine_.push_back(programs_.add(
-            ProgramDesc::compute("oit/compute_raster/fine.comp", std::move(defines), aliases)));
+            ProgramDesc::compute("frame/compute_raster/fine.comp", std::move(defines), aliases)));
     }
     triangles_ = gpu::Buffer();
     attributes_ = gpu::Buffer();
@@ -98,7 +98,7 @@ void ComputeRaster::setup(const pass::Context& context) {
     for (std::uint32_t c : counts)
         total += c;
     stats_.triangles = total;
-    // Records are indexed with 28 bits (shaders/oit/compute_raster/raster.glsl).
+    // Records are indexed with 28 bits (shaders/frame/compute_raster/raster.glsl).
     VEIL_CHECK(total < (std::uint64_t(1) << 27),
                "compute rasterizer: {} transparent triangles, more than 2^27", total);
     std::size_t countersNeed = 16 + counts.size() * 6 * 16;
@@ -223,9 +223,9 @@ void ComputeRaster::bin(const pass::Context& context) {
     }
 }
 
-void ComputeRaster::fine(Technique& technique, const Technique::GeometryHooks& hooks,
+void ComputeRaster::fine(oit::Technique& technique, const oit::Technique::GeometryHooks& hooks,
                          const pass::Context& context) {
-    const glm::ivec4 region = frameRegion(context);
+    const glm::ivec4 region = oit::frameRegion(context);
     const glm::ivec2 first(region.x / kTile, region.y / kTile);
     const glm::ivec2 last((region.z - 1) / kTile, (region.w - 1) / kTile);
     for (int pass = 0; pass < technique.geometryPasses(); ++pass) {
@@ -254,8 +254,8 @@ void ComputeRaster::fine(Technique& technique, const Technique::GeometryHooks& h
     }
 }
 
-std::vector<pass::Pass> ComputeRaster::passes(Technique& technique,
-                                              Technique::GeometryHooks hooks) {
+std::vector<pass::Pass> ComputeRaster::passes(oit::Technique& technique,
+                                              oit::Technique::GeometryHooks hooks) {
     std::vector<pass::Pass> out;
     pass::Pass setupPass{"transparent.setup",
                          {},
@@ -283,4 +283,4 @@ std::vector<pass::Pass> ComputeRaster::passes(Technique& technique,
     return out;
 }
 
-} // namespace veil::oit
+} // namespace veil::frame

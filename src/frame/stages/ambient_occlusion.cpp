@@ -1,4 +1,4 @@
-#include "frame/ambient_occlusion.h"
+#include "frame/stages/ambient_occlusion.h"
 
 #include "base/error.h"
 #include "shaders/common/bindings.h"
@@ -126,7 +126,12 @@ const gpu::Texture& AmbientOcclusion::visibility() const {
     return properties_.getInt("blur_radius") > 0 ? blurred_ : raw_;
 }
 
-std::vector<pass::Pass> AmbientOcclusion::passes() const {
+void AmbientOcclusion::resize(pass::Context& context) {
+    resize(context.width, context.height);
+    context.ambientOcclusion = &visibility();
+}
+
+std::vector<pass::Pass> AmbientOcclusion::passes(const pass::Assembly&) {
     return {{"ao",
              {"depth"},
              {"ao.depth", "ao.raw"},
