@@ -51,7 +51,7 @@ export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:symbolize=1}
 export LSAN_OPTIONS="suppressions=$PWD/tests/fuzz/lsan_suppressions.txt${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 
-# Per-input time limit. The volume target's is 60 s: its trial reads (src/volume/vdb_file.cpp)
+# Per-input time limit. The volume target's is 60 s: its trial reads (src/grid/vdb_file.cpp)
 # allocate what a damaged compressed-size field in the file asks for before OpenVDB finds the
 # data missing, and under ASan a 2.9 GB allocation is touched page by page: a 30 KB input took
 # 18 s in the fuzz build and 0.46 s (a one-line "corrupt" error) in the release build.

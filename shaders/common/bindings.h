@@ -50,7 +50,7 @@
 // has exactly 8: binding 8 fails to compile there).
 #define VEIL_IMG_OIT_TARGET0 4
 
-// Fog (src/volume): marcher outputs, and per-volume textures (VEIL_MAX_VOLUMES of each)
+// Fog (src/fog): marcher outputs, and per-volume textures (VEIL_MAX_VOLUMES of each)
 #define VEIL_TEX_FOG_RADIANCE 12
 #define VEIL_TEX_FOG_TRANSMITTANCE 13
 #define VEIL_TEX_VOLUME_DATA 16
@@ -102,7 +102,7 @@
 #define VEIL_TEX_VOX0 16
 #define VEIL_TEX_VOX_RANGE 24
 
-// The compute rasterizer of the transparent pass (src/oit/compute_raster): an object's mesh
+// The compute rasterizer of the transparent pass (src/frame/stages/compute_raster.*): an object's mesh
 // buffers as SSBOs (frame::dispatchObjects, shaders/frame/raster_surface.glsl), and its own
 // triangle records, counters, per-tile starts, per-(batch, tile) offsets and tile lists.
 #define VEIL_SSBO_MESH_POSITIONS 25

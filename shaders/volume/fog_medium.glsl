@@ -34,7 +34,7 @@ uniform float ambientScale;
 uniform float octaveRadius;
 layout(binding = VEIL_TEX_VOLUME_NEIGHBOURHOOD) uniform sampler3D volumeNeighbourhood[VEIL_VOLUME_SLOTS];
 
-// Mean unscaled density of volume i around index-space point p (volume/neighbourhood.h: cell
+// Mean unscaled density of volume i around index-space point p (grid/neighbourhood.h: cell
 // centres at 8k + 3.5, zero border).
 float neighbourhoodMean(int i, vec3 p) {
     vec3 size = vec3(textureSize(volumeNeighbourhood[i], 0));
@@ -44,7 +44,7 @@ float neighbourhoodMean(int i, vec3 p) {
 #endif
 
 #ifdef VEIL_SCATTERED_LIGHT
-// The scattered-light cache (render.fog_scattered_light, src/volume/scattered_light_cache.h):
+// The scattered-light cache (render.fog_scattered_light, src/fog/scattered_light_cache.h):
 // over the world box [scatteredLo, scatteredHi], the mean radiance arriving after at least one
 // scattering event or from the sky (rgb, a: luminance) and its P1 flux G (xyz). The
 // in-scattered radiance toward V for phase anisotropy g is mean x (1 + g G.V / mean_Y).
@@ -54,8 +54,8 @@ uniform vec3 scatteredLo, scatteredHi;
 #endif
 
 #ifdef VEIL_VOLUME_EMISSION
-// Emission channels (src/volume/fog_pass.cpp): per volume a texture of the density's layout,
-// and the blackbody table (src/volume/blackbody.h blackbodyTable(): linear sRGB / Y and ln Y at
+// Emission channels (src/fog/fog_pass.cpp): per volume a texture of the density's layout,
+// and the blackbody table (src/integrators/blackbody.h blackbodyTable(): linear sRGB / Y and ln Y at
 // T = i x blackbodyMaxKelvin / (size - 1)).
 layout(binding = VEIL_TEX_VOLUME_EMISSION) uniform sampler3D volumeEmission[VEIL_VOLUME_SLOTS];
 layout(binding = VEIL_TEX_BLACKBODY) uniform sampler1D blackbodyTable;

@@ -1,4 +1,4 @@
-// Density volumes on the GPU (src/volume/gpu_volume.h): brick atlas + indirection, or dense.
+// Density volumes on the GPU (src/fog/gpu_volume.h): brick atlas + indirection, or dense.
 #include "../common/bindings.h"
 #include "../common/math.glsl"
 
@@ -26,7 +26,7 @@ uniform VolumeInfo volumes[VEIL_MAX_VOLUMES];
 uniform int volumeCount;
 
 // Sampler slots per array. The fog's programs define it to the scene's number of grid volumes
-// (src/volume/fog_pass.cpp) and loop `for (i < VEIL_VOLUME_SLOTS) if (i < volumeCount)`, so
+// (src/fog/fog_pass.cpp) and loop `for (i < VEIL_VOLUME_SLOTS) if (i < volumeCount)`, so
 // the loops unroll and every texture is indexed by a constant: on llvmpipe a sampler array
 // indexed by a non-constant runs the whole texture fetch once per SIMD lane, and fewer declared samplers keep the program under its per-stage sampler limits.
 #ifndef VEIL_VOLUME_SLOTS

@@ -57,7 +57,8 @@ struct Object {
     bool castShadows = true;
 };
 
-// A density field referenced by the scene; loaded and rendered by src/volume.
+// A density field referenced by the scene; loaded by src/grid, rendered by src/fog and the CPU
+// integrators (src/integrators).
 struct VolumeRef {
     std::string name;
     std::filesystem::path path; // absolute (resolved against the scene file's folder); or:
@@ -76,8 +77,8 @@ struct VolumeRef {
     float anisotropy = 0.0f; // Henyey-Greenstein g in (-1,1)
     // Emitted radiance per unit length: emission x density, or emission x the value of
     // `emissionGrid` where one is named; plus, with a `temperatureGrid`, blackbody radiance
-    // (volume/blackbody.h) at T = temperatureScale x value + temperatureOffset (kelvin) times
-    // temperatureIntensity x density_scale x density (docs/volumes.md "Emission"). The grids
+    // (integrators/blackbody.h) at T = temperatureScale x value + temperatureOffset (kelvin)
+    // times temperatureIntensity x density_scale x density (docs/volumes.md "Emission"). The grids
     // are grids of the volume's file (at most one of the two; the emission grid may be RGB).
     glm::vec3 emission{0.0f};
     std::string emissionGrid;
@@ -98,7 +99,7 @@ struct RenderSettings {
     nlohmann::json oitProperties;
     std::string oitWhere = "render.oit";
     // Who rasterizes the transparent pass: "raster" (the hardware) or "compute"
-    // (src/oit/compute_raster, the techniques that support it).
+    // (src/frame/stages/compute_raster.*, the techniques that support it).
     std::string oitRasterizer = "raster";
     std::uint32_t seed = 1;
     glm::vec3 ambient{0.03f};   // constant ambient irradiance term (times base color)
@@ -111,10 +112,16 @@ struct RenderSettings {
     std::string shadows = "opaque";
     nlohmann::json shadowProperties;
     std::string shadowsWhere = "render.shadows";
-    // Screen-space ambient obscurance properties (src/frame/ao/ao_pass.h; null = defaults, off).
+    // Screen-space ambient obscurance properties (src/frame/stages/ambient_occlusion.h; null =
+    // defaults, off).
     nlohmann::json aoProperties;
     std::string aoWhere = "render.ao";
-    // Fog marcher (src/volume): steps per ray through a volume's bounds, resolution divisor
+    // The volumetric path tracer's properties as written ("render": {"pathtraced": {...}}; null =
+    // defaults), checked against its declared schema (src/integrators/path_tracer.h) when it
+    // runs; pathtracedWhere names the place for messages.
+    nlohmann::json pathtracedProperties;
+    std::string pathtracedWhere = "render.pathtraced";
+    // Fog marcher (src/fog): steps per ray through a volume's bounds, resolution divisor
     // (1 = full, 2 = half, 4 = quarter, joint-bilateral upsampled), jitter of the start.
     int fogSteps = 128;
     int fogResolution = 1;
@@ -128,7 +135,7 @@ struct RenderSettings {
     float fogOctaveAnisotropy = 0.5f; // c
     // Depth-aware octaves (Veil's addition, docs/volumes.md): octave n >= 1 is weighted by
     // (1 - exp(-tau))^n, tau = radius x the extinction averaged over the point's 8^3-voxel
-    // neighbourhood (volume/neighbourhood.h); 0 = off (the octaves of [Wrenninge13]).
+    // neighbourhood (grid/neighbourhood.h); 0 = off (the octaves of [Wrenninge13]).
     float fogOctaveRadius = 0.0f;
     // Scattered-light cache (docs/volumes.md): the marcher adds to its single scattering the
     // light that has scattered before (and the sky), baked by the path tracer on a grid of

@@ -136,11 +136,13 @@ void parseRender(const Obj& o, RenderSettings& r) {
         r.aoProperties = *ao;
         r.aoWhere = fmt::format("{}: {}", o.ctx().source, o.ptr("ao"));
     }
+    // The path tracer's properties (src/integrators/path_tracer.h), checked against its schema
+    // when it runs.
     if (const json* pt = o.get("pathtraced")) {
         if (!pt->is_object())
             fail(o.ctx(), o.ptr("pathtraced"), "expected an object of path tracer properties");
-        // The path tracer's properties (src/volume/path_tracer.h) are read from the document
-        // by its caller (compare::pathTracedProperties) and checked there.
+        r.pathtracedProperties = *pt;
+        r.pathtracedWhere = fmt::format("{}: {}", o.ctx().source, o.ptr("pathtraced"));
     }
     // Legacy keys of the opaque shadow map, kept as aliases of the shadow technique's
     // properties (every technique has an opaque map: src/shadows/opaque/opaque.h).

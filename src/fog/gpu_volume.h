@@ -1,0 +1,83 @@
+// A density grid on the GPU, following its active voxels rather than its bounding box:
+// active leaf nodes (8^3) are packed into a 3D brick atlas (R16F, 10^3 per brick: one voxel of
+// apron on every side so hardware trilinear filtering is correct across bricks) and a 3D
+// indirection texture over the leaf grid maps a leaf to its brick (0 = empty: the marcher
+// skips the whole leaf). Small grids use one dense 3D texture instead.
+//
+// Leaves are dilated by one toward -x, -y, -z: a sample whose lower trilinear corner lies in an
+// empty leaf still reaches the values of the non-empty neighbour through that leaf's brick.
+#pragma once
+
+#include "gpu/objects.h"
+#include "grid/gpu_volume_stats.h"
+#include "grid/grid_conversion.h"
+#include "scene/scene.h"
+
+#include <openvdb/openvdb.h>
+
+#include <glm/glm.hpp>
+
+#include <string>
+#include <type_traits>
+
+namespace veil::volume {
+
+static_assert(std::is_same_v<openvdb::Index64, std::uint64_t>);
+
+// A 3D texture of `texels` (floats in `format`, x fastest) stored as `internalFormat`, with
+// trilinear filtering and `wrap` on every axis (GL_CLAMP_TO_BORDER: the default border, 0).
+gpu::Texture makeFilteredTexture3D(const glm::ivec3& size, GLenum internalFormat, GLenum format,
+                                   const float* texels, GLenum wrap = GL_CLAMP_TO_EDGE);
+
+class GpuVolume {
+public:
+    // `objectToWorld` is the scene entry's transform, applied after the grid's own
+    // index-to-world transform (which must be affine). Before allocating anything the upload is
+    // planned: a grid over the budget, over GL_MAX_3D_TEXTURE_SIZE or with an indirection table
+    // over 2^25 entries is coarsened (or refused with refuseOverBudget), with the estimate and
+    // the limit in the message; index coordinates beyond +-2^24 are refused. Throws
+    // veil::Error.
+    GpuVolume(openvdb::FloatGrid::ConstPtr grid, const glm::mat4& objectToWorld,
+              const GpuVolumeOptions& options = {});
+    // Uploads a conversion made earlier (grid_conversion.h, on any thread): the same textures
+    // as the constructor above makes from the grid the conversion was made from.
+    GpuVolume(const GridConversion& converted, const glm::mat4& objectToWorld);
+
+    const GpuVolumeStats& stats() const { return stats_; }
+    const gpu::Texture& data() const { return data_; } // atlas or dense R16F
+    // The conversion's second channel (emission), same layout as data(); null if none. R16F
+    // (1 component) or RGBA16F (4: RGB and 0).
+    const gpu::Texture& channel() const { return channel_; }
+    int channelComponents() const { return channelComponents_; }
+    const gpu::Texture& indirection() const { return indirection_; } // R32UI (bricks only)
+    // The mean density per 8^3-voxel cell (grid/neighbourhood.h), R32F, trilinear, zero
+    // border; cell (0,0,0) of the texture is cell neighbourhoodOrigin() of the grid. Null unless
+    // the conversion had GpuVolumeOptions::neighbourhood.
+    const gpu::Texture& neighbourhood() const { return neighbourhood_; }
+    glm::ivec3 neighbourhoodOrigin() const { return neighbourhoodOrigin_; }
+    const glm::mat4& worldToIndex() const { return worldToIndex_; }
+    const glm::mat4& indexToWorld() const { return indexToWorld_; }
+    // Index-space bounds of the stored data, voxel centres at integer coordinates.
+    glm::vec3 indexMin() const { return indexMin_; }
+    glm::vec3 indexMax() const { return indexMax_; }
+    glm::ivec3 leafOrigin() const { return leafOrigin_; } // index of leaf (0,0,0) of the table
+    glm::ivec3 bricksPerAxis() const { return bricksPerAxis_; }
+    // World-space axis-aligned bounds.
+    void worldBounds(glm::vec3& lo, glm::vec3& hi) const;
+    float voxelSize() const { return voxelSize_; } // world units (largest axis)
+
+private:
+    void upload(const GridConversion& converted, const glm::mat4& objectToWorld);
+
+    GpuVolumeStats stats_;
+    gpu::Texture data_{gpu::NoCreate}, indirection_{gpu::NoCreate}, channel_{gpu::NoCreate};
+    gpu::Texture neighbourhood_{gpu::NoCreate};
+    glm::ivec3 neighbourhoodOrigin_{0};
+    int channelComponents_ = 0;
+    glm::mat4 worldToIndex_{1.0f}, indexToWorld_{1.0f};
+    glm::vec3 indexMin_{0.0f}, indexMax_{0.0f};
+    glm::ivec3 leafOrigin_{0}, bricksPerAxis_{0};
+    float voxelSize_ = 1.0f;
+};
+
+} // namespace veil::volume

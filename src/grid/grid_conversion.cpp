@@ -1,0 +1,402 @@
+// Planning and converting a grid for the GPU on the CPU (grid_conversion.h).
+#include "grid/grid_conversion.h"
+
+#include "base/error.h"
+
+#include <openvdb/tools/Interpolation.h>
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+
+namespace veil::volume {
+
+namespace {
+
+constexpr int kLeaf = 8;
+constexpr int kBrick = kLeaf + 2; // one voxel of apron on each side
+
+glm::mat4 affineIndexToWorld(const openvdb::FloatGrid& grid) {
+    const openvdb::math::Transform& t = grid.transform();
+    VEIL_CHECK(t.isLinear(),
+               "grid '{}' has a non-linear (frustum) transform; only affine "
+               "grid transforms are supported",
+               grid.getName());
+    const openvdb::Vec3d o = t.indexToWorld(openvdb::Vec3d(0, 0, 0));
+    const openvdb::Vec3d x = t.indexToWorld(openvdb::Vec3d(1, 0, 0)) - o;
+    const openvdb::Vec3d y = t.indexToWorld(openvdb::Vec3d(0, 1, 0)) - o;
+    const openvdb::Vec3d z = t.indexToWorld(openvdb::Vec3d(0, 0, 1)) - o;
+    glm::mat4 m(1.0f);
+    m[0] = glm::vec4(x.x(), x.y(), x.z(), 0.0f);
+    m[1] = glm::vec4(y.x(), y.y(), y.z(), 0.0f);
+    m[2] = glm::vec4(z.x(), z.y(), z.z(), 0.0f);
+    m[3] = glm::vec4(o.x(), o.y(), o.z(), 1.0f);
+    return m;
+}
+
+// Limits checked before anything is allocated. Index coordinates are handed to the shader as
+// floats: beyond 2^24 neighbouring voxels have the same coordinate. The indirection table is
+// dense over the leaves' bounding box: 2^25 entries (128 MiB) bound what sparse, far-apart
+// data may cost in memory and upload time whatever the budget. Coarsening costs one pass over
+// the leaves plus one fill per tile, so it is never the expensive part.
+constexpr std::int64_t kMaxIndexCoord = std::int64_t(1) << 24;
+constexpr double kMaxTableEntries = 33554432.0;
+constexpr int kMaxCoarsening = 6;
+constexpr double kBrickBytes = double(kBrick) * kBrick * kBrick * 2; // R16F
+
+double product(const glm::dvec3& v) { return v.x * v.y * v.z; }
+
+// Leaf-sized blocks holding active values: non-empty leaves and every 8^3 block of an active
+// tile (a grid may be tiles only, and sdfToFogVolume fills a level set's interior with tiles;
+// the accessor reads tile values like voxels). Dilated toward -x, -y, -z (see gpu_volume.h).
+// Sorted (openvdb::Coord's order) and unique: the atlas order does not depend on threads.
+std::vector<openvdb::Coord> brickOrigins(const openvdb::FloatGrid& grid) {
+    std::vector<openvdb::Coord> origins;
+    auto add = [&origins](const openvdb::Coord& o) {
+        for (int c = 0; c < 8; ++c)
+            origins.push_back(o - openvdb::Coord((c & 1) * kLeaf, ((c >> 1) & 1) * kLeaf,
+                                                 ((c >> 2) & 1) * kLeaf));
+    };
+    origins.reserve(std::size_t(grid.tree().leafCount()) * 8);
+    for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf)
+        if (!leaf->isEmpty()) add(leaf->origin());
+    auto tile = grid.tree().cbeginValueOn();
+    tile.setMaxDepth(tile.getLeafDepth() - 1); // tiles only
+    for (; tile; ++tile) {
+        openvdb::CoordBBox b;
+        tile.getBoundingBox(b);
+        for (int z = b.min().z(); z <= b.max().z(); z += kLeaf)
+            for (int y = b.min().y(); y <= b.max().y(); y += kLeaf)
+                for (int x = b.min().x(); x <= b.max().x(); x += kLeaf)
+                    add(openvdb::Coord(x, y, z));
+    }
+    tbb::parallel_sort(origins.begin(), origins.end());
+    origins.erase(std::unique(origins.begin(), origins.end()), origins.end());
+    return origins;
+}
+
+// Leaf-sized blocks before dilation, counted without enumerating tiles.
+double activeBlocks(const openvdb::FloatGrid& grid) {
+    double blocks = double(grid.tree().leafCount());
+    auto tile = grid.tree().cbeginValueOn();
+    tile.setMaxDepth(tile.getLeafDepth() - 1);
+    for (; tile; ++tile)
+        blocks += double(tile.getVoxelCount()) / double(kLeaf * kLeaf * kLeaf);
+    return blocks;
+}
+
+glm::ivec3 atlasLayout(std::size_t bricks) {
+    const int side = std::max(1, static_cast<int>(std::ceil(std::cbrt(double(bricks)))));
+    const int bx = side, by = side;
+    const int bz = static_cast<int>((bricks + std::size_t(bx * by) - 1) / std::size_t(bx * by));
+    return {bx, by, std::max(bz, 1)};
+}
+
+// What uploading `grid` takes, in 64-bit/double arithmetic (coordinates near the int32 limits
+// overflow int spans). `whyNot` is empty when it fits the budget and the texture size limit.
+struct Plan {
+    bool dense = false;
+    double bytes = 0.0; // a lower bound when the grid was found too large before enumeration
+    std::vector<openvdb::Coord> origins;
+    std::string whyNot;
+};
+
+Plan planUpload(const openvdb::FloatGrid& grid, const GpuVolumeOptions& options, int max3D) {
+    Plan plan;
+    const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
+    if (box.empty()) return plan;
+    const glm::dvec3 lo(box.min().x(), box.min().y(), box.min().z());
+    const glm::dvec3 hi(box.max().x(), box.max().y(), box.max().z());
+    const glm::dvec3 dense = hi - lo + 3.0; // one voxel of apron on each side
+    const double budget = double(options.budgetBytes);
+    const double limit = double(max3D);
+    auto tooWide = [&](const glm::dvec3& d, const char* what) {
+        return fmt::format("its {} would be {}x{}x{} texels, over GL_MAX_3D_TEXTURE_SIZE {}", what,
+                           d.x, d.y, d.z, max3D);
+    };
+    auto overBudget = [&](double bytes, bool lowerBound) {
+        return fmt::format("needs {}{:.1f} MiB of GPU memory, over the budget of {:.1f} MiB",
+                           lowerBound ? "at least " : "", bytes / 1048576.0, budget / 1048576.0);
+    };
+    if (product(dense) <= double(options.denseVoxelLimit) &&
+        std::max({dense.x, dense.y, dense.z}) <= limit) {
+        plan.dense = true;
+        plan.bytes = product(dense) * 2.0;
+        if (plan.bytes > budget) plan.whyNot = overBudget(plan.bytes, false);
+        return plan;
+    }
+    // Bricks. First bounds that need no enumeration: tiles may stand for billions of blocks.
+    const glm::dvec3 table = glm::floor((hi - lo) / double(kLeaf)) + 3.0;
+    const double blocks = activeBlocks(grid);
+    plan.bytes = blocks * kBrickBytes + product(table) * 4.0;
+    if (product(table) > kMaxTableEntries) {
+        plan.whyNot = fmt::format("its indirection table over {}x{}x{} leaves would have {:.3g} "
+                                  "entries, over the limit of {:.3g} (active voxels far apart)",
+                                  table.x, table.y, table.z, product(table), kMaxTableEntries);
+        return plan;
+    }
+    if (std::max({table.x, table.y, table.z}) > limit) {
+        plan.whyNot = tooWide(table, "indirection table");
+        return plan;
+    }
+    if (plan.bytes > budget) {
+        plan.whyNot = overBudget(plan.bytes, true);
+        return plan;
+    }
+    plan.origins = brickOrigins(grid);
+    const glm::ivec3 l = atlasLayout(plan.origins.size());
+    const glm::dvec3 atlas = glm::dvec3(l) * double(kBrick);
+    plan.bytes = product(glm::dvec3(l)) * kBrickBytes + product(table) * 4.0;
+    if (plan.bytes > budget)
+        plan.whyNot = overBudget(plan.bytes, false);
+    else if (std::max({atlas.x, atlas.y, atlas.z}) > limit)
+        plan.whyNot = tooWide(atlas, "brick atlas");
+    return plan;
+}
+
+// Coordinates first: everything after works on spans that must fit.
+void checkIndexRange(const openvdb::FloatGrid& grid) {
+    const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
+    const std::int64_t m =
+        std::max({std::abs(std::int64_t(box.min().x())), std::abs(std::int64_t(box.min().y())),
+                  std::abs(std::int64_t(box.min().z())), std::abs(std::int64_t(box.max().x())),
+                  std::abs(std::int64_t(box.max().y())), std::abs(std::int64_t(box.max().z()))});
+    VEIL_CHECK(m < kMaxIndexCoord,
+               "grid '{}' has active voxels at index coordinates [{} {} {}]..[{} {} {}], beyond "
+               "+-2^24 where single-precision sampling cannot tell voxels apart (corrupt file?)",
+               grid.getName(), box.min().x(), box.min().y(), box.min().z(), box.max().x(),
+               box.max().y(), box.max().z());
+}
+
+// Voxel size x2 with a box filter: coarse voxel i covers fine voxels 2i and 2i + 1 on each axis
+// (its centre at fine index 2i + 0.5) and takes their mean, so the optical depth is kept. Done
+// here rather than with tools::resampleToMatch, which samples tiles voxel by voxel (15.7 s for a
+// tile-only 1016^3 grid): a 2^3 group never straddles a tile, whose region is filled at once.
+openvdb::FloatGrid::Ptr coarsen(const openvdb::FloatGrid& grid) {
+    auto out = openvdb::FloatGrid::create(0.0f);
+    openvdb::math::Transform::Ptr xf = grid.transform().copy();
+    xf->preScale(2.0);
+    xf->preTranslate(openvdb::Vec3d(0.25));
+    out->setTransform(xf);
+    out->setName(grid.getName());
+    out->setGridClass(grid.getGridClass());
+    auto half = [](const openvdb::Coord& c) {
+        return openvdb::Coord(c.x() >> 1, c.y() >> 1, c.z() >> 1); // floor(c / 2)
+    };
+    auto tile = grid.tree().cbeginValueOn();
+    tile.setMaxDepth(tile.getLeafDepth() - 1);
+    for (; tile; ++tile) {
+        openvdb::CoordBBox b;
+        tile.getBoundingBox(b);
+        out->tree().fill(openvdb::CoordBBox(half(b.min()), half(b.max())), *tile, true);
+    }
+    auto acc = out->getAccessor();
+    for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) {
+        if (leaf->isEmpty()) continue;
+        const openvdb::Coord o = leaf->origin();
+        for (int z = 0; z < kLeaf; z += 2)
+            for (int y = 0; y < kLeaf; y += 2)
+                for (int x = 0; x < kLeaf; x += 2) {
+                    float sum = 0.0f;
+                    bool active = false;
+                    for (int c = 0; c < 8; ++c) {
+                        const openvdb::Coord v =
+                            o + openvdb::Coord(x + (c & 1), y + ((c >> 1) & 1), z + ((c >> 2) & 1));
+                        sum += leaf->getValue(v);
+                        active = active || leaf->isValueOn(v);
+                    }
+                    if (active) acc.setValue(half(o + openvdb::Coord(x, y, z)), sum * 0.125f);
+                }
+    }
+    return out;
+}
+
+void convertDense(const openvdb::FloatGrid& grid, GridConversion& out) {
+    const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
+    out.stats.dense = true;
+    const openvdb::Coord lo = box.min() - openvdb::Coord(1), hi = box.max() + openvdb::Coord(1);
+    const openvdb::Coord d = hi - lo + openvdb::Coord(1);
+    out.dataSize = glm::ivec3(d.x(), d.y(), d.z());
+    out.values.assign(std::size_t(d.x()) * d.y() * d.z(), 0.0f);
+    tbb::parallel_for(tbb::blocked_range<int>(lo.z(), hi.z() + 1),
+                      [&](const tbb::blocked_range<int>& zs) {
+                          auto acc = grid.getConstAccessor();
+                          for (int z = zs.begin(); z != zs.end(); ++z) {
+                              std::size_t i = std::size_t(z - lo.z()) * d.y() * d.x();
+                              for (int y = lo.y(); y <= hi.y(); ++y)
+                                  for (int x = lo.x(); x <= hi.x(); ++x)
+                                      out.values[i++] = acc.getValue({x, y, z});
+                          }
+                      });
+    out.indexMin = glm::vec3(lo.x(), lo.y(), lo.z());
+    out.indexMax = glm::vec3(hi.x(), hi.y(), hi.z());
+    out.stats.gpuBytes = out.values.size() * 2;
+}
+
+void convertBricks(const openvdb::FloatGrid& grid, const std::vector<openvdb::Coord>& origins,
+                   GridConversion& out) {
+    VEIL_CHECK(!origins.empty(), "grid '{}' has no active leaves or tiles", grid.getName());
+    out.stats.bricks = origins.size();
+    openvdb::Coord lo = origins.front(), hi = origins.front();
+    for (const auto& o : origins) {
+        lo.minComponent(o);
+        hi.maxComponent(o);
+    }
+    const openvdb::Coord span = hi - lo;
+    const glm::ivec3 leaves(span.x() / kLeaf + 1, span.y() / kLeaf + 1, span.z() / kLeaf + 1);
+    const glm::ivec3 per = atlasLayout(origins.size());
+    const glm::ivec3 atlas = per * kBrick;
+    out.bricksPerAxis = per;
+    out.dataSize = atlas;
+    out.tableSize = leaves;
+    out.values.assign(std::size_t(atlas.x) * atlas.y * atlas.z, 0.0f);
+    out.table.assign(std::size_t(leaves.x) * leaves.y * leaves.z, 0u);
+    // Brick b fills its own 10^3 texels and its own table entry: no two tasks write one place.
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, origins.size(), 64),
+        [&](const tbb::blocked_range<std::size_t>& bricks) {
+            auto acc = grid.getConstAccessor();
+            for (std::size_t b = bricks.begin(); b != bricks.end(); ++b) {
+                const openvdb::Coord& o = origins[b];
+                const int bi = static_cast<int>(b);
+                const glm::ivec3 slot(bi % per.x, (bi / per.x) % per.y, bi / (per.x * per.y));
+                const glm::ivec3 base = slot * kBrick;
+                for (int z = 0; z < kBrick; ++z)
+                    for (int y = 0; y < kBrick; ++y) {
+                        float* row =
+                            &out.values[(std::size_t(base.z + z) * atlas.y + base.y + y) * atlas.x +
+                                        base.x];
+                        for (int x = 0; x < kBrick; ++x)
+                            row[x] = acc.getValue(o + openvdb::Coord(x - 1, y - 1, z - 1));
+                    }
+                const openvdb::Coord d = o - lo;
+                const glm::ivec3 l(d.x() / kLeaf, d.y() / kLeaf, d.z() / kLeaf);
+                out.table[(std::size_t(l.z) * leaves.y + l.y) * leaves.x + l.x] =
+                    static_cast<std::uint32_t>(b + 1);
+            }
+        });
+    out.leafOrigin = glm::ivec3(lo.x(), lo.y(), lo.z()) / kLeaf;
+    out.indexMin = glm::vec3(lo.x(), lo.y(), lo.z());
+    // The apron holds voxel origin + 8, so samples up to (but excluding) the last leaf's end + 1
+    // are filtered correctly.
+    out.indexMax = glm::vec3(hi.x() + kLeaf, hi.y() + kLeaf, hi.z() + kLeaf);
+    out.stats.gpuBytes = out.values.size() * 2 + out.table.size() * 4;
+}
+
+GridConversion convert(const openvdb::FloatGrid& grid, const GpuVolumeOptions& options, int max3D) {
+    VEIL_CHECK(grid.activeVoxelCount() > 0, "empty density grid");
+    GridConversion out;
+    out.name = grid.getName();
+    out.stats.gridBytes = grid.memUsage();
+    checkIndexRange(grid);
+    max3D = max3D > 0 ? max3D : 256; // GL 4.5 guarantees at least 2048
+    openvdb::FloatGrid::ConstPtr coarsened;
+    const openvdb::FloatGrid* g = &grid;
+    Plan plan = planUpload(*g, options, max3D);
+    while (!plan.whyNot.empty()) {
+        VEIL_CHECK(!options.refuseOverBudget,
+                   "grid '{}': {} (raise render.volume_budget_mib or set volume_over_budget to "
+                   "coarsen)",
+                   grid.getName(), plan.whyNot);
+        VEIL_CHECK(out.stats.coarsened < kMaxCoarsening,
+                   "grid '{}' does not fit even coarsened {} "
+                   "times: it {}",
+                   grid.getName(), kMaxCoarsening, plan.whyNot);
+        if (out.coarsenedBecause.empty()) out.coarsenedBecause = plan.whyNot;
+        coarsened = coarsen(*g);
+        g = coarsened.get();
+        ++out.stats.coarsened;
+        VEIL_CHECK(g->activeVoxelCount() > 0, "grid '{}' {}, and coarsened it is empty",
+                   grid.getName(), out.coarsenedBecause);
+        plan = planUpload(*g, options, max3D);
+    }
+    out.stats.activeVoxels = g->activeVoxelCount();
+    out.indexToWorld = affineIndexToWorld(*g);
+    if (plan.dense)
+        convertDense(*g, out);
+    else
+        convertBricks(*g, plan.origins, out);
+    if (options.neighbourhood) {
+        out.neighbourhood = neighbourhoodMean(*g);
+        out.stats.gpuBytes += out.neighbourhood.mean.size() * 4;
+    }
+    return out;
+}
+
+} // namespace
+
+GridConversion convertGrid(const openvdb::FloatGrid& grid, const GpuVolumeOptions& options,
+                           int max3D, int threads) {
+    if (threads <= 0) return convert(grid, options, max3D);
+    tbb::task_arena arena(threads);
+    return arena.execute([&] { return convert(grid, options, max3D); });
+}
+
+void addChannel(GridConversion& c, const std::vector<openvdb::FloatGrid::Ptr>& grids) {
+    VEIL_CHECK(grids.size() == 1 || grids.size() == 3, "addChannel: {} grids (1 or 3)",
+               grids.size());
+    const glm::ivec3 n = c.dataSize;
+    const std::size_t components = grids.size() == 1 ? 1 : 4;
+    c.channelComponents = int(components);
+    c.channel.assign(c.values.size() * components, 0.0f);
+    // Index coordinate of the conversion -> world (the grid's own transform, before the scene
+    // entry's) -> index coordinate of each grid.
+    const glm::dmat4 toWorld(c.indexToWorld);
+    using Accessors = std::vector<openvdb::FloatGrid::ConstAccessor>;
+    auto accessors = [&grids] {
+        Accessors a;
+        for (const auto& g : grids)
+            a.push_back(g->getConstAccessor());
+        return a;
+    };
+    auto fill = [&](Accessors& acc, const glm::ivec3& texel, const glm::dvec3& index) {
+        const glm::dvec3 w = glm::dvec3(toWorld * glm::dvec4(index, 1.0));
+        const std::size_t at =
+            ((std::size_t(texel.z) * n.y + texel.y) * n.x + texel.x) * components;
+        for (std::size_t k = 0; k < grids.size(); ++k)
+            c.channel[at + k] = openvdb::tools::BoxSampler::sample(
+                acc[k], grids[k]->worldToIndex(openvdb::Vec3d(w.x, w.y, w.z)));
+    };
+    if (c.stats.dense) {
+        tbb::parallel_for(0, n.z, [&](int z) {
+            Accessors acc = accessors();
+            for (int y = 0; y < n.y; ++y)
+                for (int x = 0; x < n.x; ++x)
+                    fill(acc, {x, y, z}, glm::dvec3(c.indexMin) + glm::dvec3(x, y, z));
+        });
+    } else {
+        const glm::ivec3 t = c.tableSize, per = c.bricksPerAxis;
+        tbb::parallel_for(0, t.z, [&](int lz) {
+            Accessors acc = accessors();
+            for (int ly = 0; ly < t.y; ++ly)
+                for (int lx = 0; lx < t.x; ++lx) {
+                    const std::uint32_t b = c.table[(std::size_t(lz) * t.y + ly) * t.x + lx];
+                    if (b == 0) continue;
+                    const int bi = int(b - 1);
+                    const glm::ivec3 base =
+                        glm::ivec3(bi % per.x, (bi / per.x) % per.y, bi / (per.x * per.y)) * kBrick;
+                    const glm::ivec3 origin = (c.leafOrigin + glm::ivec3(lx, ly, lz)) * kLeaf;
+                    for (int z = 0; z < kBrick; ++z)
+                        for (int y = 0; y < kBrick; ++y)
+                            for (int x = 0; x < kBrick; ++x)
+                                fill(acc, base + glm::ivec3(x, y, z),
+                                     glm::dvec3(origin + glm::ivec3(x - 1, y - 1, z - 1)));
+                }
+        });
+    }
+    c.stats.gpuBytes += c.channel.size() * 2;
+}
+
+std::size_t estimateGpuBytes(const openvdb::FloatGrid& grid, const GpuVolumeOptions& options) {
+    const Plan plan = planUpload(grid, options, std::numeric_limits<int>::max());
+    return plan.bytes >= double(std::numeric_limits<std::size_t>::max())
+               ? std::numeric_limits<std::size_t>::max()
+               : static_cast<std::size_t>(plan.bytes);
+}
+
+} // namespace veil::volume

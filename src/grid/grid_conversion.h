@@ -1,0 +1,67 @@
+// The CPU side of putting a density grid on the GPU (fog/gpu_volume.h): the upload is planned
+// against the budget and the texture size limit (coarsening the grid until it fits), then the
+// grid is converted to the arrays the textures are made of: a dense box of voxels, or the brick
+// atlas (active leaves with a one-voxel apron) and its indirection table. No GL: it runs on any
+// thread (src/sequence converts the next frames on worker threads while the GPU renders) and is
+// multithreaded with TBB over bricks (dense: over z slices), as OpenVDB's own tools are. The
+// result does not depend on the number of threads (each texel is written by one task).
+#pragma once
+
+#include "grid/gpu_volume_stats.h"
+#include "grid/neighbourhood.h"
+
+#include <openvdb/openvdb.h>
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace veil::volume {
+
+struct GridConversion {
+    std::string name;                 // the grid's
+    GpuVolumeStats stats;             // gpuBytes, bricks, dense, coarsened, activeVoxels, gridBytes
+    std::string coarsenedBecause;     // why it was coarsened (empty: it was not)
+    glm::mat4 indexToWorld{1.0f};     // the (possibly coarsened) grid's own transform
+    glm::ivec3 dataSize{0};           // texels of the dense texture or of the atlas
+    std::vector<float> values;        // dataSize.x * .y * .z, x fastest
+    glm::ivec3 tableSize{0};          // leaves of the indirection table (bricks only)
+    std::vector<std::uint32_t> table; // brick index + 1 per leaf, 0 = empty
+    glm::vec3 indexMin{0.0f}, indexMax{0.0f};
+    glm::ivec3 leafOrigin{0}, bricksPerAxis{0};
+    // A second texture in the same layout (addChannel()): channelComponents (1, or 4: RGB and
+    // an unused 0) floats per texel, or empty.
+    std::vector<float> channel;
+    int channelComponents = 0;
+    // The mean density of every 8^3-voxel cell (the depth-aware octaves' texture, R32F), with
+    // GpuVolumeOptions::neighbourhood only (else empty).
+    NeighbourhoodMean neighbourhood;
+
+    // Host memory the arrays hold.
+    std::size_t bytes() const {
+        return (values.size() + channel.size() + neighbourhood.mean.size()) * sizeof(float) +
+               table.size() * 4;
+    }
+};
+
+// Plans and converts `grid` for a GPU whose GL_MAX_3D_TEXTURE_SIZE is `max3D`. `threads` > 0
+// runs in a TBB arena of that many threads (1: single-threaded), 0 in the caller's arena.
+// Throws veil::Error (empty grid, over the budget with refuseOverBudget, non-affine transform,
+// index range) with the reasons gpu_volume.h lists.
+GridConversion convertGrid(const openvdb::FloatGrid& grid, const GpuVolumeOptions& options,
+                           int max3D, int threads = 0);
+
+// Fills `converted.channel` with `grids` (one, or three: R, G, B) sampled (trilinear, in world
+// space, so any transform and a coarsened conversion are fine) at the position of every texel
+// of the conversion's layout: the emission channel of a volume (temperature or emission grid)
+// beside its density. Adds its half-float texels (R16F, or RGBA16F for three) to
+// stats.gpuBytes. TBB-parallel like convertGrid().
+void addChannel(GridConversion& converted, const std::vector<openvdb::FloatGrid::Ptr>& grids);
+
+// Bytes the GPU representation of `grid` would take (without building it; a lower bound for
+// grids far over the budget, whose tiles are not enumerated).
+std::size_t estimateGpuBytes(const openvdb::FloatGrid& grid, const GpuVolumeOptions& options);
+
+} // namespace veil::volume

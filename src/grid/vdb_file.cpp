@@ -1,0 +1,498 @@
+#include "grid/vdb_file.h"
+
+#include "base/error.h"
+#include "base/log.h"
+#include "grid/vdb_reply.h"
+
+#include <openvdb/io/Stream.h>
+
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <vector>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace veil::volume {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The header's strings and counts checked against the file size, before any OpenVDB code sees
+// the file. OpenVDB allocates a string of the length a header gives (filled with spaces) and
+// then reads into it, and reserves descriptors for the grid count it reads, so one corrupt
+// 32-bit length in a 28 KB file cost 4 GB and 14-34 s
+// (tests/fuzz/regressions/volume/grid-type-length-4g-timeout.vdb). The layout (OpenVDB
+// io/Archive, file versions 222 and later): magic, version, library version, a has-offsets
+// byte, a 36-byte UUID, the file metadata (count; per entry a name, a type name and a
+// size-prefixed value), the grid count and per grid a descriptor (unique name, type name,
+// instance parent name, then the grid, block and end offsets) followed at the grid offset by
+// the grid's compression flags and its metadata. Strings are a 32-bit length and the bytes.
+// Older versions are left to OpenVDB (in the child).
+class HeaderCheck {
+public:
+    HeaderCheck(const fs::path& path, std::uint64_t size)
+        : in_(path, std::ios::binary), file_(path.string()), size_(size) {}
+
+    // A descriptor's grid, block and end offsets; `usable` when they are in order and in the
+    // file (a file written by io::Stream has none).
+    struct Offsets {
+        std::int64_t grid = 0, block = 0, end = 0;
+        bool usable = false;
+    };
+
+    // The file header, the file metadata and, at their offsets, every grid's descriptor and
+    // grid header. known() tells afterwards whether the layout was one this check knows.
+    void run() {
+        char magic[8];
+        if (!in_.read(magic, 8) || std::memcmp(magic, " BDV\0\0\0\0", 8) != 0) return;
+        const std::uint32_t version = u32("the file version");
+        if (version < 222 || version > 300) return; // not a layout this check knows
+        u32("the library version");
+        u32("the library version");
+        char offsets = 0;
+        need(1 + 36, "the header");
+        in_.get(offsets);
+        in_.ignore(36); // UUID
+        metadata("the file metadata");
+        const std::uint32_t grids = u32("the grid count");
+        // A descriptor takes at least 3 lengths and 3 offsets.
+        need(std::uint64_t(grids) * 36, fmt::format("{} grid descriptors", grids));
+        known_ = true;
+        offsets_ = offsets != 0;
+        for (std::uint32_t i = 0; i < grids; ++i) {
+            const std::string where = fmt::format("grid {} of {}", i + 1, grids);
+            const Offsets o = descriptor(pos(), where);
+            // Written by io::Stream: no offsets, the grids follow each other and only the
+            // first one's header can be found without decoding its tree; the child's read
+            // checks the others where it finds them.
+            if (!o.usable) break;
+            gridHeader(o.grid, where);
+            in_.seekg(o.end);
+        }
+    }
+    bool known() const { return known_; }
+
+    // The grid descriptor at byte `at`: its three strings fit in the file. Throws if the file
+    // has grid offsets and this descriptor's are out of order or past the end.
+    Offsets descriptor(std::int64_t at, const std::string& where) {
+        in_.clear();
+        in_.seekg(at);
+        skipString(where + "'s name");
+        skipString(where + "'s type name");
+        skipString(where + "'s instance parent name");
+        Offsets o;
+        o.grid = i64(where);
+        o.block = i64(where);
+        o.end = i64(where);
+        o.usable = o.grid >= pos() && o.grid <= o.block && o.block <= o.end &&
+                   std::uint64_t(o.end) <= size_;
+        VEIL_CHECK(o.usable || !offsets_,
+                   "cannot read OpenVDB file '{}' (truncated or corrupt?): {} has the offsets "
+                   "{}, {}, {} (grid, blocks, end), out of order or past the end of the file "
+                   "({} bytes)",
+                   file_, where, o.grid, o.block, o.end, size_);
+        return o;
+    }
+
+    // The grid header at byte `at`: compression flags, the grid's metadata and its transform's
+    // map type name (io::Archive::readGrid reads them in this order before the tree).
+    void gridHeader(std::int64_t at, const std::string& where) {
+        in_.clear();
+        in_.seekg(at);
+        u32(where + "'s compression flags");
+        metadata(where + "'s metadata");
+        skipString(where + "'s transform type");
+    }
+
+private:
+    std::int64_t pos() { return std::int64_t(in_.tellg()); }
+
+    // `n` more bytes must be in the file.
+    void need(std::uint64_t n, const std::string& what) {
+        const std::int64_t at = pos();
+        VEIL_CHECK(in_ && at >= 0 && std::uint64_t(at) <= size_ && n <= size_ - std::uint64_t(at),
+                   "cannot read OpenVDB file '{}' (truncated or corrupt?): {} at byte {} needs "
+                   "{} bytes, past the end of the file ({} bytes)",
+                   file_, what, at, n, size_);
+    }
+    std::uint32_t u32(const std::string& what) {
+        need(4, what);
+        unsigned char b[4];
+        in_.read(reinterpret_cast<char*>(b), 4);
+        return std::uint32_t(b[0]) | std::uint32_t(b[1]) << 8 | std::uint32_t(b[2]) << 16 |
+               std::uint32_t(b[3]) << 24;
+    }
+    std::int64_t i64(const std::string& what) {
+        const std::uint64_t lo = u32(what), hi = u32(what);
+        return std::int64_t(lo | hi << 32);
+    }
+    void skip(std::uint64_t n, const std::string& what) {
+        need(n, what);
+        in_.seekg(std::streamoff(n), std::ios::cur);
+    }
+    void skipString(const std::string& what) { skip(u32(what), what); }
+    std::string readString(const std::string& what) {
+        const std::uint32_t n = u32(what);
+        need(n, what);
+        std::string s(n, '\0');
+        in_.read(s.data(), std::streamsize(n));
+        return s;
+    }
+    // The value size OpenVDB reads for a metadata type whatever byte count the file gives: the
+    // fixed-size TypedMetadata types openvdb::initialize() registers (TypedMetadata::readValue
+    // reads sizeof(T)); 0 for the others (string, __delayedload, unregistered types), which read
+    // the count.
+    static std::uint32_t fixedValueSize(const std::string& type) {
+        using namespace openvdb;
+        static const std::map<std::string, std::uint32_t> sizes = [] {
+            std::map<std::string, std::uint32_t> m;
+            auto add = [&m]<typename M>(M) { m[M::staticTypeName()] = M().size(); };
+            add(BoolMetadata()), add(Int32Metadata()), add(Int64Metadata());
+            add(FloatMetadata()), add(DoubleMetadata());
+            add(Vec2IMetadata()), add(Vec2SMetadata()), add(Vec2DMetadata());
+            add(Vec3IMetadata()), add(Vec3SMetadata()), add(Vec3DMetadata());
+            add(Vec4IMetadata()), add(Vec4SMetadata()), add(Vec4DMetadata());
+            add(Mat4SMetadata()), add(Mat4DMetadata());
+            return m;
+        }();
+        const auto it = sizes.find(type);
+        return it == sizes.end() ? 0 : it->second;
+    }
+    // A metadata entry's value is a byte count and the bytes, but OpenVDB reads a value of a
+    // fixed-size type (vec3i, mat4d, ...) as sizeof(T) bytes whatever the count says.
+    // A fuzz finding (tests/fuzz/regressions/volume/metadata-type-vec3i-to-vec4i.vdb) changed one
+    // type name from vec3i to vec4i: OpenVDB read 4 bytes too many, the next name's length came
+    // from the letters "_bbo" (1.9 GB) and 8 GB of strings were allocated and filled (5-20 s,
+    // mostly system time). So the count must be the size OpenVDB will read.
+    void metadata(const std::string& what) {
+        const std::uint32_t count = u32(what);
+        need(std::uint64_t(count) * 12, fmt::format("{} ({} entries)", what, count));
+        for (std::uint32_t i = 0; i < count; ++i) {
+            const std::string entry = fmt::format("{}, entry {} of {}", what, i + 1, count);
+            const std::string name = readString(entry + ", its name");
+            const std::string type = readString(entry + ", its type name");
+            const std::uint32_t bytes = u32(entry + ", its value");
+            if (const std::uint32_t fixed = fixedValueSize(type)) {
+                VEIL_CHECK(bytes == fixed,
+                           "cannot read OpenVDB file '{}' (corrupt?): {} ('{}') is a {} value, "
+                           "which is {} bytes, but the file gives {} bytes",
+                           file_, entry, boundedText(name, 60), type, fixed, bytes);
+            }
+            skip(bytes, entry + ", its value");
+        }
+    }
+
+    std::ifstream in_;
+    std::string file_;
+    std::uint64_t size_;
+    bool known_ = false, offsets_ = false;
+};
+
+// A trial read taking longer than this is treated as a hang. Decoding runs at well over
+// 10 MB/s, so only a file of gigabytes could come near it legitimately.
+constexpr int kTrialTimeoutSeconds = 300;
+
+std::string gridNames(const openvdb::io::File& file) {
+    std::string names;
+    for (auto it = file.beginName(); it != file.endName(); ++it)
+        names += fmt::format("{}'{}'", names.empty() ? "" : ", ", boundedText(*it, 60));
+    return boundedText(names, 200);
+}
+
+// The child never destroys a grid it read, not even one an exception abandons halfway: a tree's
+// destructor frees its nodes with tbb::parallel_for, and TBB in a forked child waits for ever
+// when the parent's TBB workers were busy at the fork (vdb_reply.h). The child ends with _exit.
+void keepUntilExit(const openvdb::GridBase::Ptr& grid) {
+    static auto* const kept = new openvdb::GridPtrVec; // never freed, see above
+    kept->push_back(grid);
+}
+
+// io::Stream's sequential read, one grid at a time, each checked where OpenVDB actually reads
+// it: io::Stream reads a grid's descriptor where the previous grid's data ended, not at the
+// offset the file gives, so damage inside one grid's data (a flipped mask bit, a compression
+// byte) moved the next descriptor read into voxel data and a "type name" of 2 GB was allocated
+// and quoted (a fuzz finding, tests/fuzz/regressions/volume/grid-data-shifts-next-descriptor.vdb).
+// So before OpenVDB reads a descriptor or a grid header, `check` bounds its strings at that
+// position, and a grid must end exactly at the end offset its descriptor gives (where the file
+// has offsets).
+class CheckedStreamRead : public openvdb::io::Archive {
+public:
+    openvdb::GridPtrVecPtr read(std::istream& is, HeaderCheck& check, const std::string& file) {
+        readHeader(is);
+        openvdb::io::StreamMetadata::Ptr meta(new openvdb::io::StreamMetadata);
+        openvdb::io::setStreamMetadataPtr(is, meta, /*transfer=*/false);
+        openvdb::io::setVersion(is, libraryVersion(), fileVersion());
+        openvdb::io::setDataCompression(is, compression());
+        openvdb::MetaMap fileMetadata;
+        fileMetadata.readMeta(is);
+        const std::int32_t count = readGridCount(is);
+        auto grids = std::make_shared<openvdb::GridPtrVec>();
+        std::vector<openvdb::io::GridDescriptor> descriptors;
+        NamedGridMap named;
+        for (std::int32_t i = 0; i < count && is; ++i) {
+            const std::string where = fmt::format("grid {} of {}", i + 1, count);
+            HeaderCheck::Offsets o;
+            if (check.known()) o = check.descriptor(std::int64_t(is.tellg()), where);
+            openvdb::io::GridDescriptor gd;
+            gd.read(is);
+            if (!is) break; // truncated: the caller says so
+            VEIL_CHECK(openvdb::GridBase::isRegistered(gd.gridType()),
+                       "cannot read OpenVDB file '{}' (corrupt?): {} has the unknown grid type "
+                       "'{}'",
+                       file, where, boundedText(gd.gridType(), 60));
+            if (check.known()) check.gridHeader(std::int64_t(is.tellg()), where);
+            openvdb::GridBase::Ptr grid = openvdb::GridBase::createGrid(gd.gridType());
+            keepUntilExit(grid);
+            grid->setSaveFloatAsHalf(gd.saveFloatAsHalf());
+            Archive::readGrid(grid, gd, is);
+            if (!is) break;
+            VEIL_CHECK(!o.usable || std::int64_t(is.tellg()) == o.end,
+                       "cannot read OpenVDB file '{}' (corrupt?): {} ('{}') ends at byte {}, but "
+                       "its descriptor says {}",
+                       file, where, boundedText(gd.gridName(), 60), std::int64_t(is.tellg()),
+                       o.end);
+            descriptors.push_back(gd);
+            grids->push_back(grid);
+            named[gd.uniqueName()] = grid;
+        }
+        for (const openvdb::io::GridDescriptor& gd : descriptors)
+            connectInstance(gd, named);
+        return grids;
+    }
+};
+
+// Reads and decodes everything as io::Stream does (CheckedStreamRead) over a stream we hold:
+// unlike io::File's eager path it reports the file ending early (the stream fails), which
+// io::File reads as zeros. io::File::open reads only the header and grid descriptors, for the grid
+// names in errors. Runs in the forked child only (readInChild).
+openvdb::GridPtrVecPtr readEagerly(const fs::path& path, std::uint64_t size) {
+    std::string names;
+    openvdb::GridPtrVecPtr grids;
+    bool truncated = false;
+    try {
+        openvdb::io::File file(path.string());
+        file.open(false);
+        names = gridNames(file);
+        file.close();
+        std::ifstream in(path, std::ios::binary);
+        VEIL_CHECK(in, "cannot open OpenVDB file '{}'", path.string());
+        HeaderCheck check(path, size);
+        check.run();
+        grids = CheckedStreamRead().read(in, check, path.string());
+        truncated = in.fail();
+    } catch (const Error&) {
+        throw; // ours: names the file already
+    } catch (const std::exception& e) {
+        throw Error(fmt::format(
+            "cannot read OpenVDB file '{}' (truncated or corrupt?){}: {}", path.string(),
+            names.empty() ? "" : fmt::format(", grid(s) {}", names), boundedText(e.what())));
+    }
+    VEIL_CHECK(!truncated && grids, "OpenVDB file '{}' is truncated: it ends inside grid(s) {}",
+               path.string(), names.empty() ? "?" : names);
+    return grids;
+}
+
+bool writeAll(int fd, const std::string& s) {
+    std::size_t done = 0;
+    while (done < s.size()) {
+        const ssize_t n = ::write(fd, s.data() + done, s.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        done += std::size_t(n);
+    }
+    return true;
+}
+
+std::function<void()> gAfterTrialRead;
+
+// The most of an error reply the child sends and the parent keeps: OpenVDB's messages quote
+// what they read (a grid type of 4 GB was quoted whole).
+constexpr std::size_t kMaxErrorReply = 4096;
+
+// The trial read in a child process, which also decides what this process gets: the child
+// reads the untrusted file and, when it read all of it, writes the grids it holds back through
+// the pipe (vdb_reply.h: COMPRESS_NONE, every value plain, no zip, blosc or mask coding), and
+// this process decodes only that re-encoding. Reading the original bytes again here would not be
+// safe: a blosc block whose header claims more bytes than its buffer holds overflows the heap
+// without a crash (tests/fuzz/regressions/volume/blosc-heap-overflow.vdb: natively the child read
+// it "successfully"), and the same overflow would then happen in this process. The re-encoding is
+// written by OpenVDB from the tree the child built, so its masks, value counts and sizes agree with
+// each other, and it uses no decompressor. The alternative, validating every blosc and zip block's
+// header against the node's value count before OpenVDB decodes it, would mean parsing OpenVDB's
+// node layout (topology, per-node metadata, half floats) ourselves and would still leave whatever
+// other inconsistency the next fuzz run finds. It also closes the window between the child's read
+// and ours (a file replaced meanwhile). The cost is one encode in the child and one decode of
+// plain values here. Measured on smoke.vdb (2.5 MB, 1.05 M voxels; 2 shared cores at a load of
+// about 8, medians of 7 interleaved runs of 40 loads): 57 ms a load before (trial read, then a
+// second read of the file here), 70 ms with the re-encoding (+13 ms, 3.7 MB through the pipe,
+// written in about 5 ms and decoded here in 2-8 ms instead of the 11 ms of the second read).
+// COMPRESS_NONE is the cheapest to write: active-mask coding took 11 ms, blosc 30 ms.
+//
+// Reply: 'K' and the grids (vdb_reply.h), the child exiting 0; or 'E' and an error message of
+// at most kMaxErrorReply bytes.
+openvdb::GridPtrVecPtr readInChild(const fs::path& path, std::uint64_t size) {
+    int fds[2];
+    VEIL_CHECK(::pipe(fds) == 0, "cannot read OpenVDB file '{}': no pipe for the trial read ({})",
+               path.string(), std::strerror(errno));
+    // A pipe of 1 MiB (Linux's default upper limit for unprivileged processes) instead of 64 KiB:
+    // the grids pass in a few writes rather than one context switch per 64 KiB. Best effort.
+    ::fcntl(fds[1], F_SETPIPE_SZ, 1 << 20);
+    pid_t pid = 0;
+    {
+        const std::lock_guard registries(openVdbIoMutex());
+        pid = ::fork();
+    }
+    if (pid < 0) {
+        const int err = errno;
+        ::close(fds[0]);
+        ::close(fds[1]);
+        throw Error(fmt::format("cannot read OpenVDB file '{}': cannot fork for the trial read "
+                                "({})",
+                                path.string(), std::strerror(err)));
+    }
+    if (pid == 0) {
+        // Child: no core file for a crash we expect; _exit so that no atexit handler or stdio
+        // buffer of the parent runs twice.
+        ::close(fds[0]);
+        const rlimit noCore{0, 0};
+        ::setrlimit(RLIMIT_CORE, &noCore);
+        // glibc's heap-corruption report would be a second line before ours.
+        const int devNull = ::open("/dev/null", O_WRONLY);
+        if (devNull >= 0) ::dup2(devNull, STDERR_FILENO);
+        std::string reply;
+        try {
+            const openvdb::GridPtrVecPtr grids = readEagerly(path, size);
+            std::ostringstream out(std::ios::binary);
+            out.put('K');
+            writeGridReply(out, *grids); // no TBB here: see vdb_reply.h
+            reply = std::move(out).str();
+        } catch (const std::exception& e) {
+            reply = std::string("E") + e.what();
+        } catch (...) {
+            reply = "Ecannot read OpenVDB file '" + path.string() + "': unknown exception";
+        }
+        if (reply[0] == 'E' && reply.size() > kMaxErrorReply) reply.resize(kMaxErrorReply);
+        ::_exit(writeAll(fds[1], reply) ? 0 : 1);
+    }
+    ::close(fds[1]);
+    std::string reply;
+    std::vector<char> buf(std::size_t(1) << 20);
+    const auto deadline =
+        std::chrono::steady_clock::now() + std::chrono::seconds(kTrialTimeoutSeconds);
+    bool timedOut = false;
+    for (;;) {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+                              deadline - std::chrono::steady_clock::now())
+                              .count();
+        if (left <= 0) {
+            timedOut = true;
+            break;
+        }
+        pollfd p{fds[0], POLLIN, 0};
+        const int r = ::poll(&p, 1, int(std::min<long long>(left, 1000)));
+        if (r < 0 && errno == EINTR) continue;
+        if (r <= 0) continue;
+        const ssize_t n = ::read(fds[0], buf.data(), buf.size());
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break; // end of file: the child is done or dead
+        // An error reply is kept to its bound (the rest drained); grids are kept whole.
+        const bool error = reply.empty() ? buf[0] != 'K' : reply[0] != 'K';
+        if (!error)
+            reply.append(buf.data(), std::size_t(n));
+        else if (reply.size() < kMaxErrorReply)
+            reply.append(buf.data(), std::min(std::size_t(n), kMaxErrorReply - reply.size()));
+    }
+    ::close(fds[0]);
+    if (timedOut) ::kill(pid, SIGKILL);
+    int status = 0;
+    pid_t w;
+    do {
+        w = ::waitpid(pid, &status, 0);
+    } while (w < 0 && errno == EINTR);
+    if (timedOut)
+        throw Error(fmt::format("cannot read OpenVDB file '{}': reading it took over {} s "
+                                "(corrupt?)",
+                                path.string(), kTrialTimeoutSeconds));
+    if (gAfterTrialRead) gAfterTrialRead();
+    const bool exitedCleanly = w == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+    if (exitedCleanly && !reply.empty() && reply[0] == 'K') {
+        reply.erase(0, 1);
+        std::istringstream in(std::move(reply), std::ios::binary);
+        try {
+            const std::lock_guard registries(openVdbIoMutex());
+            return readGridReply(in);
+        } catch (const std::exception& e) {
+            throw Error(fmt::format("cannot read OpenVDB file '{}': its trial read's "
+                                    "re-encoding could not be decoded: {}",
+                                    path.string(), boundedText(e.what())));
+        }
+    }
+    if (!reply.empty() && reply[0] == 'E') throw Error(boundedText(reply.substr(1), 600));
+    if (w == pid && WIFSIGNALED(status))
+        throw Error(fmt::format("cannot read OpenVDB file '{}' (corrupt?): the OpenVDB reader "
+                                "crashed on it (signal {}, {})",
+                                path.string(), WTERMSIG(status), ::strsignal(WTERMSIG(status))));
+    throw Error(fmt::format("cannot read OpenVDB file '{}' (corrupt?): the trial read ended "
+                            "without an answer",
+                            path.string()));
+}
+
+} // namespace
+
+std::mutex& openVdbIoMutex() {
+    static std::mutex m;
+    return m;
+}
+
+void setAfterTrialReadHookForTesting(std::function<void()> hook) {
+    gAfterTrialRead = std::move(hook);
+}
+
+std::string boundedText(const std::string& text, std::size_t limit) {
+    std::string out;
+    out.reserve(std::min(text.size(), limit) + 3);
+    for (char c : text) {
+        if (out.size() >= limit) {
+            out += "...";
+            break;
+        }
+        const auto u = static_cast<unsigned char>(c);
+        out.push_back(u < 0x20 || u == 0x7f ? '?' : c);
+    }
+    return out;
+}
+
+openvdb::GridPtrVecPtr readVdbFile(const fs::path& path) {
+    static std::once_flag once;
+    std::call_once(once, [] { openvdb::initialize(); });
+    std::error_code ec;
+    VEIL_CHECK(fs::exists(path, ec), "cannot open volume '{}': no such file", path.string());
+    VEIL_CHECK(fs::is_regular_file(path, ec), "cannot open volume '{}': not a regular file",
+               path.string());
+    std::uint64_t size = 0;
+    {
+        const auto s = fs::file_size(path, ec);
+        VEIL_CHECK(!ec, "cannot open volume '{}': {}", path.string(), ec.message());
+        size = s;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    HeaderCheck(path, size).run();
+    openvdb::GridPtrVecPtr grids = readInChild(path, size);
+    log::debug(
+        "volume '{}': read in a child and decoded here in {:.1f} ms", path.string(),
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    return grids;
+}
+
+} // namespace veil::volume

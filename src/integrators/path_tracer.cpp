@@ -1,0 +1,358 @@
+#include "integrators/path_tracer.h"
+
+#include "base/error.h"
+#include "integrators/emission.h"
+
+#include <openvdb/tools/Count.h>
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace veil::volume {
+
+namespace {
+
+// The travel direction after scattering at anisotropy g (medium.h's Henyey-Greenstein sampling).
+glm::dvec3 scatter(const glm::dvec3& d, double g, Pcg32& rng) {
+    const double c = sampleHenyeyGreensteinCos(g, rng.uniform());
+    const double s = std::sqrt(std::max(0.0, 1.0 - c * c));
+    const double phi = 2.0 * std::numbers::pi * rng.uniform();
+    // Orthonormal basis around d (Duff et al.'s branchless construction).
+    const double sign = std::copysign(1.0, d.z);
+    const double a = -1.0 / (sign + d.z), b = d.x * d.y * a;
+    const glm::dvec3 t(1.0 + sign * d.x * d.x * a, sign * b, -sign * d.x);
+    const glm::dvec3 bt(b, sign + d.y * d.y * a, -d.y);
+    return glm::normalize(s * std::cos(phi) * t + s * std::sin(phi) * bt + c * d);
+}
+
+double freePath(double majorant, Pcg32& rng) { return -std::log(1.0 - rng.uniform()) / majorant; }
+
+// Russian roulette on a weight: survives with probability q = min(max component, 1), so a
+// weight of 1 (albedo 1) is never cut and energy is conserved path by path.
+bool roulette(glm::dvec3& weight, Pcg32& rng) {
+    const double q = std::min(1.0, std::max({weight.x, weight.y, weight.z}));
+    if (q <= 0.0 || rng.uniform() >= q) return false;
+    weight /= q;
+    return true;
+}
+
+} // namespace
+
+const PropertySchema& pathTracerSchema() {
+    static const PropertySchema s = [] {
+        const char* ref = "[Woodcock65, Novak14, Novak18]";
+        PropertySchema p;
+        p.integer("spp", 256, 1, 1 << 24, "samples per pixel", ref)
+            .integer("max_bounces", 256, 1, 1 << 20,
+                     "most scattering events per path (1 = single scattering)", ref)
+            .integer("seed", 1, 0, std::numeric_limits<std::uint32_t>::max(),
+                     "seed of the sample streams")
+            .integer("roulette_depth", 8, 1, 1 << 20,
+                     "scattering events before Russian roulette on the path weight", ref)
+            .integer("batch", 16, 1, 1 << 16, "samples per pixel per progressive pass");
+        return p;
+    }();
+    return s;
+}
+
+PathTracerSettings pathTracerSettings(const Properties& properties) {
+    PathTracerSettings s;
+    s.spp = properties.getInt("spp");
+    s.maxBounces = properties.getInt("max_bounces");
+    s.seed = static_cast<std::uint32_t>(properties.getDouble("seed"));
+    s.rouletteDepth = properties.getInt("roulette_depth");
+    s.batch = properties.getInt("batch");
+    return s;
+}
+
+PathTracerSettings pathTracerSettings(const scene::Scene& scene) {
+    return pathTracerSettings(pathTracerSchema().resolve(
+        scene.render.pathtracedProperties, scene.render.pathtracedWhere, "the path tracer"));
+}
+
+SlabTally traceSlab(double tau, double albedo, double g, std::uint64_t paths, std::uint32_t seed,
+                    double majorantFactor) {
+    VEIL_CHECK(tau > 0.0 && albedo >= 0.0 && albedo <= 1.0 && majorantFactor >= 1.0 && paths > 1,
+               "traceSlab: bad arguments (tau {}, albedo {}, majorant factor {}, {} paths)", tau,
+               albedo, majorantFactor, paths);
+    const double majorant = majorantFactor; // extinction 1 in optical units
+    double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
+    for (std::uint64_t i = 0; i < paths; ++i) {
+        Pcg32 rng(mix64(seed ^ (i * 0x9e3779b97f4a7c15ULL)), mix64(i + 1));
+        double z = 0.0;              // depth, 0 at the lit top
+        glm::dvec3 d(0.0, 0.0, 1.0); // travel direction, +z into the slab
+        glm::dvec3 weight(1.0);
+        int scatterings = 0;
+        double tally[3] = {0, 0, 0}; // reflected, diffusely transmitted, directly transmitted
+        for (;;) {
+            z += d.z * freePath(majorant, rng);
+            if (z < 0.0) {
+                tally[0] = weight.x;
+                break;
+            }
+            if (z > tau) {
+                tally[scatterings ? 1 : 2] = weight.x;
+                break;
+            }
+            if (rng.uniform() * majorant >= 1.0) continue; // null collision
+            weight *= albedo;
+            if (weight.x <= 0.0) break;
+            ++scatterings;
+            if (scatterings >= 8 && !roulette(weight, rng)) break;
+            d = scatter(d, g, rng);
+        }
+        for (int k = 0; k < 3; ++k) {
+            sum[k] += tally[k];
+            sum2[k] += tally[k] * tally[k];
+        }
+    }
+    const double n = double(paths);
+    auto mean = [&](int k) { return sum[k] / n; };
+    auto error = [&](int k) {
+        const double m = sum[k] / n;
+        return std::sqrt(std::max(0.0, (sum2[k] / n - m * m) / (n - 1.0)));
+    };
+    return {mean(0), error(0), mean(1), error(1), mean(2), error(2)};
+}
+
+VolumePathTracer::VolumePathTracer(const scene::Scene& scene,
+                                   std::vector<openvdb::FloatGrid::ConstPtr> grids,
+                                   PathTracerSettings settings)
+    : scene_(scene), settings_(settings), medium_(scene, std::move(grids), "path tracer", false) {
+    for (const Medium::Volume& v : medium_.volumes()) {
+        const auto range = openvdb::tools::minMax(v.grid->tree());
+        majorant_ += double(v.ref->densityScale) * std::max(0.0, double(range.max()));
+    }
+}
+
+VolumePathTracer::Local VolumePathTracer::localAt(Medium::Lookup& lookup, const glm::dvec3& p,
+                                                  std::vector<double>* perVolume) const {
+    Local m;
+    const std::vector<Medium::Volume>& volumes = medium_.volumes();
+    for (std::size_t i = 0; i < volumes.size(); ++i) {
+        const Medium::Point point = medium_.sample(lookup, i, p);
+        const double density = std::max(0.0, point.density);
+        const double sigma = double(volumes[i].ref->densityScale) * density;
+        if (perVolume) (*perVolume)[i] = sigma;
+        m.sigma += sigma;
+        if (density > 0.0 || point.channel != glm::dvec3(0.0))
+            m.emission += emittedRadiance(*volumes[i].ref, density, point.channel);
+    }
+    return m;
+}
+
+bool VolumePathTracer::bounds(const glm::dvec3& o, const glm::dvec3& d, double& t0,
+                              double& t1) const {
+    if (!medium_.interval(o, d, t0, t1)) return false;
+    t0 = std::max(t0, 0.0);
+    return t0 < t1;
+}
+
+double VolumePathTracer::transmittance(Medium::Lookup& lookup, const glm::dvec3& o,
+                                       const glm::dvec3& d, double tMax, Pcg32& rng) const {
+    double t0, t1;
+    if (majorant_ <= 0.0 || !bounds(o, d, t0, t1)) return 1.0;
+    t1 = std::min(t1, tMax);
+    double tr = 1.0, t = t0;
+    for (;;) {
+        t += freePath(majorant_, rng);
+        if (t >= t1) return tr;
+        tr *= 1.0 - localAt(lookup, o + d * t, nullptr).sigma / majorant_;
+        if (tr < 0.1) {
+            if (rng.uniform() >= 0.5) return 0.0;
+            tr *= 2.0;
+        }
+    }
+}
+
+glm::dvec3 VolumePathTracer::trace(Medium::Lookup& lookup, glm::dvec3 o, glm::dvec3 d, double tMax,
+                                   Pcg32& rng, bool escapeSeesAmbient) const {
+    glm::dvec3 radiance(0.0), weight(1.0);
+    std::vector<double> perVolume(medium_.volumes().size());
+    int events = 0;
+    const auto& lights = scene_.lights;
+    for (;;) {
+        double t0 = 0.0, t1 = -1.0;
+        bool inside = majorant_ > 0.0 && bounds(o, d, t0, t1);
+        if (events == 0) t1 = std::min(t1, tMax);
+        bool collided = false;
+        double t = t0;
+        while (inside) {
+            t += freePath(majorant_, rng);
+            if (t >= t1) break;
+            const glm::dvec3 p = o + d * t;
+            const Local m = localAt(lookup, p, &perVolume);
+            radiance += weight * m.emission / majorant_;
+            if (rng.uniform() * majorant_ < m.sigma) {
+                o = p;
+                collided = true;
+                break;
+            }
+        }
+        if (!collided) {
+            radiance +=
+                weight * glm::dvec3(events == 0 && !escapeSeesAmbient ? scene_.render.background
+                                                                      : scene_.render.ambient);
+            return radiance;
+        }
+        if (events >= settings_.maxBounces) return radiance; // the path ends in the medium
+        // The scattering volume, in proportion to its extinction at o.
+        double total = 0.0;
+        for (double s : perVolume)
+            total += s;
+        double pick = rng.uniform() * total;
+        std::size_t vi = 0;
+        while (vi + 1 < perVolume.size() && pick >= perVolume[vi])
+            pick -= perVolume[vi++];
+        const scene::VolumeRef& ref = *medium_.volumes()[vi].ref;
+        weight *= glm::dvec3(ref.albedo);
+        ++events;
+        if (weight == glm::dvec3(0.0)) return radiance;
+        // Next-event estimation toward every light.
+        for (const scene::Light& light : lights) {
+            const LightArrival a = lightArrival(light, o);
+            if (a.irradiance == glm::dvec3(0.0)) continue;
+            // The path runs backwards: light travels along -toLight, then along -d.
+            const double phase = henyeyGreenstein(glm::dot(a.toLight, d), double(ref.anisotropy));
+            radiance += weight * a.irradiance * phase *
+                        transmittance(lookup, o, a.toLight, a.distance, rng);
+        }
+        if (events >= settings_.rouletteDepth && !roulette(weight, rng)) return radiance;
+        d = scatter(d, double(ref.anisotropy), rng);
+        tMax = 1e300;
+    }
+}
+
+glm::dvec3 VolumePathTracer::sample(const scene::Camera& camera, int width, int height, double px,
+                                    double py, std::uint64_t pixel, std::uint32_t index) const {
+    const CameraRay ray = cameraRay(camera, width, height, px, py);
+    Pcg32 rng(mix64((std::uint64_t(settings_.seed) << 32) ^ index), mix64(pixel + 1));
+    Medium::Lookup lookup = medium_.lookup();
+    return trace(lookup, ray.origin, ray.direction, ray.length, rng);
+}
+
+void VolumePathTracer::worldBounds(glm::dvec3& lo, glm::dvec3& hi) const {
+    medium_.worldBounds(lo, hi);
+}
+
+ScatteredLight VolumePathTracer::scatteredLight(const glm::dvec3& lo, const glm::dvec3& hi,
+                                                const glm::ivec3& dims, int samples) const {
+    VEIL_CHECK(glm::all(glm::greaterThan(dims, glm::ivec3(0))) && samples > 0,
+               "scattered-light cache: empty grid or no samples");
+    ScatteredLight out;
+    out.lo = lo;
+    out.hi = hi;
+    out.dims = dims;
+    out.samples = samples;
+    const std::size_t n = std::size_t(dims.x) * dims.y * dims.z;
+    out.mean.assign(n, glm::vec4(0.0f));
+    out.flux.assign(n, glm::vec4(0.0f));
+    const glm::dvec3 lum(0.2126, 0.7152, 0.0722);
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+        const glm::ivec3 c(int(i % dims.x), int((i / dims.x) % dims.y),
+                           int(i / (std::size_t(dims.x) * dims.y)));
+        const glm::dvec3 x = lo + (glm::dvec3(c) + 0.5) / glm::dvec3(dims) * (hi - lo);
+        Medium::Lookup lookup = medium_.lookup();
+        glm::dvec3 sum(0.0), g(0.0);
+        for (int k = 0; k < samples; ++k) {
+            Pcg32 rng(mix64((std::uint64_t(settings_.seed) << 32) ^ std::uint64_t(k)),
+                      mix64(std::uint64_t(i) + 0x5ca77e7ull));
+            // Uniform direction on the sphere, the path's first direction away from x.
+            const double z = 1.0 - 2.0 * rng.uniform(),
+                         phi = 2.0 * std::numbers::pi * rng.uniform();
+            const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+            const glm::dvec3 d(r * std::cos(phi), r * std::sin(phi), z);
+            const glm::dvec3 l = trace(lookup, x, d, 1e300, rng, true);
+            sum += l;
+            g += glm::dot(l, lum) * -d; // the arriving light travels along -d
+        }
+        const glm::dvec3 mean = sum / double(samples);
+        out.mean[i] = glm::vec4(glm::vec3(mean), float(glm::dot(mean, lum)));
+        out.flux[i] = glm::vec4(glm::vec3(3.0 * g / double(samples)), 0.0f);
+    });
+    return out;
+}
+
+// The cache's grid: fog_scattered_light_cell voxels of the finest volume per texel, over the
+// union of the volumes' bounds, at most kScatteredLightMaxTexels per axis (a coarser cell where the
+// bounds are larger).
+glm::ivec3 scatteredLightDims(const scene::Scene& scene,
+                              const std::vector<openvdb::FloatGrid::ConstPtr>& grids,
+                              const glm::dvec3& lo, const glm::dvec3& hi) {
+    double voxel = 1e300;
+    std::size_t g = 0;
+    for (const auto& ref : scene.volumes) {
+        if (ref.procedural == "homogeneous" || g >= grids.size()) continue;
+        const openvdb::Vec3d v = grids[g++]->voxelSize();
+        const glm::dmat3 m(ref.transform);
+        voxel = std::min({voxel, glm::length(m[0]) * v.x(), glm::length(m[1]) * v.y(),
+                          glm::length(m[2]) * v.z()});
+    }
+    const double cell = std::max(voxel * double(scene.render.fogScatteredLightCell), 1e-12);
+    const glm::dvec3 extent = hi - lo;
+    return glm::clamp(glm::ivec3(glm::ceil(extent / cell)), glm::ivec3(2),
+                      glm::ivec3(kScatteredLightMaxTexels));
+}
+
+glm::dvec3 ScatteredLight::inscattered(const glm::dvec3& world, const glm::dvec3& toEye,
+                                       double g) const {
+    if (mean.empty()) return glm::dvec3(0.0);
+    const glm::dvec3 t = (world - lo) / (hi - lo) * glm::dvec3(dims) - 0.5;
+    const glm::dvec3 f0 = glm::floor(t);
+    const glm::dvec3 f = t - f0;
+    glm::dvec4 m(0.0);
+    glm::dvec3 fl(0.0);
+    for (int k = 0; k < 8; ++k) {
+        const glm::ivec3 o(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+        const double w =
+            (o.x ? f.x : 1.0 - f.x) * (o.y ? f.y : 1.0 - f.y) * (o.z ? f.z : 1.0 - f.z);
+        const glm::ivec3 c = glm::clamp(glm::ivec3(f0) + o, glm::ivec3(0), dims - 1);
+        const std::size_t i = (std::size_t(c.z) * dims.y + c.y) * dims.x + c.x;
+        m += w * glm::dvec4(mean[i]);
+        fl += w * glm::dvec3(flux[i]);
+    }
+    if (m.w <= 0.0) return glm::dvec3(m);
+    return glm::dvec3(m) * std::max(0.0, 1.0 + g * glm::dot(fl, toEye) / m.w);
+}
+
+PathTracedImage VolumePathTracer::render(const scene::Camera& camera, int width, int height,
+                                         const std::function<bool(int)>& progress) const {
+    const std::size_t n = std::size_t(width) * height;
+    std::vector<glm::dvec3> sum(n, glm::dvec3(0.0)), sum2(n, glm::dvec3(0.0));
+    int done = 0;
+    while (done < settings_.spp) {
+        const int count = std::min(settings_.batch, settings_.spp - done);
+        tbb::parallel_for(0, height, [&](int y) {
+            for (int x = 0; x < width; ++x) {
+                const std::size_t i = std::size_t(y) * width + x;
+                for (int s = 0; s < count; ++s) {
+                    const glm::dvec3 l =
+                        sample(camera, width, height, x + 0.5, y + 0.5, i, std::uint32_t(done + s));
+                    sum[i] += l;
+                    sum2[i] += l * l;
+                }
+            }
+        });
+        done += count;
+        if (progress && !progress(done)) break;
+    }
+    PathTracedImage out{ImageF(width, height, 3), ImageF(width, height, 3), done};
+    const double m = done;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const std::size_t i = std::size_t(y) * width + x;
+            for (int c = 0; c < 3; ++c) {
+                const double mean = sum[i][c] / m;
+                const double var =
+                    m > 1 ? std::max(0.0, (sum2[i][c] / m - mean * mean)) / (m - 1) : 0.0;
+                out.radiance.at(x, y, c) = float(mean);
+                out.standardError.at(x, y, c) = float(std::sqrt(var));
+            }
+        }
+    return out;
+}
+
+} // namespace veil::volume

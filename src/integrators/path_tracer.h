@@ -1,0 +1,155 @@
+// Monte Carlo volumetric path tracer in double precision (the "pathtraced" integrator,
+// registry.h): the reference the fog marcher's single and multiple scattering are measured
+// against (docs/volumes.md "Path-traced reference").
+//
+// Light transport in the scene's density volumes (the medium of medium.h, as the CPU fog
+// reference's, cpu_reference.h), from the same camera rays (pixel centres):
+//   - free paths by delta (Woodcock) tracking against a constant majorant, the sum over volumes
+//     of density_scale x the grid's largest value [Woodcock65; Novak18 sec. 3.2];
+//   - at a real collision the volume is chosen in proportion to its extinction, the path weight
+//     is multiplied by its albedo (RGB) and a direction is drawn from its Henyey-Greenstein
+//     phase function [Henyey41] by inverting its CDF;
+//   - next-event estimation toward every light at every scattering event, the transmittance by
+//     ratio tracking [Novak14 sec. 4] (unbiased, with Russian roulette below 0.1);
+//   - a path that leaves the volumes after at least one scattering event sees the ambient
+//     radiance render.ambient from every direction (a uniform sky); leaving before any, the
+//     background render.background;
+//   - emission (radiance per unit length: volume `emission` x density, or the emission or
+//     blackbody temperature grid of emission.h, loaded by the medium) by the null-collision
+//     estimator: weight x emission / majorant at every tentative collision;
+//   - at most max_bounces scattering events (1 = single scattering), Russian roulette on the
+//     path weight from roulette_depth on.
+// Every sample's random numbers come from a PCG32 stream [ONeill14] keyed by (seed, pixel,
+// sample index), so an image is the same for every thread count and a progressive run of
+// 2 x n samples continues the one of n. Pixels are rendered in TBB parallel passes of
+// `batch` samples each; the per-pixel standard error of the mean comes with the image.
+// Not modelled: surfaces (objects are ignored, as in the CPU fog reference) and the global
+// "homogeneous" fog (it fills all space, so a path never leaves it: refused).
+#pragma once
+
+#include "base/image.h"
+#include "base/properties.h"
+#include "integrators/medium.h"
+#include "integrators/pcg32.h"
+#include "scene/scene.h"
+
+#include <openvdb/openvdb.h>
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace veil::volume {
+
+struct PathTracerSettings {
+    int spp = 256;
+    int maxBounces = 256;
+    std::uint32_t seed = 1;
+    int rouletteDepth = 8;
+    int batch = 16; // samples per pixel per progressive pass
+};
+
+// render.pathtraced.* (spp, max_bounces, seed, roulette_depth, batch).
+const PropertySchema& pathTracerSchema();
+PathTracerSettings pathTracerSettings(const Properties& properties);
+// The scene's render.pathtraced (RenderSettings::pathtracedProperties) validated against the
+// schema; throws veil::Error naming the value's place in the scene file.
+PathTracerSettings pathTracerSettings(const scene::Scene& scene);
+
+struct PathTracedImage {
+    ImageF radiance;      // RGB: L + (path reached the background) x background
+    ImageF standardError; // RGB: per-pixel standard error of the mean
+    int samples = 0;
+};
+
+// A 1-D slab for validation: thickness `tau` (optical), homogeneous extinction 1, isotropic
+// (g = 0) or Henyey-Greenstein scattering, light entering at the top at normal incidence, no
+// refractive-index mismatch. Uses the tracer's own collision sampling (with a majorant of
+// `majorantFactor` x the extinction, so null collisions are exercised), phase sampling and
+// roulette.
+struct SlabTally {
+    double reflectance = 0.0, reflectanceError = 0.0;                   // diffuse
+    double diffuseTransmittance = 0.0, diffuseTransmittanceError = 0.0; // >= 1 scattering
+    double directTransmittance = 0.0, directTransmittanceError = 0.0;   // unscattered
+};
+SlabTally traceSlab(double tau, double albedo, double g, std::uint64_t paths, std::uint32_t seed,
+                    double majorantFactor = 2.0);
+
+// The light arriving at points of a grid over the volumes' bounds after at least one
+// scattering event, or from the sky (render.ambient) without one: what the fog marcher adds to
+// its single scattering with render.fog_scattered_light (docs/volumes.md "Scattered-light
+// cache"). Per texel, from `samples` paths traced from its centre in uniform random
+// directions (the path tracer's own transport: delta tracking, next-event estimation, roulette,
+// emission), the first two spherical-harmonic bands of the arriving radiance (P1): the mean
+// radiance over directions (RGB) and G = 3 x mean(L_Y w), w the light's travel direction, so
+// that L(w) ~ mean + G . w (luminance Y). Convolved with Henyey-Greenstein(g) toward direction
+// V this is mean x (1 + g G . V / mean_Y): HG's first Legendre coefficient is g.
+struct ScatteredLight {
+    glm::dvec3 lo{0.0}, hi{0.0}; // world box; texel i's centre at lo + (i + 0.5) / dims x (hi - lo)
+    glm::ivec3 dims{0};
+    std::vector<glm::vec4> mean; // rgb: mean arriving radiance, a: its luminance
+    std::vector<glm::vec4> flux; // xyz: G (luminance), w: 0
+    int samples = 0;
+    // Trilinear between texel centres, clamped to the edge texels (as GL_CLAMP_TO_EDGE): the
+    // in-scattered radiance toward direction `toEye` for phase anisotropy g, per unit sigma_s.
+    glm::dvec3 inscattered(const glm::dvec3& world, const glm::dvec3& toEye, double g) const;
+};
+
+// The cache's grid for `scene` over [lo, hi]: render.fog_scattered_light_cell voxels of the
+// finest grid per texel, at most kScatteredLightMaxTexels per axis, at least 2.
+constexpr int kScatteredLightMaxTexels = 128;
+glm::ivec3 scatteredLightDims(const scene::Scene& scene,
+                              const std::vector<openvdb::FloatGrid::ConstPtr>& grids,
+                              const glm::dvec3& lo, const glm::dvec3& hi);
+
+class VolumePathTracer {
+public:
+    // `grids` holds the grid of every volume of `scene`, in scene order (as CpuFogReference;
+    // the medium of medium.h, without homogeneous fog).
+    VolumePathTracer(const scene::Scene& scene, std::vector<openvdb::FloatGrid::ConstPtr> grids,
+                     PathTracerSettings settings);
+
+    // One radiance sample through image position (px, py) (pixels, row 0 at the top).
+    glm::dvec3 sample(const scene::Camera& camera, int width, int height, double px, double py,
+                      std::uint64_t pixel, std::uint32_t index) const;
+
+    // settings.spp samples per pixel in passes of settings.batch; after each pass
+    // `progress(samplesSoFar)` is called and may return false to stop early.
+    PathTracedImage render(const scene::Camera& camera, int width, int height,
+                           const std::function<bool(int)>& progress = {}) const;
+
+    double majorant() const { return majorant_; }
+
+    // The scattered-light cache (ScatteredLight above) on a dims grid over [lo, hi] (TBB over
+    // texels; each texel's random numbers are keyed by (settings.seed, texel, sample), so it
+    // does not depend on the thread count).
+    ScatteredLight scatteredLight(const glm::dvec3& lo, const glm::dvec3& hi,
+                                  const glm::ivec3& dims, int samples) const;
+    // The world box of the volumes (the union of their bounds).
+    void worldBounds(glm::dvec3& lo, glm::dvec3& hi) const;
+
+private:
+    // Extinction and emitted radiance per unit length at a point (summed over the volumes).
+    struct Local {
+        double sigma = 0.0;
+        glm::dvec3 emission{0.0};
+    };
+    Local localAt(Medium::Lookup& lookup, const glm::dvec3& p,
+                  std::vector<double>* perVolume) const;
+    bool bounds(const glm::dvec3& o, const glm::dvec3& d, double& t0, double& t1) const;
+    double transmittance(Medium::Lookup& lookup, const glm::dvec3& o, const glm::dvec3& d,
+                         double tMax, Pcg32& rng) const;
+    // escapeSeesAmbient: a path leaving before any scattering sees render.ambient (the sky),
+    // not render.background (a camera ray's).
+    glm::dvec3 trace(Medium::Lookup& lookup, glm::dvec3 o, glm::dvec3 d, double tMax, Pcg32& rng,
+                     bool escapeSeesAmbient = false) const;
+
+    const scene::Scene& scene_;
+    PathTracerSettings settings_;
+    Medium medium_;
+    double majorant_ = 0.0;
+};
+
+} // namespace veil::volume
