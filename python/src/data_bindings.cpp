@@ -5,14 +5,12 @@
 #include "base/error.h"
 #include "base/text.h"
 #include "gpu/context.h"
+#include "grid/vdb_export.h"
+#include "grid/vdb_info.h"
 #include "io/vtk_export.h"
 #include "regress/runner.h"
 #include "regress/suite.h"
-#include "vdb/vdb_export.h"
-#include "vdb/vdb_info.h"
-#include "voxelize/gpu_voxelizer.h"
-#include "voxelize/grid_fit.h"
-#include "voxelize/vdb_convert.h"
+#include "voxelize/pipeline.h"
 
 #include <pybind11/stl.h>
 
@@ -111,14 +109,10 @@ py::array_t<bool> voxelize(py::handle source, int res, int slices, const std::st
         if (!v.path.empty()) inputs.push_back(v.path);
     if (!output.empty()) checkOutputPath(output, "output", inputs);
 
-    const voxelize::Triangles tris = voxelize::flattenScene(*scene);
-    const voxelize::SliceMap grid =
-        voxelize::fitGrid(*scene, tris, {res, slices, perspective, camera}, mesh);
-    voxelize::SliceMap filled = grid;
+    voxelize::Voxelization voxels =
+        voxelize::prepareVoxelization(*scene, {res, slices, perspective, camera}, mesh);
     auto run = [&](const gpu::ContextInfo& info) {
-        voxelize::GpuVoxelizer vox(info);
-        vox.upload(tris);
-        vox.voxelize(filled, {method, solid, local});
+        voxelize::fillGrid(voxels, info, {method, solid, local});
     };
     if (renderer.is_none()) {
         py::gil_scoped_release release;
@@ -127,16 +121,11 @@ py::array_t<bool> voxelize(py::handle source, int res, int slices, const std::st
     } else {
         withRendererContext(renderer, run);
     }
+    const voxelize::SliceMap& filled = voxels.grid;
     if (!output.empty()) {
         voxelize::VdbOptions options;
         options.smoothing = smooth;
-        voxelize::VdbGrids grids;
-        try {
-            grids = voxelize::toVdb(filled, options);
-        } catch (const Error& e) {
-            throw Error(fmt::format("{}: {}", sourceName, e.what()));
-        }
-        voxelize::writeVdb(output, grids);
+        voxelize::writeVdb(output, voxelize::toVdbNamed(filled, options, sourceName));
     }
     py::array_t<bool> out({filled.slices, filled.height, filled.width});
     auto v = out.mutable_unchecked<3>();

@@ -4,6 +4,7 @@
 
 #include "base/error.h"
 #include "capture/frame_capture.h"
+#include "catalog/techniques.h"
 #include "gpu/context.h"
 #include "oit/technique.h"
 #include "scene/scene_values.h"
@@ -156,24 +157,6 @@ private:
     std::mutex mutex_;
 };
 
-nlohmann::json listTechniques(const std::optional<gpu::ContextInfo>& info) {
-    nlohmann::json out = nlohmann::json::array();
-    auto add = [&](const auto& registry, const char* kind) {
-        for (const auto& t : registry.all()) {
-            std::string available = "unknown (no GL context)";
-            if (info) available = (!t.isAvailable || t.isAvailable(*info)) ? "yes" : "no";
-            out.push_back({{"kind", kind},
-                           {"name", t.name},
-                           {"description", t.description},
-                           {"available", available},
-                           {"properties", t.properties.describe()}});
-        }
-    };
-    add(oit::Registry::instance(), "oit");
-    add(shadows::Registry::instance(), "shadows");
-    return out;
-}
-
 } // namespace
 
 void withRendererContext(py::handle renderer,
@@ -216,7 +199,8 @@ void bindRenderer(py::module_& m) {
         .def_property_readonly(
             "software", [](const PyRenderer& r) { return r.info().softwareRenderer; },
             "True on llvmpipe / softpipe (pass times are glFinish + CPU clock).")
-        .def("_techniques", [](const PyRenderer& r) { return toPython(listTechniques(r.info())); });
+        .def("_techniques",
+             [](const PyRenderer& r) { return toPython(catalog::catalogJson(r.info())); });
 
     m.def("_techniques_without_renderer", []() {
         std::optional<gpu::ContextInfo> info;
@@ -225,7 +209,7 @@ void bindRenderer(py::module_& m) {
             info = context.info();
         } catch (const Error&) {
         }
-        return toPython(listTechniques(info));
+        return toPython(catalog::catalogJson(info));
     });
 }
 

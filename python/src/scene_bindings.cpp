@@ -4,7 +4,7 @@
 #include "base/error.h"
 #include "base/text.h"
 #include "oit/technique.h"
-#include "vdb/vdb_scene.h"
+#include "grid/vdb_scene.h"
 
 #include <fmt/ranges.h>
 #include <pybind11/stl.h>

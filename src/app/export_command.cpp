@@ -12,12 +12,12 @@
 // position of the box's first index (the grid's own index-to-world transform), so ParaView
 // shows the volume where OpenVDB puts it. Transforms that are not axis-aligned scales and
 // translations cannot be ImageData and are refused.
-#include "app/command_line.h"
+#include "app/shared_options.h"
 #include "app/commands.h"
 
 #include "app/cli_checks.h"
-#include "app/frame_options.h"
-#include "vdb/vdb_export.h"
+#include "app/shared_options.h"
+#include "grid/vdb_export.h"
 
 #include "base/atomic_file.h"
 #include "base/error.h"

@@ -1,15 +1,15 @@
 // `veil info <file>`: what a scene (.json) or OpenVDB (.vdb) file holds.
 #include "app/commands.h"
 
-#include "vdb/vdb_info.h"
+#include "grid/vdb_info.h"
 
 #include "base/error.h"
 #include "base/text.h"
 #include "scene/scene.h"
 #include "scene/timeline.h"
-#include "volume/density_grid.h"
-#include "volume/gpu_volume.h"
-#include "volume/vdb_file.h"
+#include "grid/density_grid.h"
+#include "fog/gpu_volume.h"
+#include "grid/vdb_file.h"
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Count.h>
@@ -166,7 +166,7 @@ std::string formatBytes(std::size_t bytes) {
 
 // Like `vdb_print -l`: per grid its index and name, type and class, active voxels, value
 // range, bounds, voxel size, memory, and every metadata entry. `selector` (a name or an
-// index, vdb/grid_select.h) prints one grid only.
+// index, grid/grid_select.h) prints one grid only.
 void printVdb(const fs::path& path, const std::string& selector) {
     const vdb::FileInfo file = vdb::describeVdbFile(path, selector);
     std::cout << "vdb " << path.string() << ": " << file.gridCount << " grid(s)\n";
@@ -179,7 +179,7 @@ void printVdb(const fs::path& path, const std::string& selector) {
             g.indexMin[1], g.indexMin[2], g.indexMax[0], g.indexMax[1], g.indexMax[2],
             g.voxelSize[0], g.voxelSize[1], g.voxelSize[2], g.worldMin[0], g.worldMin[1],
             g.worldMin[2], g.worldMax[0], g.worldMax[1], g.worldMax[2], g.transform);
-        // What `veil render` would upload: brick atlas or dense texture (src/volume).
+        // What `veil render` would upload: brick atlas or dense texture (src/fog).
         if (g.gridBytes > 0)
             std::cout << ", grid " << formatBytes(g.gridBytes) << ", GPU "
                       << formatBytes(g.gpuBytes);

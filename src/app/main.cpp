@@ -1,5 +1,7 @@
-// veil: render, inspect and (later) voxelize volumetric and transparent scenes.
-#include "app/command_line.h"
+// veil: render, view and voxelize volumetric and transparent scenes, compare images, run image
+// regression suites. main() adds the subcommands (commands.h), parses the arguments and turns
+// errors into messages and exit statuses (2 for usage errors).
+#include "app/shared_options.h"
 #include "app/commands.h"
 #include "base/atomic_file.h"
 #include "base/error.h"

@@ -9,10 +9,10 @@
 // docs/regression.md.
 #include "app/commands.h"
 
-#include "app/regress_processes.h"
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/sha256.h"
+#include "regress/processes.h"
 #include "regress/report.h"
 #include "regress/report_folder.h"
 #include "regress/runner.h"
@@ -21,13 +21,9 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include <signal.h>
-
 #include <chrono>
-#include <fstream>
 #include <iostream>
 #include <memory>
-#include <sstream>
 
 namespace veil::app {
 
@@ -67,130 +63,18 @@ std::string versionId() {
     return fmt::format("{} {}", VEIL_VERSION, sha256File(exePath()).substr(0, 12));
 }
 
-std::string readText(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
-// Removes the previous report with SIGINT/SIGTERM/SIGHUP held back, so a signal cannot leave
-// part of it (an old index.html without its results.json).
-void clearPreviousReport(const fs::path& out) {
-    sigset_t set, old;
-    sigemptyset(&set);
-    for (int sig : {SIGINT, SIGTERM, SIGHUP})
-        sigaddset(&set, sig);
-    sigprocmask(SIG_BLOCK, &set, &old);
-    regress::clearReport(out);
-    sigprocmask(SIG_SETMASK, &old, nullptr);
-}
-
 [[noreturn]] void usage(const std::string& option, const std::string& problem) {
     throw CLI::ValidationError(option, problem);
 }
 
-// --jobs N: N child processes `veil regress SUITE --shard i/N -o OUT/.shard-i`, merged. Child k
-// renders on the k-th allowed GPU mod their count (VEIL_GPU_SLOT, gpu/device_choice.h).
-std::vector<fs::path> runChildren(const RegressArgs& args, const fs::path& out) {
-    const std::string exe = exePath();
-    std::vector<pid_t> pids;
-    std::vector<fs::path> dirs;
-    for (int i = 0; i < args.jobs; ++i) {
-        const fs::path dir = out / fmt::format(".shard-{}", i);
-        std::error_code ec;
-        fs::remove_all(dir, ec); // of an interrupted run
-        dirs.push_back(dir);
-    }
-    auto removeDirs = [&] {
-        std::error_code ec;
-        for (const fs::path& d : dirs)
-            fs::remove_all(d, ec);
-    };
-    for (int i = 0; i < args.jobs; ++i) {
-        std::vector<std::string> argv{exe,
-                                      "regress",
-                                      args.suite,
-                                      "--shard",
-                                      fmt::format("{}/{}", i, args.jobs),
-                                      "-o",
-                                      dirs[static_cast<std::size_t>(i)].string()};
-        if (args.update) argv.push_back("--update");
-        if (args.device >= 0) argv.insert(argv.end(), {"--device", std::to_string(args.device)});
-        pids.push_back(spawnChild(argv, {"VEIL_GPU_SLOT=" + std::to_string(i)}));
-    }
-    const std::vector<ChildExit> exits = waitChildren(pids);
-    if (const int sig = pendingSignal()) {
-        removeDirs();
-        dieOfSignal(sig);
-    }
-    for (std::size_t i = 0; i < exits.size(); ++i) {
-        // Exit status 1 with a results file is a shard with failing cases: merged below.
-        if (fs::exists(dirs[i] / "results.json")) continue;
-        const std::string how = exits[i].signal ? signalName(exits[i].signal)
-                                                : fmt::format("status {}", exits[i].status);
-        removeDirs();
-        throw Error(fmt::format("--jobs: shard {} ended without results ({})", i, how));
-    }
-    return dirs;
-}
-
-// The shard's cases in a worker process, started again after a case that crashed it (that case
-// fails with the signal); returns the device line the worker wrote.
-std::string superviseWorker(const RegressArgs& args, const regress::Suite& suite,
-                            const regress::Shard& shard, const fs::path& out,
-                            const std::string& version) {
-    regress::clearRunning(out);
-    std::vector<std::string> argv{exePath(),
-                                  "regress",
-                                  args.suite,
-                                  "--shard",
-                                  fmt::format("{}/{}", shard.index, shard.count),
-                                  "-o",
-                                  out.string(),
-                                  "--worker",
-                                  version};
-    if (args.update) argv.push_back("--update");
-    if (args.device >= 0) argv.insert(argv.end(), {"--device", std::to_string(args.device)});
-    const std::size_t cases = regress::shardCases(suite, shard).size();
-    for (std::size_t attempt = 0; attempt <= cases; ++attempt) {
-        const ChildExit e = waitChildren({spawnChild(argv, {})}).front();
-        if (const int sig = pendingSignal()) dieOfSignal(sig);
-        if (!e.signal && e.status == 0) return readText(out / "cases" / ".device");
-        VEIL_CHECK(e.signal, "{}: the rendering process ended with status {} (its error is above)",
-                   suite.file.string(), e.status);
-        const std::string name = regress::runningCase(out);
-        const regress::RegressCase* k = nullptr;
-        for (const regress::RegressCase& c : suite.cases)
-            if (c.name == name) k = &c;
-        VEIL_CHECK(k, "{}: the rendering process died of {} outside a case", suite.file.string(),
-                   signalName(e.signal));
-        regress::CaseResult r;
-        r.name = k->name;
-        r.reference = k->referenceLabel();
-        r.scene = k->scene.string();
-        r.note = k->note;
-        r.error = fmt::format("the case crashed its process ({}); the other cases ran in a new "
-                              "process",
-                              signalName(e.signal));
-        regress::writeCaseFile(out, r, suite.sha256, version);
-        regress::clearRunning(out);
-        printCase(r);
-    }
-    throw Error(fmt::format("{}: the rendering process kept crashing", suite.file.string()));
+regress::ChildCommand childCommand(const RegressArgs& args) {
+    return {exePath(), args.suite, args.update, args.device};
 }
 
 void runWorker(const RegressArgs& args, const regress::Suite& suite, const regress::Shard& shard) {
     const fs::path out = args.output;
     regress::RunOptions options{out, args.update, args.device, printCase, args.worker, true, {}};
-    options.onDevice = [&](const gpu::ContextInfo& info) {
-        const std::string line =
-            fmt::format("EGL device {}: {} ({}); chosen by {}", info.deviceIndex, info.renderer,
-                        info.version, info.deviceChoice);
-        std::cout << line << "\n";
-        fs::create_directories(out / "cases");
-        std::ofstream(out / "cases" / ".device") << line;
-    };
+    options.onDevice = [&](const gpu::ContextInfo& info) { regress::workerDeviceLine(info, out); };
     regress::runSuite(suite, options, shard);
 }
 
@@ -220,15 +104,16 @@ void runRegress(const RegressArgs& args) {
     checkOutputPath(out / "results.json", "report", {suite.file});
     if (!args.worker.empty()) return runWorker(args, suite, shard);
 
-    installRegressSignalHandlers();
+    regress::installSignalHandlers();
     const regress::ReportLock lock(out);
     const std::string version = versionId();
     regress::Report report;
     if (!args.merge.empty()) {
         report = regress::mergeReports(suite, {args.merge.begin(), args.merge.end()}, out, version);
     } else if (args.jobs > 1) {
-        if (!args.resume) clearPreviousReport(out);
-        const std::vector<fs::path> dirs = runChildren(args, out);
+        if (!args.resume) regress::clearPreviousReport(out);
+        const std::vector<fs::path> dirs =
+            regress::runShardProcesses(childCommand(args), args.jobs, out);
         report = regress::mergeReports(suite, dirs, out, version);
         for (const fs::path& d : dirs)
             fs::remove_all(d);
@@ -242,8 +127,9 @@ void runRegress(const RegressArgs& args) {
         if (args.resume)
             fs::remove(out / "results.json");
         else
-            clearPreviousReport(out);
-        const std::string device = superviseWorker(args, suite, shard, out, version);
+            regress::clearPreviousReport(out);
+        const std::string device =
+            regress::superviseWorker(childCommand(args), suite, shard, out, version, printCase);
         // Every case now has its file: the report is made from them, nothing renders.
         regress::RunOptions options{out, false, args.device, {}, version, true, {}};
         report = regress::runSuite(suite, options, shard);

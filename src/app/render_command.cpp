@@ -2,15 +2,18 @@
 #include "app/cli_checks.h"
 #include "app/commands.h"
 
-#include "app/progress.h"
 #include "app/render_frames.h"
-#include "app/render_pathtraced.h"
+#include "app/render_integrator.h"
+#include "base/progress.h"
 #include "capture/dump.h"
 #include "capture/exr_output.h"
 #include "capture/frame_capture.h"
-#include "compare/compare.h"
+#include "capture/frame_output.h"
+#include "compare/frame_compare.h"
+#include "compare/sweep.h"
 #include "compare/target.h"
-#include "vdb/vdb_scene.h"
+#include "grid/vdb_scene.h"
+#include "integrators/registry.h"
 
 #include "base/atomic_file.h"
 #include "base/error.h"
@@ -31,10 +34,9 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
-#include <cmath>
-#include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 namespace veil::app {
 
@@ -63,7 +65,7 @@ struct RenderArgs {
     std::string frames;            // frame range (render_frames.h)
     std::optional<int> frame;      // one frame of an animated scene
     bool resume = false;
-    std::string integrator = "raster"; // raster (the GPU frame) or pathtraced (render_pathtraced.h)
+    std::string integrator = "raster"; // raster (the GPU frame) or a CPU integrator by name
 };
 
 // --frames / --frame: the options that go with one still frame are refused.
@@ -79,21 +81,25 @@ void renderFrames(const RenderArgs& a) {
 
 using Rendered = capture::RenderedFrame;
 
-// `shadows` / `shadowProperties` replace --shadows (the --compare-to shadows:ID frame).
-Rendered renderWith(const scene::Scene& scene, const gpu::ContextInfo& info, const RenderArgs& args,
-                    const std::string& oit, bool dump = false, const std::string& shadows = {},
-                    const nlohmann::json& shadowProperties = {}) {
-    capture::FrameRequest request;
-    request.width = args.width;
-    request.height = args.height;
-    request.camera = args.camera;
-    request.oit = oit;
-    request.shadows = shadows.empty() ? args.shadows : shadows;
-    request.shadowProperties = shadowProperties;
-    request.fogAov = std::find(args.aovs.begin(), args.aovs.end(), "fog") != args.aovs.end();
-    if (dump) request.dumpDir = args.dump;
-    ProgressTicker ticker("rendering with " + oit, progressWanted(args.progress));
-    return capture::renderFrame(scene, info, request);
+// The frame as --width, --height, --camera, --aov and --progress ask; `shadows` and
+// `shadowProperties` replace --shadows (the --compare-to shadows:ID frame, --shadows all).
+compare::FrameRender frameRender(const RenderArgs& args, const gpu::ContextInfo& info,
+                                 bool dump = false) {
+    return [&args, &info, dump](const scene::Scene& scene, const std::string& oit,
+                                const std::string& shadows,
+                                const nlohmann::json& shadowProperties) {
+        capture::FrameRequest request;
+        request.width = args.width;
+        request.height = args.height;
+        request.camera = args.camera;
+        request.oit = oit;
+        request.shadows = shadows.empty() ? args.shadows : shadows;
+        request.shadowProperties = shadowProperties;
+        request.fogAov = std::find(args.aovs.begin(), args.aovs.end(), "fog") != args.aovs.end();
+        if (dump) request.dumpDir = args.dump;
+        ProgressTicker ticker("rendering with " + oit, progressWanted(args.progress));
+        return capture::renderFrame(scene, info, request);
+    };
 }
 
 // Fails before any rendering, naming the known techniques and where the name came from.
@@ -102,18 +108,6 @@ void checkKnown(const std::string& name, const std::string& where) {
     VEIL_CHECK(registry.find(name), "{}: unknown OIT technique '{}'{} (known: {}{})", where, name,
                didYouMean(name, registry.names()), fmt::join(registry.names(), ", "),
                where == "--oit" ? ", or all" : "");
-}
-
-nlohmann::json errorJson(const std::string& against, const compare::ImageError& e) {
-    // JSON has no infinity: an identical image has "psnr_db": "inf".
-    nlohmann::json j = {{"against", against}, {"rmse", e.rmse}, {"peak", e.peak}};
-    if (std::isfinite(e.psnr))
-        j["psnr_db"] = e.psnr;
-    else
-        j["psnr_db"] = std::isinf(e.psnr) ? "inf" : "undefined";
-    j["metric"] = "linear HDR RGB; RMSE = sqrt(mean (a-b)^2); PSNR = 10 log10(peak^2 / MSE), "
-                  "peak = max RGB of the reference";
-    return j;
 }
 
 // The files one render writes (image, error image, report): when a later one cannot be
@@ -141,32 +135,10 @@ fs::path errorImagePath(const fs::path& output) {
     return output.parent_path() / (output.stem().string() + "-error.png");
 }
 
-std::string formatError(const compare::ImageError& e) {
-    return fmt::format("RMSE {:.6g}, PSNR {} (peak {:.4g})", e.rmse,
-                       std::isfinite(e.psnr) ? fmt::format("{:.2f} dB", e.psnr)
-                                             : std::string(std::isinf(e.psnr) ? "inf" : "n/a"),
-                       e.peak);
-}
-
-// Every file the command will write, checked before the scene is loaded or rendered.
-void checkOutputPaths(const RenderArgs& args) {
-    std::vector<fs::path> inputs{args.scene};
-    if (compare::parseCompareTarget(args.compareTo).kind == compare::CompareTarget::Kind::File)
-        inputs.push_back(args.compareTo); // -o ref.exr --compare-to ref.exr
-
-    checkOutputPath(args.output, "output", inputs);
-    if (args.integrator == "pathtraced")
-        checkOutputPath(pathTracedErrorPath(args.output), "standard-error image", inputs);
-    if (!args.report.empty()) checkOutputPath(args.report, "report", inputs);
-    if (!args.compareTo.empty())
-        checkOutputPath(errorImagePath(args.output), "error image", inputs);
-}
-
-void runRender(const RenderArgs& args) {
-    const fs::path output = args.output;
-    std::string ext = lowerExtension(args.output);
-    // Arguments that cannot work together are usage errors (exit 2), found before any file
-    // is read.
+// Arguments that cannot work together are usage errors (exit 2), found before any file is
+// read; then every file the command will write is checked.
+void checkArguments(const RenderArgs& args) {
+    const std::string ext = lowerExtension(args.output);
     if (ext != ".png" && ext != ".exr")
         usageError(fmt::format("output '{}' must end in .png or .exr", args.output));
     // The report is optional: a default name beside the output could overwrite the scene.
@@ -181,215 +153,96 @@ void runRender(const RenderArgs& args) {
                    "technique with reference)");
     if (!args.grid.empty() && lowerExtension(args.scene) != ".vdb")
         usageError(fmt::format("--grid is for a .vdb input, not '{}'", args.scene));
-    checkOutputPaths(args);
+
+    std::vector<fs::path> inputs{args.scene};
+    if (compare::parseCompareTarget(args.compareTo).kind == compare::CompareTarget::Kind::File)
+        inputs.push_back(args.compareTo); // -o ref.exr --compare-to ref.exr
+    checkOutputPath(args.output, "output", inputs);
+    if (args.integrator != "raster")
+        checkOutputPath(standardErrorPath(args.output), "standard-error image", inputs);
+    if (!args.report.empty()) checkOutputPath(args.report, "report", inputs);
+    if (!args.compareTo.empty())
+        checkOutputPath(errorImagePath(args.output), "error image", inputs);
     if (!args.dump.empty()) {
         VEIL_CHECK(args.oit != "all" && args.shadows != "all",
                    "--dump needs one technique, not all");
         capture::checkDumpDirectory(args.dump);
     }
+}
+
+// The scene (or a .vdb framed as one) with --oit / --shadows chosen before --set, so
+// render.oit.* / render.shadows.* reach them; an unknown name is named as the option's.
+scene::Scene loadRenderScene(const RenderArgs& args, std::string& vdbNote) {
     const bool bareVdb = lowerExtension(args.scene) == ".vdb";
     VEIL_CHECK(bareVdb || args.grid.empty(), "--grid is for a .vdb input, not '{}'", args.scene);
-    std::string vdbNote;
-    scene::Scene scene;
-    // --oit / --shadows choose before --set, so render.oit.* / render.shadows.* reach them; an
-    // unknown name is named as the option's.
     if (!args.oit.empty() && args.oit != "all") checkKnown(args.oit, "--oit");
     if (!args.shadows.empty() && args.shadows != "all")
         shadows::Registry::instance().get(args.shadows, "--shadows");
     const scene::TechniqueChoice choice{args.oit == "all" ? std::string() : args.oit,
                                         args.shadows == "all" ? std::string() : args.shadows};
-    if (bareVdb) {
-        vdb::VdbScene v = vdb::sceneForVdb(args.scene, args.grid, args.overrides, choice);
-        scene = std::move(v.scene);
-        vdbNote = std::move(v.description);
-    } else {
-        scene = scene::loadScene(args.scene, args.overrides, choice);
-    }
-    const std::string oitName = args.oit.empty() ? scene.render.oit : args.oit;
-    const bool all = oitName == "all";
-    // --shadows all: every shadow technique with the same OIT, against the reference shadows.
-    const bool allShadows = args.shadows == "all";
+    if (!bareVdb) return scene::loadScene(args.scene, args.overrides, choice);
+    vdb::VdbScene v = vdb::sceneForVdb(args.scene, args.grid, args.overrides, choice);
+    vdbNote = std::move(v.description);
+    return std::move(v.scene);
+}
+
+// Bad technique names, properties and --compare-to targets fail here, before a context or an
+// output exists.
+void checkTechniques(const RenderArgs& args, const scene::Scene& scene, const std::string& oit,
+                     const compare::CompareTarget& target) {
+    const bool all = oit == "all", allShadows = args.shadows == "all";
     VEIL_CHECK(!all || !allShadows, "--oit all and --shadows all: one sheet at a time");
     if (!all) {
-        checkKnown(oitName, args.oit.empty() ? scene.render.oitWhere + "/type" : "--oit");
-        // Bad property names or values fail here, before a context or an output exists.
-        if (oitName == scene.render.oit)
-            oit::Registry::instance().resolve(oitName, scene.render.oitProperties,
+        checkKnown(oit, args.oit.empty() ? scene.render.oitWhere + "/type" : "--oit");
+        if (oit == scene.render.oit)
+            oit::Registry::instance().resolve(oit, scene.render.oitProperties,
                                               scene.render.oitWhere);
     }
     shadows::Registry::instance().resolve(scene.render.shadows, scene.render.shadowProperties,
                                           scene.render.shadowsWhere);
-    const compare::CompareTarget compareTarget = compare::parseCompareTarget(args.compareTo);
     if (!args.compareTo.empty()) {
         VEIL_CHECK(!all && !allShadows,
                    "--compare-to cannot be combined with --oit all or --shadows all (which "
                    "compare every technique with reference)");
-        if (compareTarget.kind == compare::CompareTarget::Kind::Technique)
+        if (target.kind == compare::CompareTarget::Kind::Technique)
             checkKnown(args.compareTo, "--compare-to");
-        if (compareTarget.kind == compare::CompareTarget::Kind::Shadows)
-            shadows::Registry::instance().get(compareTarget.shadows, "--compare-to");
-        compare::checkCompareTarget(compareTarget, scene);
-        if (compareTarget.kind == compare::CompareTarget::Kind::PathTraced)
-            compare::pathTracedSettings(args.scene, args.overrides); // bad properties fail here
+        if (target.kind == compare::CompareTarget::Kind::Shadows)
+            shadows::Registry::instance().get(target.shadows, "--compare-to");
+        compare::checkCompareTarget(target, scene);
+        if (target.kind == compare::CompareTarget::Kind::PathTraced)
+            compare::pathTracedSettings(scene); // bad properties fail here
     }
-    if (args.integrator == "pathtraced") {
+    if (args.integrator != "raster") {
         VEIL_CHECK(args.compareTo.empty() && args.dump.empty() && args.aovs.empty() &&
                        args.report.empty() && !args.half && !all,
-                   "--integrator pathtraced writes the path-traced image and its standard error "
-                   "only (no --compare-to, --dump, --aov, --half, --report or --oit all)");
+                   "--integrator {} writes the integrator's image (and a Monte Carlo one's "
+                   "standard error) only (no --compare-to, --dump, --aov, --half, --report or "
+                   "--oit all)",
+                   args.integrator);
         VEIL_CHECK(!scene.volumes.empty(),
-                   "--integrator pathtraced: scene '{}' has no volumes (the path tracer renders "
+                   "--integrator {}: scene '{}' has no volumes (the CPU integrators render "
                    "volumes only)",
-                   args.scene);
-        renderPathTraced(scene, compare::pathTracedSettings(args.scene, args.overrides),
-                         args.camera, args.width, args.height, output, args.progress);
-        return;
+                   args.integrator, args.scene);
+        if (args.integrator == "pathtraced")
+            compare::pathTracedSettings(scene); // bad properties fail before anything renders
     }
-    gpu::HeadlessContext context({args.device, args.glDebug});
-    const bool png = ext == ".png";
+}
 
-    // Render everything first, write afterwards: a failing technique leaves no output.
-    std::vector<Rendered> frames;
-    std::vector<std::pair<std::string, compare::ImageError>> errors;
-    ImageF referenceHdr; // what --compare-to compares with
-    ImageF comparedHdr;  // what is compared with it: the frame, or for cpu its fog only
-    std::string compareNote;
-    if (all) {
-        frames.push_back(renderWith(scene, context.info(), args, "reference"));
-        for (const auto& t : oit::Registry::instance().all()) {
-            if (t.name == "reference") continue;
-            if (t.isAvailable && !t.isAvailable(context.info())) {
-                std::cout << "skipping " << t.name << " (not available on "
-                          << context.info().renderer << ")\n";
-                continue;
-            }
-            frames.push_back(renderWith(scene, context.info(), args, t.name));
-        }
-        for (const Rendered& f : frames)
-            errors.emplace_back(f.oit, compare::compareLinear(f.hdr, frames.front().hdr));
-    } else if (allShadows) {
-        frames.push_back(renderWith(scene, context.info(), args, oitName, false, "reference"));
-        // Every technique at the reference's map size (other properties at their defaults).
-        const nlohmann::json size = {{"size", frames.front().shadowProperties.at("size")}};
-        for (const auto& t : shadows::Registry::instance().all()) {
-            if (t.name == "reference") continue;
-            if (t.isAvailable && !t.isAvailable(context.info())) {
-                std::cout << "skipping shadows " << t.name << " (not available on "
-                          << context.info().renderer << ")\n";
-                continue;
-            }
-            frames.push_back(renderWith(scene, context.info(), args, oitName, false, t.name, size));
-        }
-        for (const Rendered& f : frames)
-            errors.emplace_back("shadows:" + f.shadows,
-                                compare::compareLinear(f.hdr, frames.front().hdr));
-    } else {
-        frames.push_back(renderWith(scene, context.info(), args, oitName, !args.dump.empty()));
-        const Rendered& f = frames.front();
-        if (compareTarget.kind == compare::CompareTarget::Kind::Technique)
-            referenceHdr = renderWith(scene, context.info(), args, args.compareTo).hdr;
-        else if (compareTarget.kind == compare::CompareTarget::Kind::Shadows)
-            // The same frame and OIT technique with the other shadow technique at the same
-            // map size (its other properties at their defaults).
-            referenceHdr =
-                renderWith(scene, context.info(), args, oitName, false, compareTarget.shadows,
-                           {{"size", f.shadowProperties.at("size")}})
-                    .hdr;
-        else if (compareTarget.kind == compare::CompareTarget::Kind::File)
-            referenceHdr = compare::loadReferenceImage(compareTarget, f.width, f.height);
-        else if (compareTarget.kind == compare::CompareTarget::Kind::Cpu) {
-            // The CPU reference holds the fog only: a scene with surfaces is rendered a second
-            // time without them (nor the shadows they cast), and that frame is compared.
-            if (!scene.objects.empty()) {
-                scene::Scene fogOnly = scene;
-                fogOnly.objects.clear();
-                comparedHdr = renderWith(fogOnly, context.info(), args, oitName).hdr;
-                ProgressTicker ticker("CPU fog reference", progressWanted(args.progress));
-                std::string unused;
-                referenceHdr =
-                    compare::cpuFogReference(fogOnly, args.camera, f.width, f.height, unused);
-                compareNote = fmt::format(
-                    "compared: the fog alone (the frame rendered again without the scene's {} "
-                    "object(s) and their shadows) against the CPU fog reference; {} is the "
-                    "whole scene",
-                    scene.objects.size(), args.output);
-            } else {
-                ProgressTicker ticker("CPU fog reference", progressWanted(args.progress));
-                referenceHdr =
-                    compare::cpuFogReference(scene, args.camera, f.width, f.height, compareNote);
-                compareNote = "compared: the fog (the scene has no surfaces) against the CPU fog "
-                              "reference";
-            }
-        } else if (compareTarget.kind == compare::CompareTarget::Kind::PathTraced) {
-            ProgressTicker ticker("path-traced reference", progressWanted(args.progress));
-            referenceHdr = compare::pathTracedReference(
-                               scene, compare::pathTracedSettings(args.scene, args.overrides),
-                               args.camera, f.width, f.height, compareNote)
-                               .radiance;
-        }
-        if (comparedHdr.pixels.empty()) comparedHdr = f.hdr;
-        if (compareTarget.kind != compare::CompareTarget::Kind::None)
-            errors.emplace_back(f.oit, compare::compareLinear(comparedHdr, referenceHdr));
-    }
-    const Rendered& main = frames.front();
-    const capture::RenderMetadata metadata = capture::describeRender(
-        args.scene, all ? std::string("all") : main.oit, main.oitProperties, main.camera,
-        main.extras, main.width, main.height, context.info().renderer);
-
-    // PNG gets the tone-mapped sRGB image, EXR the linear HDR radiance.
-    fs::path errorPath;
-    RunOutputs outputs;
-    if ((all || allShadows) && png) {
-        std::vector<ImageF> tiles;
-        std::vector<std::vector<std::string>> labels;
-        for (std::size_t i = 0; i < frames.size(); ++i) {
-            tiles.push_back(frames[i].ldr);
-            labels.push_back({allShadows ? "shadows " + frames[i].shadows : frames[i].oit,
-                              i == 0 ? std::string("RMSE 0 (exact)")
-                                     : fmt::format("RMSE {:.4f}", errors[i].second.rmse),
-                              fmt::format("GPU {:.1f} ms", frames[i].totalMs)});
-        }
-        io::writeImage(output, compare::labelledContactSheet(tiles, labels));
-        outputs.wrote(output);
-    } else if (all || allShadows) {
-        // EXR: the reference frame as R, G, B, A, Z (and --aov channels, --half), every other
-        // technique as a layer <technique>.R/.G/.B of the same size, not a contact sheet.
-        io::ExrImage exr = capture::makeExr(main.hdr, main.extras, metadata, args.half);
-        const auto name = [&](const Rendered& f) {
-            return allShadows ? "shadows-" + f.shadows : f.oit;
-        };
-        std::string layers = "R,G,B,A,Z: " + name(main);
-        for (std::size_t i = 1; i < frames.size(); ++i) {
-            capture::addRgbLayer(exr, name(frames[i]), frames[i].hdr);
-            layers += "; " + name(frames[i]) + ".R,G,B: " + name(frames[i]);
-        }
-        exr.strings.emplace_back("veil:layers", layers);
-        io::writeExr(output, exr);
-        outputs.wrote(output);
-    } else {
-        if (png)
-            io::writeImage(output, main.ldr);
-        else
-            io::writeExr(output, capture::makeExr(main.hdr, main.extras, metadata, args.half));
-        outputs.wrote(output);
-        if (!args.compareTo.empty()) {
-            errorPath = errorImagePath(output);
-            io::writeImage(errorPath, compare::errorImage(comparedHdr, referenceHdr));
-            outputs.wrote(errorPath);
-        }
-    }
-
+// The report's common part: what was rendered, where, on what, with which scene values.
+nlohmann::json renderReport(const RenderArgs& args, const scene::Scene& scene, const Rendered& main,
+                            const std::string& oit, const gpu::ContextInfo& info,
+                            const capture::RenderMetadata& metadata) {
     nlohmann::json report;
     report["scene"] = fs::absolute(args.scene).string();
     report["output"] = fs::absolute(args.output).string();
     report["width"] = main.width;
     report["height"] = main.height;
     report["camera"] = main.camera;
-    report["oit"] = all ? std::string("all") : main.oit;
-    if (allShadows) report["shadows"] = "all";
-    report["renderer"] = context.info().renderer;
-    report["gl_version"] = context.info().version;
-    report["vendor"] = context.info().vendor;
+    report["oit"] = oit;
+    if (args.shadows == "all") report["shadows"] = "all";
+    report["renderer"] = info.renderer;
+    report["gl_version"] = info.version;
+    report["vendor"] = info.vendor;
     report["metadata"] = capture::metadataJson(metadata);
     // Every declared scene value as rendered (scene/scene_values.h), --width/--height included.
     report["scene_values"] = scene::sceneValues(scene);
@@ -398,22 +251,65 @@ void runRender(const RenderArgs& args) {
     report["timer"] = main.timer == gpu::GpuTimer::Mode::Query
                           ? "GL_TIME_ELAPSED"
                           : "glFinish + CPU clock (driver timer unusable)";
+    return report;
+}
+
+void runRender(const RenderArgs& args) {
+    checkArguments(args);
+    std::string vdbNote;
+    const scene::Scene scene = loadRenderScene(args, vdbNote);
+    const std::string oitName = args.oit.empty() ? scene.render.oit : args.oit;
+    const compare::CompareTarget target = compare::parseCompareTarget(args.compareTo);
+    checkTechniques(args, scene, oitName, target);
+    if (args.integrator != "raster") {
+        renderWithIntegrator(scene, args.integrator, args.camera, args.width, args.height,
+                             args.output, args.progress);
+        return;
+    }
+    const bool all = oitName == "all", allShadows = args.shadows == "all";
+    const bool png = lowerExtension(args.output) == ".png";
+    gpu::HeadlessContext context({args.device, args.glDebug});
+    const gpu::ContextInfo& info = context.info();
+
+    // Render everything first, write afterwards: a failing technique leaves no output.
+    std::optional<compare::Sweep> sweep;
+    std::optional<Rendered> single;
+    std::optional<compare::FrameComparison> comparison;
     if (all || allShadows) {
-        nlohmann::json techniques = nlohmann::json::array();
-        for (std::size_t i = 0; i < frames.size(); ++i) {
-            const Rendered& f = frames[i];
-            techniques.push_back(
-                {{"oit", f.oit},
-                 {"shadows", f.shadows},
-                 {"gpu_bytes", f.gpuBytes},
-                 {"passes", f.passes},
-                 {"total_ms", f.totalMs},
-                 {"oit_stats", f.oitStats},
-                 {"oit_properties", f.oitProperties},
-                 {"compare",
-                  errorJson(allShadows ? "shadows:reference" : "reference", errors[i].second)}});
-        }
-        report["techniques"] = techniques;
+        sweep = compare::runSweep(all ? compare::SweepKind::Oit : compare::SweepKind::Shadows,
+                                  scene, oitName, info, frameRender(args, info),
+                                  [](const std::string& line) { std::cout << line << "\n"; });
+    } else {
+        single = frameRender(args, info, !args.dump.empty())(scene, oitName, {}, {});
+        if (target.kind != compare::CompareTarget::Kind::None)
+            comparison = compare::compareFrame(target, scene, *single,
+                                               {oitName, args.camera, args.output, args.progress},
+                                               frameRender(args, info));
+    }
+    const Rendered& main = sweep ? sweep->frames.front() : *single;
+    const std::string oitLabel = all ? std::string("all") : main.oit;
+    const capture::RenderMetadata metadata =
+        capture::describeRender(args.scene, oitLabel, main.oitProperties, main.camera, main.extras,
+                                main.width, main.height, info.renderer);
+
+    // PNG gets the tone-mapped sRGB image, EXR the linear HDR radiance.
+    RunOutputs outputs;
+    const fs::path errorPath = errorImagePath(args.output);
+    if (sweep && png)
+        io::writeImage(args.output, compare::sweepContactSheet(*sweep));
+    else if (sweep)
+        io::writeExr(args.output, compare::sweepExr(*sweep, metadata, args.half));
+    else
+        capture::writeFrame(args.output, main, metadata, args.half);
+    outputs.wrote(args.output);
+    if (comparison) {
+        io::writeImage(errorPath, compare::errorImage(comparison->compared, comparison->reference));
+        outputs.wrote(errorPath);
+    }
+
+    nlohmann::json report = renderReport(args, scene, main, oitLabel, info, metadata);
+    if (sweep) {
+        report["techniques"] = compare::sweepTechniques(*sweep);
         report["sheet_order"] =
             png ? "in rows, left to right, as in techniques[]; each tile labelled with its "
                   "technique, RMSE against reference and GPU time"
@@ -421,50 +317,39 @@ void runRender(const RenderArgs& args) {
                   "veil:layers)";
     } else {
         report.update(capture::frameReport(main));
-        if (!args.compareTo.empty()) {
-            report["compare"] = errorJson(args.compareTo, errors.front().second);
+        if (comparison) {
+            report["compare"] = compare::errorJson(args.compareTo, comparison->error);
             report["compare"]["error_image"] = fs::absolute(errorPath).string();
             report["compare"]["error_image_scale"] = compare::kErrorImageScale;
-            if (!compareNote.empty()) report["compare"]["note"] = compareNote;
+            if (!comparison->note.empty()) report["compare"]["note"] = comparison->note;
         }
     }
-    const fs::path reportPath = args.report;
     if (!args.report.empty()) {
         writeTextFileAtomically(
-            reportPath,
+            args.report,
             report.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
     }
     outputs.commit();
-    if ((all || allShadows) && !png) {
-        std::cout << "wrote " << args.output << " (" << frames.size()
-                  << " techniques as EXR layers "
-                  << "of " << main.width << "x" << main.height << ", " << context.info().renderer
-                  << ")\n";
-        for (const auto& [name, e] : errors)
-            std::cout << fmt::format("  {:<12} vs {}reference: {}\n", name,
-                                     allShadows ? "shadows:" : "", formatError(e));
-    } else if (all || allShadows) {
-        std::cout << "wrote " << args.output << " (contact sheet, " << frames.size() << " tiles of "
-                  << main.width << "x" << main.height << ", " << context.info().renderer << ")\n";
-        for (const auto& [name, e] : errors)
-            std::cout << fmt::format("  {:<12} vs {}reference: {}\n", name,
-                                     allShadows ? "shadows:" : "", formatError(e));
+    if (sweep) {
+        std::cout << "wrote " << args.output << " ("
+                  << (png ? "contact sheet, " + std::to_string(sweep->frames.size()) + " tiles of "
+                          : std::to_string(sweep->frames.size()) + " techniques as EXR layers of ")
+                  << main.width << "x" << main.height << ", " << info.renderer << ")\n"
+                  << compare::sweepSummary(*sweep);
     } else {
         if (!vdbNote.empty()) std::cout << vdbNote << "\n";
         std::cout << "wrote " << args.output << " (" << main.width << "x" << main.height << ", oit "
-                  << main.oit << ", " << context.info().renderer << ")\n";
-        if (!compareNote.empty()) std::cout << compareNote << "\n";
-        if (!args.compareTo.empty())
-            std::cout << fmt::format("{} vs {}: {} (linear HDR)\nwrote {} (|error| x {} in "
-                                     "linear, sRGB-encoded)\n",
-                                     compareTarget.kind == compare::CompareTarget::Kind::Shadows
-                                         ? "shadows:" + main.shadows
-                                         : main.oit,
-                                     args.compareTo, formatError(errors.front().second),
-                                     errorPath.string(), compare::kErrorImageScale);
+                  << main.oit << ", " << info.renderer << ")\n";
+        if (comparison && !comparison->note.empty()) std::cout << comparison->note << "\n";
+        if (comparison)
+            std::cout << fmt::format(
+                "{} vs {}: {} (linear HDR)\nwrote {} (|error| x {} in linear, sRGB-encoded)\n",
+                target.kind == compare::CompareTarget::Kind::Shadows ? "shadows:" + main.shadows
+                                                                     : main.oit,
+                args.compareTo, compare::formatError(comparison->error), errorPath.string(),
+                compare::kErrorImageScale);
     }
-    if (!args.report.empty())
-        std::cout << "wrote " << reportPath.string() << " (per-pass GPU times)\n";
+    if (!args.report.empty()) std::cout << "wrote " << args.report << " (per-pass GPU times)\n";
     if (!args.dump.empty())
         std::cout << "wrote " << (fs::path(args.dump) / "manifest.json").string() << " ("
                   << main.dumpManifest["resources"].size() << " frame resources)\n";
@@ -521,11 +406,16 @@ void addRenderCommand(CLI::App& app) {
         "CPU reference over the background; scenes with volumes) or pathtraced (the volumetric "
         "path tracer, render.pathtraced.*). Prints RMSE/PSNR, "
         "writes <output stem>-error.png (|error| x 4)");
+    std::vector<std::string> integrators{"raster"};
+    for (const std::string& name : volume::IntegratorRegistry::instance().names())
+        integrators.push_back(name);
     cmd->add_option("--integrator", args->integrator,
-                    "raster: the GPU frame; pathtraced: the volumetric path tracer's image of the "
-                    "volumes (render.pathtraced.spp, max_bounces, seed, roulette_depth, batch), "
-                    "plus <output stem>-stderr.exr with the per-pixel standard error")
-        ->check(CLI::IsMember({"raster", "pathtraced"}));
+                    "raster: the GPU frame; or a CPU integrator's image of the volumes "
+                    "(src/integrators): pathtraced, the volumetric path tracer "
+                    "(render.pathtraced.spp, max_bounces, seed, roulette_depth, batch), plus "
+                    "<output stem>-stderr.exr with the per-pixel standard error; fog-march, "
+                    "the fog marcher's CPU reference")
+        ->check(CLI::IsMember(integrators));
     cmd->add_option("--set", args->overrides,
                     "Override a scene value: key=value, e.g. render.exposure=2 or "
                     "lights.0.intensity=5 (repeatable)");

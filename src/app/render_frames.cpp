@@ -1,115 +1,31 @@
-// `veil render --frames` (render_frames.h): argument checks, signals, progress, the report,
-// video through ffmpeg.
+// `veil render --frames` (render_frames.h): argument checks, signals, progress and the report;
+// src/sequence renders the range and encodes the video.
 #include "app/render_frames.h"
 
-#include "app/progress.h"
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "base/process.h"
+#include "base/progress.h"
 #include "base/text.h"
 #include "gpu/context.h"
 #include "scene/scene.h"
 #include "scene/scene_values.h"
 #include "scene/timeline.h"
 #include "sequence/range_render.h"
+#include "sequence/video.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <atomic>
-#include <csignal>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <iostream>
-#include <sstream>
 
 namespace veil::app {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-std::atomic<bool> gStop{false};
-std::atomic<int> gSignal{0};
-struct sigaction gOld[2]{};
-
-// The first signal stops the range after the frame being rendered; a second one gets the
-// handler that was there before (base/atomic_file.h: temporaries removed, then death).
-extern "C" void onSignal(int sig) {
-    if (gStop.exchange(true)) {
-        const struct sigaction& old = gOld[sig == SIGINT ? 0 : 1];
-        sigaction(sig, &old, nullptr);
-        ::raise(sig);
-        return;
-    }
-    gSignal.store(sig);
-}
-
-// Restores the previous handlers when the range ends.
-class SignalGuard {
-public:
-    SignalGuard() {
-        gStop = false;
-        int i = 0;
-        for (int sig : {SIGINT, SIGTERM}) {
-            struct sigaction sa {};
-            sa.sa_handler = onSignal;
-            sigemptyset(&sa.sa_mask);
-            sigaction(sig, &sa, &gOld[i++]);
-        }
-    }
-    ~SignalGuard() {
-        sigaction(SIGINT, &gOld[0], nullptr);
-        sigaction(SIGTERM, &gOld[1], nullptr);
-    }
-};
-
-std::optional<fs::path> findOnPath(const std::string& program) {
-    const char* path = std::getenv("PATH");
-    std::stringstream dirs(path ? path : "");
-    for (std::string dir; std::getline(dirs, dir, ':');) {
-        if (dir.empty()) continue;
-        const fs::path candidate = fs::path(dir) / program;
-        if (::access(candidate.c_str(), X_OK) == 0) return candidate;
-    }
-    return std::nullopt;
-}
-
-// ffmpeg -framerate FPS -i frames/%06d.png ... out.mp4 (H.264, yuv420p for players).
-void encodeVideo(const fs::path& ffmpeg, const fs::path& pattern, int firstFrame, double fps,
-                 const fs::path& output) {
-    const std::string rate = fmt::format("{}", fps), start = std::to_string(firstFrame);
-    const fs::path tmp =
-        output.parent_path() / fmt::format(".{}.tmp.mp4", output.filename().string());
-    std::vector<std::string> argv{
-        ffmpeg.string(), "-y",      "-loglevel", "error",          "-framerate", rate,
-        "-start_number", start,     "-i",        pattern.string(), "-c:v",       "libx264",
-        "-pix_fmt",      "yuv420p", tmp.string()};
-    std::vector<char*> cargv;
-    for (std::string& a : argv)
-        cargv.push_back(a.data());
-    cargv.push_back(nullptr);
-    const pid_t pid = ::fork();
-    VEIL_CHECK(pid >= 0, "cannot start ffmpeg");
-    if (pid == 0) {
-        ::execv(cargv[0], cargv.data());
-        ::_exit(127);
-    }
-    int status = 0;
-    ::waitpid(pid, &status, 0);
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        std::error_code ec;
-        fs::remove(tmp, ec);
-        throw Error(fmt::format("ffmpeg failed encoding '{}' (exit status {})", output.string(),
-                                WIFEXITED(status) ? WEXITSTATUS(status) : -1));
-    }
-    fs::rename(tmp, output);
-}
-
-} // namespace
 
 void runRenderFrames(const RenderFramesArgs& args) {
     VEIL_CHECK(args.frames.empty() || !args.frame, "give --frames or --frame, not both");
@@ -121,7 +37,7 @@ void runRenderFrames(const RenderFramesArgs& args) {
     VEIL_CHECK(ext == ".exr" || !args.half, "--half needs an .exr output, not '{}'", args.output);
     std::optional<fs::path> ffmpeg;
     if (ext == ".mp4") {
-        ffmpeg = findOnPath("ffmpeg");
+        ffmpeg = sequence::findFfmpeg();
         VEIL_CHECK(ffmpeg.has_value(),
                    "output '{}': writing video needs ffmpeg, which is not installed (Debian "
                    "package ffmpeg); write numbered images instead, e.g. -o frames.####.png",
@@ -147,7 +63,7 @@ void runRenderFrames(const RenderFramesArgs& args) {
     job.half = args.half;
     job.options =
         frame::RendererOptions{args.width, args.height, args.camera, args.oit, {}, args.shadows};
-    job.stop = &gStop;
+    job.stop = &process::StopOnSignal::stopFlag();
     fs::path videoFolder;
     if (ffmpeg) {
         videoFolder = fs::path(args.output).parent_path() /
@@ -173,7 +89,7 @@ void runRenderFrames(const RenderFramesArgs& args) {
     gpu::HeadlessContext context({args.device, args.glDebug});
     sequence::RangeResult result;
     {
-        SignalGuard signals;
+        process::StopOnSignal signals;
         result = sequence::renderRange(scene, job, context.info());
     }
     if (showProgress && terminal) std::fprintf(stderr, "\n");
@@ -192,12 +108,12 @@ void runRenderFrames(const RenderFramesArgs& args) {
     if (result.interrupted) {
         throw Error(fmt::format("interrupted by signal {}: {} frames written, {} skipped, {} not "
                                 "rendered (complete frames only; --resume continues)",
-                                gSignal.load(), rendered, skipped,
+                                process::StopOnSignal::signal(), rendered, skipped,
                                 frames.size() - result.frames.size()));
     }
     if (ffmpeg) {
-        encodeVideo(*ffmpeg, videoFolder / "%06d.png", frames.front(), scene.timeline.time.fps,
-                    args.output);
+        sequence::encodeVideo(*ffmpeg, videoFolder / "%06d.png", frames.front(),
+                              scene.timeline.time.fps, args.output);
         fs::remove_all(videoFolder);
     }
     std::cout << fmt::format("wrote {} frames{} ({}-{}:{}) to {} in {:.2f} s ({})\n", rendered,

@@ -3,9 +3,8 @@
 #include "app/commands.h"
 
 #include "base/error.h"
+#include "catalog/techniques.h"
 #include "gpu/context.h"
-#include "oit/technique.h"
-#include "shadows/technique.h"
 
 #include <fmt/ranges.h>
 
@@ -38,25 +37,9 @@ std::string valueText(const nlohmann::json& v) {
     return v.is_string() ? v.get<std::string>() : v.dump();
 }
 
-// One registered technique of either kind (OIT, shadows), as listed.
-struct Listed {
-    std::string kind; // "oit" or "shadows": the render key it is chosen with
-    std::string name, description;
-    std::function<bool(const gpu::ContextInfo&)> isAvailable;
-    const PropertySchema* properties;
-};
-
-template <class R>
-void collect(const R& registry, const std::string& kind, std::vector<Listed>& out) {
-    for (const auto& t : registry.all())
-        out.push_back({kind, t.name, t.description, t.isAvailable, &t.properties});
-}
-
 void run(const TechniquesArgs& args) {
-    std::vector<Listed> all;
-    collect(oit::Registry::instance(), "oit", all);
-    collect(shadows::Registry::instance(), "shadows", all);
-    std::vector<const Listed*> chosen;
+    const std::vector<catalog::Technique> all = catalog::techniques();
+    std::vector<const catalog::Technique*> chosen;
     std::vector<std::string> names;
     for (const auto& t : all) {
         if (args.name.empty() || t.name == args.name) chosen.push_back(&t);
@@ -74,27 +57,18 @@ void run(const TechniquesArgs& args) {
     } catch (const Error& e) {
         noContext = e.what();
     }
-    auto availability = [&](const Listed& t) -> std::string {
-        if (!info) return "unknown (no GL context)";
-        if (!t.isAvailable || t.isAvailable(*info)) return "yes";
-        return "no";
-    };
-
     if (args.json) {
         nlohmann::json out = nlohmann::json::array();
         for (const auto* t : chosen)
-            out.push_back({{"kind", t->kind},
-                           {"name", t->name},
-                           {"description", t->description},
-                           {"available", availability(*t)},
-                           {"properties", t->properties->describe()}});
+            out.push_back(catalog::techniqueJson(*t, info));
         std::cout << out.dump(2) << "\n";
         return;
     }
     std::cout << "GL driver: " << (info ? info->renderer : "none (" + noContext + ")") << "\n";
     for (const auto* t : chosen) {
         std::cout << "\n"
-                  << t->kind << " " << t->name << "  (available: " << availability(*t) << ")\n  "
+                  << t->kind << " " << t->name
+                  << "  (available: " << catalog::availability(*t, info) << ")\n  "
                   << t->description << "\n";
         if (t->properties->empty()) std::cout << "  no properties\n";
         for (const PropertyDecl& d : t->properties->all()) {

@@ -11,11 +11,11 @@
 // and each frame's file is voxelized. Outputs take the frame number (-o grid.####.vdb, --vti
 // grid.####.vti); every frame's input is checked before the first is voxelized; one GL context
 // serves every frame; each file is written atomically.
-#include "app/command_line.h"
+#include "app/shared_options.h"
 #include "app/commands.h"
 
 #include "app/cli_checks.h"
-#include "app/frame_options.h"
+#include "app/shared_options.h"
 
 #include "base/atomic_file.h"
 #include "base/error.h"
@@ -24,10 +24,7 @@
 #include "io/vtk_export.h"
 #include "scene/scene.h"
 #include "scene/timeline.h"
-#include "voxelize/gpu_voxelizer.h"
-#include "voxelize/grid_fit.h"
-#include "voxelize/triangles.h"
-#include "voxelize/vdb_convert.h"
+#include "voxelize/pipeline.h"
 
 #include <nlohmann/json.hpp>
 
@@ -109,20 +106,16 @@ void voxelizeFrame(const VoxelizeArgs& args, const VoxelizeFrame& frame, const s
     using namespace veil::voxelize;
     const auto start = std::chrono::steady_clock::now();
     const bool mesh = isMeshFile(frame.input);
-    const Triangles tris = flattenScene(scene);
-
-    SliceMap grid =
-        fitGrid(scene, tris, {args.res, args.slices, args.perspective, args.camera}, mesh);
-    const int slices = grid.slices;
+    Voxelization v =
+        prepareVoxelization(scene, {args.res, args.slices, args.perspective, args.camera}, mesh);
+    const SliceMap& grid = v.grid;
     if (!contextSlot) contextSlot.emplace(gpu::HeadlessOptions{args.device, false});
     gpu::HeadlessContext& context = *contextSlot;
-    GpuVoxelizer vox(context.info());
-    const bool big = tris.count() > 200000 || double(args.res) * args.res * slices > 6.4e7;
+    const bool big =
+        v.triangles.count() > 200000 || double(args.res) * args.res * grid.slices > 6.4e7;
     {
         ProgressBar bar("voxelize", big && !args.quiet);
-        vox.progress = [&bar](double f) { bar(f); };
-        vox.upload(tris);
-        vox.voxelize(grid, {method, args.solid, args.local});
+        fillGrid(v, context.info(), {method, args.solid, args.local}, [&bar](double f) { bar(f); });
     }
     VdbOptions vopt;
     vopt.smoothing = args.smooth;
@@ -132,11 +125,7 @@ void voxelizeFrame(const VoxelizeArgs& args, const VoxelizeFrame& frame, const s
     {
         ProgressBar bar("to OpenVDB", big && !args.quiet);
         vopt.progress = [&bar](double f) { bar(f); };
-        try {
-            grids = toVdb(grid, vopt);
-        } catch (const Error& e) {
-            throw Error(fmt::format("{}: {}", frame.input, e.what()));
-        }
+        grids = toVdbNamed(grid, vopt, frame.input);
     }
     writeVdb(frame.output, grids);
     if (!frame.vti.empty()) {
@@ -174,9 +163,9 @@ void voxelizeFrame(const VoxelizeArgs& args, const VoxelizeFrame& frame, const s
     std::cout << fmt::format(
         "voxelized {} triangles into {}x{}x{} {} cells: {} set ({} voxels in '{}')\n"
         "method: {}\ngrid: {}\ntime: voxelize {:.2f} ms ({}), total {:.2f} s\nwrote {}{}\n",
-        tris.count(), grid.width, grid.height, grid.slices, args.solid ? "solid" : "surface",
-        grid.countSet(), grids.mask->activeVoxelCount(), frame.output, vox.path(), grids.note,
-        vox.milliseconds(),
+        v.triangles.count(), grid.width, grid.height, grid.slices, args.solid ? "solid" : "surface",
+        grid.countSet(), grids.mask->activeVoxelCount(), frame.output, v.path, grids.note,
+        v.milliseconds,
         context.info().softwareRenderer ? "glFinish + CPU clock" : "GL_TIME_ELAPSED", seconds,
         frame.output, frame.vti.empty() ? "" : " and " + frame.vti);
 }

@@ -4,7 +4,7 @@
 #include "frame/renderer.h"
 #include "oit/technique.h"
 #include "shadows/technique.h"
-#include "volume/fog_pass.h"
+#include "fog/fog_pass.h"
 
 #include <optional>
 

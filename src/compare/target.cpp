@@ -2,15 +2,12 @@
 
 #include "base/error.h"
 #include "base/text.h"
+#include "integrators/cpu_reference.h"
+#include "integrators/medium.h"
+#include "integrators/registry.h"
 #include "io/image_io.h"
-#include "scene/json_text.h"
-#include "volume/cpu_reference.h"
-#include "volume/density_grid.h"
 
-#include <algorithm>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 namespace veil::compare {
 
@@ -67,23 +64,16 @@ ImageF loadReferenceImage(const CompareTarget& target, int width, int height) {
 
 ImageF cpuFogOverBackground(const scene::Scene& scene, const scene::Camera& camera, int width,
                             int height, int steps) {
-    std::vector<openvdb::FloatGrid::ConstPtr> grids;
-    for (const scene::VolumeRef& v : scene.volumes)
-        if (v.procedural != "homogeneous") grids.push_back(volume::loadVolume(v));
-    const volume::CpuFogReference reference(scene, grids);
-    const ImageF fog = reference.render(camera, width, height, steps);
-    ImageF out(width, height, 3);
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x)
-            for (int c = 0; c < 3; ++c)
-                out.at(x, y, c) = fog.at(x, y, c) + fog.at(x, y, 3) * scene.render.background[c];
-    return out;
+    const volume::CpuFogReference reference(scene, volume::loadMediumGrids(scene));
+    return reference.renderOverBackground(camera, width, height, steps);
 }
 
 ImageF cpuFogReference(const scene::Scene& scene, const std::string& camera, int width, int height,
                        std::string& note) {
-    ImageF out = cpuFogOverBackground(scene, scene.camera(camera), width, height,
-                                      std::max(256, scene.render.fogSteps));
+    ImageF out = volume::IntegratorRegistry::instance()
+                     .get("fog-march")
+                     .render(scene, scene.camera(camera), width, height, {})
+                     .radiance;
     note = scene.objects.empty()
                ? std::string()
                : fmt::format("note: the CPU reference is fog over the background only; the "
@@ -92,23 +82,8 @@ ImageF cpuFogReference(const scene::Scene& scene, const std::string& camera, int
     return out;
 }
 
-volume::PathTracerSettings pathTracedSettings(const std::string& sceneFile,
-                                              const std::vector<std::string>& overrides) {
-    nlohmann::json properties;
-    std::string where = "render.pathtraced";
-    if (lowerExtension(sceneFile) != ".vdb") {
-        // The file was read and checked by scene::loadScene already.
-        std::ifstream in(sceneFile, std::ios::binary);
-        std::stringstream text;
-        text << in.rdbuf();
-        nlohmann::json doc = scene::parseJsonText(text.str(), sceneFile);
-        scene::applyOverrides(doc, overrides);
-        const nlohmann::json::json_pointer ptr("/render/pathtraced");
-        if (doc.contains(ptr)) properties = doc.at(ptr);
-        where = sceneFile + ": /render/pathtraced";
-    }
-    return volume::pathTracerSettings(
-        volume::pathTracerSchema().resolve(properties, where, "the path tracer"));
+volume::PathTracerSettings pathTracedSettings(const scene::Scene& scene) {
+    return volume::pathTracerSettings(scene);
 }
 
 volume::PathTracedImage pathTracedReference(const scene::Scene& scene,
@@ -116,10 +91,7 @@ volume::PathTracedImage pathTracedReference(const scene::Scene& scene,
                                             const std::string& camera, int width, int height,
                                             std::string& note,
                                             const std::function<void(int, int)>& progress) {
-    std::vector<openvdb::FloatGrid::ConstPtr> grids;
-    for (const scene::VolumeRef& v : scene.volumes)
-        grids.push_back(v.procedural == "homogeneous" ? nullptr : volume::loadVolume(v));
-    const volume::VolumePathTracer tracer(scene, grids, settings);
+    const volume::VolumePathTracer tracer(scene, volume::loadMediumGrids(scene), settings);
     note = scene.objects.empty()
                ? std::string()
                : fmt::format("note: the path-traced reference has the volumes only; the "

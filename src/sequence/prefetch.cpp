@@ -3,7 +3,7 @@
 
 #include "base/error.h"
 #include "scene/timeline.h"
-#include "volume/density_grid.h"
+#include "grid/density_grid.h"
 
 #include <algorithm>
 #include <chrono>
@@ -12,7 +12,7 @@ namespace veil::sequence {
 
 namespace {
 
-// The fog pass's options for each grid volume in scene order (volume/fog_pass.cpp: the budget
+// The fog pass's options for each grid volume in scene order (fog/fog_pass.cpp: the budget
 // left by the volumes before it). A procedural volume before a file one leaves the rest to the
 // renderer (its size is known only once built); so does a conversion that fails, whose error
 // the renderer then gives with the volume's place in the scene.

@@ -1,13 +1,13 @@
 // Reading a frame range's grids ahead of the frame being rendered: worker threads resolve each
 // frame's scene (scene/timeline.h), read and sanitize its volumes' grids (OpenVDB decoding) and
-// convert them into the GPU's arrays (volume/grid_conversion.h, itself multithreaded with TBB):
+// convert them into the GPU's arrays (grid/grid_conversion.h, itself multithreaded with TBB):
 // the whole CPU side of a frame, in frame order, while the caller renders earlier frames. Frames
 // are handed out in order; a worker does not start a frame more than one ahead of the caller
 // while the grids read and not yet taken use more than the memory budget.
 #pragma once
 
 #include "scene/timeline.h"
-#include "volume/grid_preload.h"
+#include "grid/grid_preload.h"
 
 #include <condition_variable>
 #include <cstddef>

@@ -2,13 +2,12 @@
 #include "sequence/range_render.h"
 
 #include "base/error.h"
-#include "capture/exr_output.h"
+#include "capture/frame_output.h"
 #include "frame/renderer.h"
-#include "io/exr_writer.h"
 #include "io/image_io.h"
 #include "scene/timeline.h"
 #include "sequence/prefetch.h"
-#include "volume/grid_preload.h"
+#include "grid/grid_preload.h"
 
 #include <algorithm>
 #include <cctype>
@@ -141,7 +140,7 @@ RangeResult renderRange(const scene::AnimatedScene& scene, const RangeJob& job,
         t.output = outputFor(job.output, p.frame, single);
 
         mark = Clock::now();
-        // The frame's grids come from the read-ahead (volume/grid_preload.h).
+        // The frame's grids come from the read-ahead (grid/grid_preload.h).
         const volume::PreloadedGridScope preloaded(p.grids);
         frame::Renderer renderer(p.scene, context, job.options);
         t.setupMs = msSince(mark);
@@ -153,18 +152,9 @@ RangeResult renderRange(const scene::AnimatedScene& scene, const RangeJob& job,
             t.gpuMs += pass.milliseconds;
 
         mark = Clock::now();
-        if (ext == ".png") {
-            io::writeImage(t.output, renderer.readLdr());
-        } else {
-            const capture::FrameExtras extras = capture::captureExtras(renderer, false);
-            capture::RenderMetadata metadata = capture::describeRender(
-                job.scenePath, renderer.oitName(), renderer.technique().properties().values(),
-                renderer.camera().name, extras, renderer.width(), renderer.height(),
-                context.renderer);
-            metadata.strings["veil:frame"] = std::to_string(p.frame);
-            io::writeExr(t.output,
-                         capture::makeExr(renderer.readHdr(), extras, metadata, job.half));
-        }
+        capture::writeFrame(
+            t.output, renderer,
+            {job.scenePath, context.renderer, job.half, {{"veil:frame", std::to_string(p.frame)}}});
         t.writeMs = msSince(mark);
         result.frames.push_back(std::move(t));
         ++rendered;

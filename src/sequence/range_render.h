@@ -5,7 +5,7 @@
 // complete frames only, and a resumed one skips the frames whose image is complete.
 #pragma once
 
-#include "frame/renderer_setup.h"
+#include "frame/frame_setup.h"
 #include "gpu/context.h"
 #include "scene/timeline.h"
 

@@ -2,7 +2,7 @@
 
 #include "base/atomic_file.h"
 #include "base/error.h"
-#include "volume/vdb_file.h"
+#include "grid/vdb_file.h"
 
 #include <openvdb/io/File.h>
 #include <openvdb/tools/Filter.h>

@@ -67,6 +67,27 @@ TEST(PathTracedCliTest, WritesImageAndStandardError) {
     EXPECT_NE(r.output.find("vs pathtraced: RMSE"), std::string::npos) << r.output;
 }
 
+// The registry's other integrator by the same option: the fog marcher's CPU reference is
+// deterministic, so it writes no standard-error image; the same ball, the same background.
+TEST(PathTracedCliTest, FogMarchIntegratorThroughTheRegistry) {
+    const fs::path scene = dir() / "ball-fm.json", out = dir() / "ball-fm.exr";
+    std::ofstream(scene) << ballScene().dump();
+    CommandResult r = runCommand(veilExe() + " render " + shellQuote(scene) +
+                                 " --integrator fog-march -o " + shellQuote(out));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    int w = 0, h = 0;
+    const std::vector<float> img = readRgb(out, w, h);
+    ASSERT_EQ(w, 16);
+    EXPECT_FLOAT_EQ(img[0], 1.0f);
+    EXPECT_LT(img[(8 * 16 + 8) * 3], 0.5f);
+    EXPECT_FALSE(fs::exists(dir() / "ball-fm-stderr.exr"));
+
+    r = runCommand(veilExe() + " render " + shellQuote(scene) + " --integrator nope -o " +
+                   shellQuote(dir() / "nope.exr"));
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("fog-march"), std::string::npos) << r.output;
+}
+
 TEST(PathTracedCliTest, BadInputIsOneClearLine) {
     nlohmann::json doc = ballScene();
     doc["render"]["pathtraced"]["max_bounces"] = 0;

@@ -1,16 +1,23 @@
-// --frame N / --frames A-B[:S] for the commands that turn an input into files (voxelize,
-// export): the frames asked for, the input of a frame of a file sequence and the output of a
-// frame (its frame pattern filled in, scene/animation.h).
+// What several commands share: the command line veil was started with (the provenance written
+// into outputs) and --frame N / --frames A-B[:S] for the commands that turn an input into files
+// (voxelize, export): the frames asked for, the input of a frame of a file sequence and the
+// output of a frame (its frame pattern filled in, scene/animation.h).
 #pragma once
 
 #include <CLI/CLI.hpp>
-
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace veil::app {
+
+// Records argv (main calls it once, before parsing).
+void setCommandLine(int argc, char** argv);
+// argv joined by spaces, each argument that needs it in single quotes (shell syntax).
+const std::string& commandLine();
+// "0.1.0 (commit 3ea8d63abcde)": the version and the commit the build was configured from.
+std::string versionWithCommit();
 
 struct FrameOptions {
     std::optional<int> frame;

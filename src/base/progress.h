@@ -10,7 +10,7 @@
 #include <string>
 #include <thread>
 
-namespace veil::app {
+namespace veil {
 
 // Whether to show progress: --progress, or stderr is a terminal.
 bool progressWanted(bool flag);
@@ -36,4 +36,4 @@ private:
     std::thread thread_;
 };
 
-} // namespace veil::app
+} // namespace veil

@@ -1,13 +1,47 @@
-// --frame / --frames for voxelize and export (frame_options.h).
-#include "app/frame_options.h"
+#include "app/shared_options.h"
 
 #include "app/cli_checks.h"
+#include "app/version_info.h"
 #include "base/error.h"
 #include "scene/animation.h"
 #include "scene/timeline.h"
 #include "sequence/range_render.h"
 
 namespace veil::app {
+
+namespace {
+std::string& stored() {
+    static std::string line;
+    return line;
+}
+
+std::string quoted(const std::string& arg) {
+    const bool plain =
+        !arg.empty() && arg.find_first_not_of("abcdefghijklmnopqrstuvwxyz"
+                                              "ABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                              "0123456789-_./=:,+@%") == std::string::npos;
+    if (plain) return arg;
+    std::string q = "'";
+    for (char c : arg)
+        q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+} // namespace
+
+void setCommandLine(int argc, char** argv) {
+    std::string line;
+    for (int i = 0; i < argc; ++i) {
+        if (i) line += ' ';
+        line += quoted(argv[i]);
+    }
+    stored() = line;
+}
+
+const std::string& commandLine() { return stored(); }
+
+std::string versionWithCommit() {
+    return std::string(VEIL_VERSION) + " (commit " + VEIL_GIT_COMMIT + ")";
+}
 
 namespace fs = std::filesystem;
 

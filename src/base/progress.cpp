@@ -1,10 +1,10 @@
-#include "app/progress.h"
+#include "base/progress.h"
 
 #include <cstdio>
 #include <cstdlib>
 #include <unistd.h>
 
-namespace veil::app {
+namespace veil {
 
 bool progressWanted(bool flag) { return flag || ::isatty(STDERR_FILENO) == 1; }
 
@@ -54,4 +54,4 @@ void ProgressTicker::run() {
     }
 }
 
-} // namespace veil::app
+} // namespace veil
