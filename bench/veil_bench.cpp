@@ -7,10 +7,10 @@
 #include "frame/renderer.h"
 #include "gpu/context.h"
 #include "scene/scene.h"
-#include "session/view_session.h"
-#include "volume/cpu_reference.h"
-#include "volume/density_grid.h"
-#include "volume/path_tracer.h"
+#include "viewer/session/view_session.h"
+#include "integrators/cpu_reference.h"
+#include "grid/density_grid.h"
+#include "integrators/path_tracer.h"
 
 #include <chrono>
 #include <cmath>
@@ -70,7 +70,7 @@ double wallMs(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// --viewer: the frames of `veil view` without its window (session/view_session.h): each frame is
+// --viewer: the frames of `veil view` without its window (viewer/session/view_session.h): each frame is
 // ViewSession::renderFrame() (the renderer's passes and the copy into the shown image),
 // timed by GL timer queries per pass and by the CPU clock around the frame with glFinish;
 // the same CPU clock around Renderer::render() alone in the same run gives the viewer's
@@ -191,7 +191,7 @@ void writePfm(const std::string& path, const veil::ImageF& image) {
     });
 }
 
-// --pathtraced: the CPU path tracer (src/volume/path_tracer.h) on the scene's camera, all
+// --pathtraced: the CPU path tracer (src/integrators/path_tracer.h) on the scene's camera, all
 // cores; for references made on a machine with more cores than a developer's.
 int pathTracedBench(const std::string& scenePath, const std::vector<std::string>& overrides,
                     int width, int height, int spp, std::uint32_t seed, const std::string& pfm,
@@ -346,7 +346,7 @@ int main(int argc, char** argv) try {
         out["ppm"] = ppmPath;
     }
     if (cpuFogW > 0 && cpuFogH > 0) {
-        // The CPU reference of the fog on the same camera (src/volume/cpu_reference.h).
+        // The CPU reference of the fog on the same camera (src/integrators/cpu_reference.h).
         std::vector<openvdb::FloatGrid::ConstPtr> grids;
         for (const auto& v : scene.volumes)
             if (v.procedural != "homogeneous") grids.push_back(veil::volume::loadVolume(v));

@@ -17,9 +17,9 @@
 #include "gpu/context.h"
 #include "scene/timeline.h"
 #include "sequence/prefetch.h"
-#include "volume/density_grid.h"
-#include "volume/gpu_volume.h"
-#include "volume/grid_preload.h"
+#include "grid/density_grid.h"
+#include "fog/gpu_volume.h"
+#include "grid/grid_preload.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>

@@ -75,6 +75,11 @@ public:
         decls_.back().panelOrder = panelOrder;
         return *this;
     }
+    // What the viewer redoes when it edits the last value (Rebuild unless given).
+    Decls& onEdit(EditEffect effect) {
+        decls_.back().edit = effect;
+        return *this;
+    }
     // Only the documents of these types accept the last key.
     Decls& acceptedBy(unsigned types) {
         decls_.back().acceptedBy = types;
@@ -118,12 +123,15 @@ const std::vector<ValueDecl<RenderSettings>>& renderValueDecls() {
                      "seed of the frame's random choices (stochastic techniques, fog jitter)")
             .color("ambient", &R::ambient, "constant ambient irradiance (times the base colour)")
             .edited(ValueGroup::RenderOutput)
+            .onEdit(EditEffect::Live)
             .color("background", &R::background, "radiance where nothing is drawn")
             .edited(ValueGroup::RenderOutput)
+            .onEdit(EditEffect::Live)
             // The parser takes any exposure > 0; the widget's range is what a tone map can use.
             .real("exposure", &R::exposure, kPositive, 1e-3, 1e3,
                   "multiplies the linear radiance before the tone map")
             .edited(ValueGroup::RenderOutput, ~0u, -1)
+            .onEdit(EditEffect::Live)
             .choice("oit_rasterizer", &R::oitRasterizer, {"raster", "compute"},
                     "who rasterizes the transparent pass: the hardware, or compute shaders "
                     "(blend, wboit, reference; docs/oit.md \"Compute rasterizer\")",
@@ -131,9 +139,11 @@ const std::vector<ValueDecl<RenderSettings>>& renderValueDecls() {
             .choice("tonemap", &R::tonemap, {"aces", "clamp"},
                     "aces: Narkowicz's fit of the ACES filmic curve; clamp: none", "[Narkowicz16]")
             .edited(ValueGroup::RenderOutput)
+            .onEdit(EditEffect::Live)
             .integer("fog_steps", &R::fogSteps, 1, 4096,
                      "ray-march steps per ray through the volumes' bounds", "[McGuire17 sec. 7.2]")
             .edited(ValueGroup::FogMarcher)
+            .onEdit(EditEffect::ShadowMaps)
             .integer("fog_resolution", &R::fogResolution, 1, 4,
                      "marching resolution divisor: 1, 2 or 4 (3 is refused), joint-bilateral "
                      "upsampled on depth",
@@ -143,6 +153,7 @@ const std::vector<ValueDecl<RenderSettings>>& renderValueDecls() {
             .boolean("fog_jitter", &R::fogJitter,
                      "per-pixel random start offset of the march (seeded by render.seed)")
             .edited(ValueGroup::FogMarcher)
+            .onEdit(EditEffect::ShadowMaps)
             .integer("fog_octaves", &R::fogOctaves, 1, 16,
                      "multiple-scattering octaves of the fog marcher (1 = single scattering)",
                      "[Wrenninge13], [Hillaire16]")
@@ -200,16 +211,20 @@ const std::vector<ValueDecl<VolumeRef>>& volumeValueDecls() {
                   "extinction coefficient per unit density (sigma_t = scale x density)",
                   "[McGuire17 sec. 7.2]")
             .edited(ValueGroup::Volume)
+            .onEdit(EditEffect::Relight)
             .color("albedo", &V::albedo, "single-scattering albedo sigma_s / sigma_t, in [0, 1]",
                    kUnit)
             .edited(ValueGroup::Volume)
+            .onEdit(EditEffect::Relight)
             .real("anisotropy", &V::anisotropy, {-1.0, 1.0, true, true}, -0.99, 0.99,
                   "Henyey-Greenstein phase function g", "[Henyey41]")
             .edited(ValueGroup::Volume)
+            .onEdit(EditEffect::Relight)
             .color("emission", &V::emission,
                    "emitted radiance per unit length per unit density (per unit of "
                    "emission_grid where one is named)")
             .edited(ValueGroup::Volume)
+            .onEdit(EditEffect::Relight)
             .text("emission_grid", &V::emissionGrid,
                   "scalar or vec3 (RGB) grid of the volume's file whose value times emission is "
                   "the emitted radiance per unit length (instead of the density)")
@@ -235,20 +250,26 @@ const std::vector<ValueDecl<Light>>& lightValueDecls() {
         Decls<Light>()
             .color("color", &Light::color, "light colour (times intensity)")
             .edited(ValueGroup::Light)
+            .onEdit(EditEffect::Relight)
             .real("intensity", &Light::intensity, kNonNegative, 0.0, 1e6,
                   "directional: irradiance; spot/point: radiant intensity (falls off as 1/d^2)")
             .edited(ValueGroup::Light)
+            .onEdit(EditEffect::Relight)
+            // Which lights have shadow maps: a new renderer.
             .boolean("shadows", &Light::castShadows, "whether the light casts shadows")
             .vec3("position", &Light::position, -1e6, 1e6, "world position")
             .edited(ValueGroup::Light, placed)
+            .onEdit(EditEffect::Relight)
             .real("inner_cone", &Light::innerConeDegrees, {0.0, 90.0}, 0.0, 90.0,
                   "half-angle of full intensity, degrees")
             .acceptedBy(spot)
             .edited(ValueGroup::Light, spot)
+            .onEdit(EditEffect::Relight)
             .real("outer_cone", &Light::outerConeDegrees, {0.0, 90.0}, 0.0, 90.0,
                   "half-angle where the intensity reaches zero, degrees (>= inner_cone)")
             .acceptedBy(spot)
             .edited(ValueGroup::Light, spot)
+            .onEdit(EditEffect::Relight)
             .done();
     return decls;
 }
@@ -313,10 +334,16 @@ const std::vector<ValueDecl<Material>>& materialValueDecls() {
     using M = Material;
     static const std::vector<ValueDecl<M>> decls =
         Decls<M>()
+            // The shading values are edited in place; alpha and transmission can change the
+            // shadow technique's caster classes (a new renderer).
             .color("base_color", &M::baseColor, "diffuse albedo (metals: specular colour)")
+            .onEdit(EditEffect::ShadowMaps)
             .real("roughness", &M::roughness, kUnit, 0.0, 1.0, "perceptual GGX roughness")
+            .onEdit(EditEffect::ShadowMaps)
             .real("metalness", &M::metalness, kUnit, 0.0, 1.0, "0 dielectric, 1 metal")
+            .onEdit(EditEffect::ShadowMaps)
             .color("emission", &M::emission, "emitted radiance")
+            .onEdit(EditEffect::ShadowMaps)
             .real("alpha", &M::alpha, kUnit, 0.0, 1.0, "coverage alpha", "[McGuire16 Eq. 2]")
             .color("transmission", &M::transmission,
                    "transmission T at normal incidence: lets 1 - alpha + alpha T through", kUnit)

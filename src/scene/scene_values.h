@@ -1,12 +1,14 @@
 // The scene's plain values (render settings, a light's, a camera's, a material's, a grid
 // volume's optics), each declared once (src/scene/scene_values.cpp): key, the field it fills,
-// the range the parser accepts, the slider range and doc line the viewer shows, and whether
-// the viewer edits it live. The declaration drives
+// the range the parser accepts, the slider range and doc line the viewer shows, and what an
+// edit of it in the viewer redoes (EditEffect). The declaration drives
 //   - parsing (scene_json.cpp reads every declared key of an object with the range, and the
 //     messages, of scene/json_reader.h; the object's accepted keys come from it too),
 //   - `--set` (an override is applied to the document, then parsed as above),
 //   - the viewer's widgets (value_properties.h turns a group into a PropertySchema),
-//   - the report (sceneValues(): the effective values of the declared keys).
+//   - the report (sceneValues(): the effective values of the declared keys),
+//   - the viewer's edits (session::classifyOverride: a live value is copied into the scene
+//     that renders, anything else builds a new renderer).
 // What is not a plain value (technique choices, names, transforms, paths, a light's aim) and
 // the checks between two values (far > near, outer_cone >= inner_cone) stay in the parser.
 #pragma once
@@ -31,6 +33,15 @@ namespace veil::scene {
 // Which of the viewer's panels edits a value (value_properties.h); None: the parser and the
 // report only.
 enum class ValueGroup { None, FogMarcher, RenderOutput, Volume, Light, Camera };
+
+// What the viewer redoes when a value is edited (`veil view`, session::ViewSession::set).
+enum class EditEffect {
+    Rebuild,    // the frame is built from it: a new scene and renderer (the default)
+    Live,       // read every frame by per-pixel passes only (exposure, tone map): copied in place
+    ShadowMaps, // read every frame, the shadow maps depend on it: copied, the maps redrawn
+    Relight,    // a light's or a grid volume's value: copied, the fog's light transmittance
+                // volumes recomputed and the shadow maps redrawn
+};
 
 // The numbers a key accepts: [lo, hi], an open end excluding its bound (and for vectors,
 // every component).
@@ -57,6 +68,7 @@ struct ValueDecl {
     std::string doc, citation;
     ValueGroup group = ValueGroup::None;
     int panelOrder = 0; // the widgets of a group in this order (stable), else as declared
+    EditEffect edit = EditEffect::Rebuild;
     // By type index (LightType, CameraType): the documents of which types accept the key, and
     // which types' widgets show it. ~0u: every type.
     unsigned acceptedBy = ~0u, editedFor = ~0u;
@@ -75,6 +87,26 @@ const std::vector<ValueDecl<TimeSettings>>& timeValueDecls();
 const std::vector<ValueDecl<SequenceValues>>& sequenceValueDecls();
 
 inline unsigned typeBit(int typeIndex) { return 1u << unsigned(typeIndex); }
+
+// The declared edit effect of `key` (a key of the object `decls` declares); Rebuild for a key
+// not declared there.
+template <class S>
+EditEffect editEffect(const std::vector<ValueDecl<S>>& decls, const std::string& key) {
+    for (const ValueDecl<S>& d : decls)
+        if (d.key == key) return d.edit;
+    return EditEffect::Rebuild;
+}
+// A light's aim, "direction" or "target" (parsed apart: not a declared value, it fills
+// Light::direction), is edited in place like its position.
+inline constexpr EditEffect kLightAimEdit = EditEffect::Relight;
+
+// Copies every value of `from` that the viewer edits in place (edit != Rebuild) into `to`.
+template <class S>
+void copyLiveValues(const std::vector<ValueDecl<S>>& decls, const S& from, S& to) {
+    for (const ValueDecl<S>& d : decls)
+        if (d.edit != EditEffect::Rebuild)
+            std::visit([&](auto member) { to.*member = from.*member; }, d.field);
+}
 
 inline glm::vec3 vec3Of(const nlohmann::json& v) {
     return {v[0].get<float>(), v[1].get<float>(), v[2].get<float>()};

@@ -1,6 +1,6 @@
 #include "viewer/error_view.h"
 
-#include "session/view_session.h"
+#include "viewer/session/view_session.h"
 
 #include <algorithm>
 #include <cmath>

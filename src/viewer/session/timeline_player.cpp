@@ -1,9 +1,9 @@
 // The viewer's timeline (timeline_player.h).
-#include "session/timeline_player.h"
+#include "viewer/session/timeline_player.h"
 
 #include "base/error.h"
 #include "base/text.h"
-#include "volume/grid_preload.h"
+#include "grid/grid_preload.h"
 
 #include <fmt/format.h>
 

@@ -1,5 +1,5 @@
 // The viewer's streamed frames (frame_cache.h).
-#include "session/frame_cache.h"
+#include "viewer/session/frame_cache.h"
 
 #include <algorithm>
 

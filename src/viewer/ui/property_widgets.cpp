@@ -1,4 +1,4 @@
-#include "ui/property_widgets.h"
+#include "viewer/ui/property_widgets.h"
 
 #include <imgui.h>
 #include <imgui_stdlib.h>

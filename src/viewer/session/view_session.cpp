@@ -1,6 +1,6 @@
-#include "session/view_session.h"
+#include "viewer/session/view_session.h"
 
-#include "vdb/vdb_scene.h"
+#include "grid/vdb_scene.h"
 
 #include "base/atomic_file.h"
 #include "base/error.h"
@@ -8,6 +8,7 @@
 #include "base/text.h"
 #include "oit/technique.h"
 #include "scene/json_text.h"
+#include "scene/scene_values.h"
 #include "shadows/technique.h"
 
 #include <fmt/format.h>
@@ -86,6 +87,23 @@ std::string shellQuote(const std::string& s) {
 
 } // namespace
 
+scene::EditEffect overrideEditEffect(const std::string& key) {
+    using scene::EditEffect;
+    const std::vector<std::string> p = splitKey(key);
+    if (p.size() == 2 && p[0] == "render")
+        return scene::editEffect(scene::renderValueDecls(), p[1]);
+    // A light's or a material's value, or one component of it (lights.0.color.1).
+    if (p.size() >= 3 && p[0] == "lights")
+        return p[2] == "direction" || p[2] == "target"
+                   ? scene::kLightAimEdit
+                   : scene::editEffect(scene::lightValueDecls(), p[2]);
+    if (p.size() >= 3 && p[0] == "materials")
+        return scene::editEffect(scene::materialValueDecls(), p[2]);
+    if (p.size() == 3 && p[0] == "volumes") // the session checks that the volume is a grid
+        return scene::editEffect(scene::volumeValueDecls(), p[2]);
+    return EditEffect::Rebuild;
+}
+
 OverrideScope classifyOverride(const std::string& key) {
     const std::vector<std::string> p = splitKey(key);
     if (p.empty()) return OverrideScope::Renderer;
@@ -93,23 +111,9 @@ OverrideScope classifyOverride(const std::string& key) {
     if (p[0] == "render" && p.size() >= 2) {
         if (p[1] == "oit") return OverrideScope::Oit;
         if (p[1] == "width" || p[1] == "height") return OverrideScope::Size;
-        static const char* live[] = {"exposure", "ambient",   "background",
-                                     "tonemap",  "fog_steps", "fog_jitter"};
-        for (const char* k : live)
-            if (p[1] == k && p.size() == 2) return OverrideScope::Live;
-        return OverrideScope::Renderer;
     }
-    // Values the frame reads every frame. A light's type or shadow flag changes which lights
-    // have maps; a material's alpha or transmission can change the shadow technique's classes.
-    if (p[0] == "lights" && p.size() >= 3 && p[2] != "shadows" && p[2] != "type" && p[2] != "name")
-        return OverrideScope::Live;
-    if (p[0] == "materials" && p.size() >= 3 &&
-        (p[2] == "base_color" || p[2] == "roughness" || p[2] == "metalness" || p[2] == "emission"))
-        return OverrideScope::Live;
-    if (p[0] == "volumes" && p.size() == 3 &&
-        (p[2] == "density_scale" || p[2] == "albedo" || p[2] == "anisotropy" || p[2] == "emission"))
-        return OverrideScope::Live; // the session checks that the volume is a grid
-    return OverrideScope::Renderer;
+    return overrideEditEffect(key) == scene::EditEffect::Rebuild ? OverrideScope::Renderer
+                                                                 : OverrideScope::Live;
 }
 
 ViewSession::ViewSession(const gpu::ContextInfo& context, fs::path scenePath,
@@ -245,32 +249,25 @@ bool ViewSession::set(const std::string& keyValue) {
             adoptCamera(false);
             break;
         case OverrideScope::Live: {
+            // The scene's values declared live (scene/scene_values.cpp), the edited one with
+            // them: those not edited are equal in both scenes.
             scene::Scene& s = *scene_;
-            s.lights = parsed->lights;
-            s.materials = parsed->materials;
-            s.render.exposure = parsed->render.exposure;
-            s.render.ambient = parsed->render.ambient;
-            s.render.background = parsed->render.background;
-            s.render.tonemap = parsed->render.tonemap;
-            s.render.fogSteps = parsed->render.fogSteps;
-            s.render.fogJitter = parsed->render.fogJitter;
-            for (std::size_t i = 0; i < s.volumes.size(); ++i) {
-                s.volumes[i].densityScale = parsed->volumes[i].densityScale;
-                s.volumes[i].albedo = parsed->volumes[i].albedo;
-                s.volumes[i].anisotropy = parsed->volumes[i].anisotropy;
-                s.volumes[i].emission = parsed->volumes[i].emission;
+            scene::copyLiveValues(scene::renderValueDecls(), parsed->render, s.render);
+            for (std::size_t i = 0; i < s.lights.size(); ++i) {
+                scene::copyLiveValues(scene::lightValueDecls(), parsed->lights[i], s.lights[i]);
+                s.lights[i].direction = parsed->lights[i].direction; // the aim (kLightAimEdit)
             }
-            // Light transmittance volumes depend on the lights and the volume values.
-            if (startsWith(key, "lights.") || startsWith(key, "volumes.")) {
+            for (std::size_t i = 0; i < s.materials.size(); ++i)
+                scene::copyLiveValues(scene::materialValueDecls(), parsed->materials[i],
+                                      s.materials[i]);
+            for (std::size_t i = 0; i < s.volumes.size(); ++i)
+                scene::copyLiveValues(scene::volumeValueDecls(), parsed->volumes[i], s.volumes[i]);
+            const scene::EditEffect effect = overrideEditEffect(key);
+            if (effect == scene::EditEffect::Relight) {
                 renderer_->sceneValuesChanged(); // the shadow maps too
                 ++valueChanges_;
             }
-            // The shadow maps depend on the lights, the casters' materials and the media
-            // (fog steps included, for a technique marching them): every live edit but the
-            // purely per-pixel ones (exposure, tone map, background, ambient) redraws them.
-            if (!(key == "render.exposure" || key == "render.tonemap" ||
-                  key == "render.background" || key == "render.ambient"))
-                renderer_->invalidateShadowMaps();
+            if (effect != scene::EditEffect::Live) renderer_->invalidateShadowMaps();
             break;
         }
         case OverrideScope::Oit:
@@ -395,171 +392,6 @@ void ViewSession::resetCamera() {
     adoptCamera(true);
     status_ = "camera reset to " + cameraName_;
     ++version_;
-}
-
-void ViewSession::copyToDisplay() {
-    const gpu::Texture& ldr = renderer_->ldrTexture();
-    if (!display_ || display_.width() != ldr.width() || display_.height() != ldr.height()) {
-        display_ = gpu::Texture(GL_TEXTURE_2D);
-        display_.storage2D(1, GL_RGBA8, ldr.width(), ldr.height())
-            .parameter(GL_TEXTURE_MIN_FILTER, GL_LINEAR)
-            .parameter(GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    }
-    glCopyImageSubData(ldr.id(), GL_TEXTURE_2D, 0, 0, 0, 0, display_.id(), GL_TEXTURE_2D, 0, 0, 0,
-                       0, ldr.width(), ldr.height(), 1);
-}
-
-namespace {
-double passMs(const frame::Renderer& r) {
-    double ms = 0.0;
-    for (const auto& p : r.passTimes())
-        ms += p.milliseconds;
-    return ms;
-}
-} // namespace
-
-bool ViewSession::frameFailed(const Error& e) {
-    frameFailed_ = true;
-    renderer_->cancelRefinement();
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    record(fmt::format("frame failed (the last good frame stays): {}", e.what()));
-    return false;
-}
-
-bool ViewSession::renderFrame(bool refine) {
-    if (frameFailed_) return false; // until the next change: the error would only repeat
-    try {
-        const int t = refineTilePx_;
-        if (refine && t > 0 && (width_ > t || height_ > t)) {
-            renderer_->beginRefinement(t);
-            refineLog_.tilePx = t;
-            refineLog_.tiles = renderer_->refinement().tiles;
-            refineLog_.steps = 0;
-            refineLog_.minTilePx = 0;
-            if (refineKey() != refineEstimateKey_) refineMsPerPixel_ = -1.0;
-            refineLog_.uiFrames = 0;
-            refineLog_.maxTilesPerUiFrame = 0;
-            refineLog_.maxPixelsPerUiFrame = 0;
-            refineLog_.lightSlabs = 0;
-            refineLog_.shadowSteps = 0;
-            refineLog_.maxPerFrameStepsPerUiFrame = 0;
-            refineLog_.maxLightSlabsPerUiFrame = 0;
-            refineLog_.maxUiFrameMs = passMs(*renderer_);
-            refineLog_.complete = false;
-            refineLog_.firstUiFrameMs = passMs(*renderer_);
-            refineLog_.maxTileUiFrameMs = 0.0;
-            refineLog_.totalMs = refineLog_.firstUiFrameMs;
-            uiFrameRefines_ = true;
-            return false;
-        }
-        renderer_->cancelRefinement();
-        renderer_->render();
-        uiFramePixels_ += static_cast<long long>(width_) * height_;
-        copyToDisplay();
-        return true;
-    } catch (const Error& e) {
-        return frameFailed(e);
-    }
-}
-
-bool ViewSession::refineStep() {
-    if (!renderer_->refining()) return false;
-    try {
-        const int tilePx = nextRefineTilePx();
-        const bool done = renderer_->refineStep(tilePx == refineTilePx_ ? 0 : tilePx);
-        const frame::Renderer::Refinement& f = renderer_->refinement();
-        const double ms = passMs(*renderer_);
-        using Step = frame::Renderer::Refinement::Step;
-        if (f.lastStep == Step::LightSlab) {
-            ++uiFrameLightSlabs_;
-            ++refineLog_.lightSlabs;
-        } else if (f.lastStep == Step::ShadowBand || f.lastStep == Step::PerFrame) {
-            ++uiFramePerFrameSteps_;
-            refineLog_.shadowSteps += f.lastStep == Step::ShadowBand;
-        } else if (f.lastStep == Step::Tile) {
-            const glm::ivec4 r = f.lastRegion, t = f.lastTile;
-            const long long pixels = static_cast<long long>(r.z - r.x) * (r.w - r.y);
-            ++uiFrameTiles_;
-            uiFramePixels_ += pixels;
-            ++refineLog_.steps;
-            const int side = std::max(t.z - t.x, t.w - t.y);
-            refineLog_.minTilePx =
-                refineLog_.minTilePx > 0 ? std::min(refineLog_.minTilePx, side) : side;
-            if (pixels > 0) {
-                refineMsPerPixel_ = ms / static_cast<double>(pixels);
-                refineEstimateKey_ = refineKey();
-            }
-        }
-        uiFrameMs_ += ms;
-        uiFrameRefines_ = true;
-        if (!done) return false;
-        copyToDisplay();
-        refineLog_.complete = true;
-        ++refineLog_.completed;
-        return true;
-    } catch (const Error& e) {
-        return frameFailed(e);
-    }
-}
-
-void ViewSession::setRefineTilePx(int px) {
-    if (px < 0) {
-        record(fmt::format("refine tile size {} is negative (0 = off)", px));
-        return;
-    }
-    if (px == refineTilePx_) return;
-    refineTilePx_ = px;
-    status_ = px > 0 ? fmt::format("refining in {} px tiles", px) : "refinement off";
-    ++version_;
-}
-
-void ViewSession::setRefineBudgetMs(double ms) {
-    if (!(ms >= 0.0) || !std::isfinite(ms)) {
-        record(fmt::format("refine budget {} ms is not a finite number >= 0 (0 = off)", ms));
-        return;
-    }
-    refineBudgetMs_ = ms;
-}
-
-std::string ViewSession::refineKey() const {
-    return fmt::format("{}|{}|{}|{}x{}", rebuilds_, renderer_->oitName(),
-                       renderer_->shadowTechnique().name(), width_, height_);
-}
-
-int ViewSession::nextRefineTilePx() const {
-    const int t = refineTilePx_;
-    if (refineBudgetMs_ <= 0.0 || t <= kMinRefineTilePx) return t;
-    if (refineMsPerPixel_ < 0.0 || refineKey() != refineEstimateKey_)
-        return kMinRefineTilePx; // nothing measured for this frame yet: the smallest tile first
-    // The margin around the tile runs the per-pixel passes too (frame::Renderer::refineStep).
-    const int m = renderer_->refineMarginPx();
-    auto cost = [&](int s) { return refineMsPerPixel_ * double(s + 2 * m) * double(s + 2 * m); };
-    int s = t;
-    while (s > kMinRefineTilePx && cost(s) > refineBudgetMs_)
-        s = std::max(kMinRefineTilePx, (s + 1) / 2);
-    return s;
-}
-
-void ViewSession::endUiFrame() {
-    if (uiFrameRefines_) {
-        ++refineLog_.uiFrames;
-        refineLog_.maxTilesPerUiFrame = std::max(refineLog_.maxTilesPerUiFrame, uiFrameTiles_);
-        refineLog_.maxPixelsPerUiFrame = std::max(refineLog_.maxPixelsPerUiFrame, uiFramePixels_);
-        refineLog_.maxLightSlabsPerUiFrame =
-            std::max(refineLog_.maxLightSlabsPerUiFrame, uiFrameLightSlabs_);
-        refineLog_.maxPerFrameStepsPerUiFrame =
-            std::max(refineLog_.maxPerFrameStepsPerUiFrame, uiFramePerFrameSteps_);
-        if (uiFrameTiles_ > 0)
-            refineLog_.maxTileUiFrameMs = std::max(refineLog_.maxTileUiFrameMs, uiFrameMs_);
-        refineLog_.maxUiFrameMs = std::max(refineLog_.maxUiFrameMs, uiFrameMs_);
-        refineLog_.totalMs += uiFrameMs_;
-    }
-    uiFrameMs_ = 0.0;
-    uiFrameTiles_ = 0;
-    uiFrameLightSlabs_ = 0;
-    uiFramePerFrameSteps_ = 0;
-    uiFramePixels_ = 0;
-    uiFrameRefines_ = false;
 }
 
 std::vector<std::string> ViewSession::cameraOverrides() const {

@@ -1,15 +1,17 @@
 // The state behind `veil view`, without any UI: the scene file and the --set overrides the
 // user's edits amount to, the renderer, the orbit camera, the errors, and the last good frame.
-// The panel (view_panel.h) and the scripted mode (view_script.h) drive it the same way.
+// The panel (viewer/ui/view_panel.h) and the scripts (viewer/view_script_run.h) drive it the
+// same way.
 //
 // Every edit is a `key=value` override of the scene document, exactly what `veil render
 // --set` takes, so "copy render command" reproduces the view. An edit rebuilds only what
-// depends on it (see classifyOverride): camera, lights, materials, exposure, ambient,
-// background, tone map, fog steps/jitter and a grid volume's (not homogeneous fog's) density scale,
-// albedo, anisotropy and emission are copied into the live scene (a light or volume change
-// recomputes the fog's light transmittance volumes only); render.oit replaces the OIT
-// technique and its targets only; anything else (objects, shadows, fog resolution, volume
-// files) builds a new renderer beside the old one, which stays if the new one fails.
+// depends on it (see classifyOverride): a camera's values are the view; the values declared
+// live with the scene's values (scene::EditEffect in scene/scene_values.cpp: a light's,
+// a material's shading, exposure, tone map, fog steps, a grid volume's, not homogeneous
+// fog's, optics) are copied into the live scene (a light or volume change recomputes the
+// fog's light transmittance volumes only); render.oit replaces the OIT technique and its
+// targets only; anything else (objects, shadows, fog resolution, volume files) builds a new
+// renderer beside the old one, which stays if the new one fails.
 // Errors never leave the viewer: they are kept in errors() and the last good frame stays.
 #pragma once
 
@@ -18,6 +20,7 @@
 #include "gpu/context.h"
 #include "gpu/objects.h"
 #include "scene/scene.h"
+#include "scene/scene_values.h"
 
 #include <filesystem>
 #include <memory>
@@ -43,12 +46,16 @@ struct Orbit {
 // What an override of `key` invalidates.
 enum class OverrideScope {
     Camera,   // cameras.*: the view only
-    Live,     // values read every frame (lights, materials, exposure, volume values, ...)
+    Live,     // a value declared live (overrideEditEffect is not Rebuild): copied in place
     Oit,      // render.oit: the OIT technique
     Size,     // render.width / render.height
     Renderer, // anything else: a new renderer
 };
 OverrideScope classifyOverride(const std::string& key);
+// The declared edit effect (scene/scene_values.h) of the value `key` sets: render.<key>,
+// volumes.N.<key>, lights.N.<key> and materials.N.<key> (or a component of one of the last
+// two, lights.0.color.1); Rebuild for any other key.
+scene::EditEffect overrideEditEffect(const std::string& key);
 
 class ViewSession {
 public:

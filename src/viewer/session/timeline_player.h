@@ -2,15 +2,15 @@
 // file sequences, camera keys and turntables, light keys (scene/timeline.h). Frames are
 // streamed by a FrameCache (frame_cache.h) on a background thread; update() shows the frame
 // aimed at once it is ready, by setting time.frame in the ViewSession while the frame's
-// grids and their GPU conversions are in a PreloadedGridScope (volume/grid_preload.h), so the
+// grids and their GPU conversions are in a PreloadedGridScope (grid/grid_preload.h), so the
 // UI thread only uploads. Until then the last frame stays shown and status() says so; a frame
 // that cannot be loaded (a missing or corrupt file) is recorded as the session's error, the
 // last frame stays and the timeline keeps going.
 #pragma once
 
 #include "scene/timeline.h"
-#include "session/frame_cache.h"
-#include "session/view_session.h"
+#include "viewer/session/frame_cache.h"
+#include "viewer/session/view_session.h"
 
 #include <cstdint>
 #include <memory>
