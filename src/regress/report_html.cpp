@@ -1,6 +1,7 @@
 #include "regress/report_html.h"
 
 #include "io/metrics.h"
+#include "regress/report_assets.h" // generated: assets/report.css, assets/report.js
 
 #include <fmt/format.h>
 
@@ -12,162 +13,6 @@
 namespace veil::regress {
 
 namespace {
-
-// The page's style and script, the same for every report.
-constexpr const char* kStyle = R"CSS(
-body{font-family:sans-serif;margin:1.5em;background:#fafafa;color:#222}
-code{font-size:95%}
-table.m,table.summary{border-collapse:collapse;margin:.4em 0}
-table.m td,table.m th,table.summary td,table.summary th{border:1px solid #ccc;padding:2px 8px;
- text-align:right}
-table.summary th{background:#eee;cursor:pointer;user-select:none;position:sticky;top:0}
-table.summary th.sorted-up::after{content:" \25B2"}table.summary th.sorted-down::after{content:" \25BC"}
-table.summary td.name,table.summary td.what,table.summary th:nth-child(-n+2){text-align:left}
-table.summary tbody tr{cursor:pointer}table.summary tbody tr:hover{background:#eef4ff}
-table.summary tr.selected{background:#dde8ff}
-table.summary small{color:#777}
-.fail-row td.result{color:#c22;font-weight:bold}.pass-row td.result{color:#272}
-td.bad{color:#c22;font-weight:bold}
-details.case{border:1px solid #ddd;background:#fff;padding:.4em 1em;margin:.6em 0}
-details.case>summary{cursor:pointer;font-size:115%;padding:.2em 0}
-details.case>summary .sub{font-size:80%;color:#555;margin-left:.6em}
-details.selected{box-shadow:0 0 0 3px #6b8fe0}
-.fail{border-left:6px solid #c22}.pass{border-left:6px solid #2a2}
-.bad{color:#c22;font-weight:bold}.ok{color:#272;font-weight:bold}
-body.failed-only .pass,body.failed-only .pass-row{display:none}
-.viewer{display:flex;flex-wrap:wrap;align-items:flex-start;gap:1em;margin-top:.5em}
-figure{margin:0}figcaption{font-size:80%;color:#555;margin-top:.2em}
-.viewer img{image-rendering:pixelated;border:1px solid #999;cursor:crosshair;display:block}
-.viewer img.flip{cursor:pointer}
-.viewer figcaption button{font-size:90%}
-.shown{font-weight:bold;color:#222}
-.cbar{position:relative;margin:.3em 0 0;height:2.2em}
-.cbar .ramp{height:.9em;border:1px solid #999}
-.cbar .tick{position:absolute;top:1.1em;font-size:75%;color:#333;transform:translateX(-50%);
- white-space:nowrap}
-.cbar .tick:first-of-type{transform:none}.cbar .tick:last-child{transform:translateX(-100%)}
-.loupes{display:flex;flex-wrap:wrap;gap:.5em;max-width:520px}
-.loupe{position:relative;width:160px;height:160px;border:1px solid #999;background:#222
- no-repeat;image-rendering:pixelated}
-.loupe span{position:absolute;left:2px;top:2px;font-size:75%;color:#fff;background:#0008;
- padding:0 3px}
-.loupe::after{content:"";position:absolute;width:var(--z,8px);height:var(--z,8px);
- left:calc(80px - var(--z,8px)/2);top:calc(80px - var(--z,8px)/2);outline:1px solid #0f0}
-.where{font-size:80%;color:#555;width:100%}
-)CSS";
-
-constexpr const char* kScript = R"JS(
-(function () {
-  "use strict";
-  function select(name) {
-    var card = document.getElementById(name);
-    if (!card || !card.classList.contains("case")) return;
-    card.open = true;
-    document.querySelectorAll(".selected").forEach(function (e) {
-      e.classList.remove("selected");
-    });
-    card.classList.add("selected");
-    var row = document.querySelector('#summary tr[data-case="' + CSS.escape(name) + '"]');
-    if (row) row.classList.add("selected");
-    card.scrollIntoView({block: "start"});
-  }
-  function fromHash() { select(decodeURIComponent(location.hash.slice(1))); }
-  window.addEventListener("hashchange", fromHash);
-  document.querySelectorAll("#summary tbody tr").forEach(function (tr) {
-    tr.addEventListener("click", function (e) {
-      e.preventDefault();
-      if (location.hash === "#" + tr.dataset.case) select(tr.dataset.case);
-      else location.hash = tr.dataset.case;
-    });
-  });
-  var failedOnly = document.getElementById("failed-only");
-  if (failedOnly) failedOnly.addEventListener("change", function () {
-    document.body.classList.toggle("failed-only", failedOnly.checked);
-  });
-  // Sorting: a click on a column header sorts by it (numbers by value), a second reverses.
-  var summary = document.getElementById("summary");
-  if (summary) summary.querySelectorAll("th").forEach(function (th, col) {
-    th.addEventListener("click", function () {
-      var up = !th.classList.contains("sorted-up");
-      summary.querySelectorAll("th").forEach(function (h) {
-        h.classList.remove("sorted-up", "sorted-down");
-      });
-      th.classList.add(up ? "sorted-up" : "sorted-down");
-      var body = summary.tBodies[0], rows = Array.prototype.slice.call(body.rows);
-      function key(r) {
-        var c = r.cells[col], v = c.dataset.v;
-        return v === undefined ? c.textContent : (v === "" ? NaN : parseFloat(v));
-      }
-      rows.sort(function (a, b) {
-        var x = key(a), y = key(b), d;
-        if (typeof x === "number") d = (isNaN(x) ? Infinity : x) - (isNaN(y) ? Infinity : y);
-        else d = x < y ? -1 : x > y ? 1 : 0;
-        return up ? d : -d;
-      });
-      rows.forEach(function (r) { body.appendChild(r); });
-    });
-  });
-  // Each case's images: flip render / reference, magnify under the mouse.
-  var hovered = null;
-  document.querySelectorAll(".viewer").forEach(function (v) {
-    var flip = v.querySelector("img.flip"), shown = v.querySelector(".shown");
-    var loupes = v.querySelectorAll(".loupe"), where = v.querySelector(".where");
-    var w = +v.dataset.w, h = +v.dataset.h, zoom = 8, timer = null;
-    var at = {x: Math.floor(w / 2), y: Math.floor(h / 2)}; // until the mouse moves
-    function show(which) {
-      if (!flip || !flip.dataset[which]) return;
-      flip.src = flip.dataset[which];
-      flip.alt = which;
-      v.dataset.shown = which;
-      if (shown) shown.textContent = which;
-    }
-    v.flip = function () { show(v.dataset.shown === "render" ? "reference" : "render"); };
-    if (flip && flip.dataset.reference) {
-      flip.addEventListener("click", v.flip);
-      v.querySelector("button.flip").addEventListener("click", v.flip);
-      v.querySelector("input.blink").addEventListener("change", function (e) {
-        clearInterval(timer);
-        if (e.target.checked) timer = setInterval(v.flip, 600);
-      });
-    }
-    function update() {
-      if (!at) return;
-      var half = loupes.length ? loupes[0].clientWidth / 2 : 0;
-      loupes.forEach(function (l) {
-        l.style.backgroundImage = 'url("' + l.dataset.src + '")';
-        l.style.backgroundSize = w * zoom + "px " + h * zoom + "px";
-        l.style.backgroundPosition = (half - (at.x + 0.5) * zoom) + "px " +
-                                     (half - (at.y + 0.5) * zoom) + "px";
-        l.style.setProperty("--z", zoom + "px");
-      });
-      where.textContent = "pixel (" + at.x + ", " + at.y + "), magnified " + zoom +
-                          "\u00d7 (wheel over an image zooms)";
-    }
-    function look(img, e) {
-      var r = img.getBoundingClientRect();
-      at = {x: Math.min(w - 1, Math.max(0, Math.floor((e.clientX - r.left) / r.width * w))),
-            y: Math.min(h - 1, Math.max(0, Math.floor((e.clientY - r.top) / r.height * h)))};
-      update();
-    }
-    v.querySelectorAll("img").forEach(function (img) {
-      img.addEventListener("mousemove", function (e) { look(img, e); });
-      img.addEventListener("mouseenter", function () { hovered = v; });
-      img.addEventListener("wheel", function (e) {
-        e.preventDefault();
-        zoom = Math.max(2, Math.min(64, e.deltaY < 0 ? zoom * 2 : zoom / 2));
-        look(img, e);
-      }, {passive: false});
-    });
-    update();
-  });
-  document.addEventListener("keydown", function (e) {
-    if (e.key !== "f" && e.key !== "F") return;
-    var v = hovered || document.querySelector("details.selected .viewer");
-    if (v && v.flip) v.flip();
-  });
-  fromHash();
-})();
-)JS";
 
 // The metric names of all cases, in the order they first appear.
 std::vector<std::string> metricColumns(const Report& r) {
@@ -355,7 +200,8 @@ std::string failureText(const CaseResult& c) {
 std::string reportHtml(const Report& r) {
     std::ostringstream h;
     h << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" << escapeMarkup(r.suiteName)
-      << ": veil regress</title>\n<style>" << kStyle << "</style></head><body>\n";
+      << ": veil regress</title>\n<style>\n"
+      << assets::kReportCss << "</style></head><body>\n";
     h << "<h1>" << escapeMarkup(r.suiteName) << "</h1>\n<p>Suite <code>"
       << escapeMarkup(r.suiteFile) << "</code>"
       << (r.shard.empty() ? "" : ", shard " + escapeMarkup(r.shard)) << ": <span id=\"totals\">"
@@ -379,7 +225,7 @@ std::string reportHtml(const Report& r) {
          "mouse.</small></p>\n";
     for (const CaseResult& c : r.cases)
         card(h, c);
-    h << "<script>" << kScript << "</script>\n</body></html>\n";
+    h << "<script>\n" << assets::kReportJs << "</script>\n</body></html>\n";
     return h.str();
 }
 

@@ -3,7 +3,8 @@
 // case with the numbers, the render and the reference in one view that flips between them on a
 // click (or F), a magnifier that follows the mouse over render, reference and heat map at once
 // (wheel: zoom), and the heat map with a colour bar of its scale. One self-contained page (CSS
-// and script inline, images beside it); opening `index.html#CASE` opens that case's card.
+// and script inline, images beside it); opening `index.html#CASE` opens that case's card. The
+// style and script are regress/assets/report.{css,js}, compiled in (src/CMakeLists.txt).
 #pragma once
 
 #include "regress/report.h"
