@@ -1,7 +1,7 @@
 // Techniques of one kind by name (nvpro's renderer registry), with the properties
-// each declares (properties.h). One registry per kind of technique derives from this: OIT
-// (src/oit/technique.h) and shadows (src/shadows/technique.h). `Info` has at least
-// `std::string name` and `PropertySchema properties`.
+// each declares (properties.h). `Info` has at least `std::string name` and
+// `PropertySchema properties`. TechniqueRegistry below is the registry of a kind of GPU
+// technique, instantiated for OIT (src/oit/technique.h) and shadows (src/shadows/technique.h).
 //
 // Built-in techniques are added explicitly by each registry's instance() (static
 // initialisers in static libraries are dropped by the linker).
@@ -11,8 +11,10 @@
 #include "base/properties.h"
 #include "base/suggest.h"
 
+#include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -77,6 +79,48 @@ protected:
 private:
     std::string kind_;
     std::vector<Info> items_;
+};
+
+// The one registry of a kind of GPU technique. `Kind` declares:
+//   Info, Technique      the registry's entries and what their factories make;
+//   Context, Programs    the driver description and program cache create() takes;
+//   kName, kWhere        the kind in messages ("OIT technique") and the default JSON path of
+//                        its properties ("render.oit");
+//   kErrorsNameWhere     whether an error a technique's factory raises without naming `where`
+//                        is prefixed with it (its own checks of its properties know no file);
+//   registerBuiltins(registry)   adds the built-in techniques, once, on first use.
+template <class Kind>
+class TechniqueRegistry : public NamedRegistry<typename Kind::Info> {
+public:
+    TechniqueRegistry() : NamedRegistry<typename Kind::Info>(Kind::kName) {}
+
+    static TechniqueRegistry& instance() {
+        static TechniqueRegistry* registry = [] {
+            auto* r = new TechniqueRegistry();
+            Kind::registerBuiltins(*r);
+            return r;
+        }();
+        return *registry;
+    }
+
+    // Throws veil::Error listing the known names, saying why it is unavailable here, or naming
+    // a bad property (see resolve()).
+    std::unique_ptr<typename Kind::Technique>
+    create(const std::string& name, const typename Kind::Context& context,
+           typename Kind::Programs& programs, const nlohmann::json& values = {},
+           const std::string& where = Kind::kWhere) const {
+        if constexpr (!Kind::kErrorsNameWhere) {
+            return this->createTechnique(name, context, programs, values, where);
+        } else {
+            try {
+                return this->createTechnique(name, context, programs, values, where);
+            } catch (const Error& e) {
+                const std::string what = e.what();
+                if (where.empty() || what.find(where) != std::string::npos) throw;
+                throw Error(fmt::format("{}: {}", where, what));
+            }
+        }
+    }
 };
 
 } // namespace veil

@@ -107,7 +107,7 @@ public:
     virtual void beginAccumulate(int pass, const pass::Context& targets,
                                  const gpu::Program& program) = 0;
     // Sets the uniforms the pass's emit include needs on `program`. The frame calls it for
-    // every further program drawn inside the pass (the fog emission of src/volume); a
+    // every further program drawn inside the pass (the fog emission of src/fog); a
     // technique's beginAccumulate() sets the same on the surface program.
     virtual void prepareProgram(int pass, const gpu::Program& program) const {
         (void)pass;
@@ -196,23 +196,26 @@ struct TechniqueInfo {
     std::function<std::unique_ptr<Technique>(gpu::ProgramManager&, const Properties&)> create;
     PropertySchema properties; // declared once: scene, --set, report, `veil techniques`
     // Runs on the compute rasterizer (render.oit_rasterizer = compute,
-    // src/oit/compute_raster): its emit file's OIT_COMPUTE form holds for surface fragments
+    // src/frame/stages/compute_raster.*): its emit file's OIT_COMPUTE form holds for surface fragments
     // (several per pixel, in order, from the pixel's one invocation).
     bool computeRaster = false;
 };
 
-// Technique ids in one registry (base/named_registry.h): find, names, get and resolve come
-// from there; create() makes a technique from validated properties.
-class Registry : public NamedRegistry<TechniqueInfo> {
-public:
-    Registry() : NamedRegistry("OIT technique") {}
-    static Registry& instance();
-    // Throws veil::Error listing the known names, saying why it is unavailable here, or naming
-    // a bad property (see resolve()).
-    std::unique_ptr<Technique> create(const std::string& name, const gpu::ContextInfo& context,
-                                      gpu::ProgramManager& programs,
-                                      const nlohmann::json& values = {},
-                                      const std::string& where = "render.oit") const;
+// The OIT techniques as a kind of TechniqueRegistry (base/named_registry.h).
+struct TechniqueKind {
+    using Info = TechniqueInfo;
+    using Technique = oit::Technique;
+    using Context = gpu::ContextInfo;
+    using Programs = gpu::ProgramManager;
+    static constexpr const char* kName = "OIT technique";
+    static constexpr const char* kWhere = "render.oit";
+    // A technique's own checks of its properties (moment: z_min < z_max) name `where`.
+    static constexpr bool kErrorsNameWhere = true;
+    static void registerBuiltins(TechniqueRegistry<TechniqueKind>& registry); // registry.cpp
 };
+
+// Technique ids in one registry: find, names, get and resolve; create() makes a technique from
+// validated properties.
+using Registry = TechniqueRegistry<TechniqueKind>;
 
 } // namespace veil::oit

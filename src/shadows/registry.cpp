@@ -1,6 +1,5 @@
 #include "shadows/technique.h"
 
-#include "base/error.h"
 #include "shadows/moment/moment.h"
 #include "shadows/opaque/opaque.h"
 #include "shadows/reference/reference.h"
@@ -10,8 +9,7 @@
 
 namespace veil::shadows {
 
-namespace {
-void registerBuiltinTechniques(Registry& registry) {
+void TechniqueKind::registerBuiltins(Registry& registry) {
     registerOpaque(registry);
     registerMoment(registry);
     registerReference(registry);
@@ -19,7 +17,6 @@ void registerBuiltinTechniques(Registry& registry) {
     registerStochastic(registry);
     registerVolume(registry);
 }
-} // namespace
 
 PropertySchema commonProperties(int defaultSize) {
     PropertySchema s;
@@ -29,23 +26,6 @@ PropertySchema commonProperties(int defaultSize) {
               "most shadow-casting lights; more is an error naming the scene, not a silent "
               "drop");
     return s;
-}
-
-Registry& Registry::instance() {
-    static Registry* registry = [] {
-        auto* r = new Registry();
-        registerBuiltinTechniques(*r);
-        return r;
-    }();
-    return *registry;
-}
-
-std::unique_ptr<Technique> Registry::create(const std::string& name,
-                                            const gpu::ContextInfo& context,
-                                            gpu::ProgramManager& programs,
-                                            const nlohmann::json& values,
-                                            const std::string& where) const {
-    return createTechnique(name, context, programs, values, where);
 }
 
 } // namespace veil::shadows

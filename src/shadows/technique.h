@@ -74,7 +74,7 @@ public:
     // The technique's params[4] of the shadows block (views.glsl), read by its include.
     virtual void fillParams(ShadowsBlock& block) const = 0;
     // True when the maps hold the absorbance of the grid density volumes, so the fog marcher
-    // must not multiply its own self-shadowing volumes (src/volume) in again. (Global
+    // must not multiply its own self-shadowing volumes (src/fog) in again. (Global
     // homogeneous fog stays analytic in the marcher.)
     virtual bool attenuatesMedia() const { return false; }
     // Throws veil::Error naming the limit when the receivers' work on this driver would exceed
@@ -139,15 +139,20 @@ struct TechniqueInfo {
 // view's map), max_lights (more shadow-casting lights than this is an error).
 PropertySchema commonProperties(int defaultSize = 2048);
 
-class Registry : public NamedRegistry<TechniqueInfo> {
-public:
-    Registry() : NamedRegistry("shadow technique") {}
-    static Registry& instance();
-    // Throws veil::Error for an unknown or unavailable technique or a bad property.
-    std::unique_ptr<Technique> create(const std::string& name, const gpu::ContextInfo& context,
-                                      gpu::ProgramManager& programs,
-                                      const nlohmann::json& values = {},
-                                      const std::string& where = "render.shadows") const;
+// The shadow techniques as a kind of TechniqueRegistry (base/named_registry.h).
+struct TechniqueKind {
+    using Info = TechniqueInfo;
+    using Technique = shadows::Technique;
+    using Context = gpu::ContextInfo;
+    using Programs = gpu::ProgramManager;
+    static constexpr const char* kName = "shadow technique";
+    static constexpr const char* kWhere = "render.shadows";
+    static constexpr bool kErrorsNameWhere = false;
+    static void registerBuiltins(TechniqueRegistry<TechniqueKind>& registry); // registry.cpp
 };
+
+// Technique ids in one registry: find, names, get and resolve; create() makes a technique from
+// validated properties.
+using Registry = TechniqueRegistry<TechniqueKind>;
 
 } // namespace veil::shadows

@@ -1,6 +1,7 @@
 // TEMPLATE for a new OIT technique: copy src/oit/_template/ to src/oit/<name>/ and
 // shaders/oit/_template/ to shaders/oit/<name>/, rename, and add register<Name>() to
-// registerBuiltinTechniques() in src/oit/registry.cpp. docs/architecture.md walks through it.
+// TechniqueKind::registerBuiltins() in src/oit/registry.cpp. docs/architecture.md walks
+// through it.
 //
 // This template is a complete, working technique (`template`: unsorted blending with dual-
 // source modulation, like `blend`, plus one declared property) so that copying it gives

@@ -1,6 +1,6 @@
 // TEMPLATE for a new shadow technique: copy src/shadows/_template/ to src/shadows/<name>/ and
 // shaders/shadows/_template/ to shaders/shadows/<name>/, rename, and add register<Name>() to
-// registerBuiltinTechniques() in src/shadows/registry.cpp. docs/architecture.md ("Adding a
+// TechniqueKind::registerBuiltins() in src/shadows/registry.cpp. docs/architecture.md ("Adding a
 // shadow technique") says what a technique gets from the frame and must give.
 //
 // This template is a complete, working technique (`template`: the opaque casters' depth maps,
