@@ -25,11 +25,6 @@ const char* kPlane = R"({
   "objects": [{"shape": {"type": "plane", "size": [40, 40]}, "material": "m"}]
 })";
 
-nlohmann::json readJson(const fs::path& p) {
-    std::ifstream in(p);
-    return nlohmann::json::parse(in);
-}
-
 } // namespace
 
 TEST(CompareToTest, StoredImageGivesTheClosedFormError) {

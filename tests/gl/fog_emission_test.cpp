@@ -15,10 +15,10 @@
 #include "scene/scene.h"
 #include "support/planckian_locus.h"
 #include "support/test_support.h"
-#include "volume/blackbody.h"
-#include "volume/cpu_reference.h"
-#include "volume/density_grid.h"
-#include "volume/path_tracer.h"
+#include "integrators/blackbody.h"
+#include "integrators/cpu_reference.h"
+#include "grid/density_grid.h"
+#include "integrators/path_tracer.h"
 
 #include <openvdb/openvdb.h>
 

@@ -1,5 +1,5 @@
 // Multiple scattering of the fog marcher by octaves [Wrenninge13, Hillaire16] against the
-// double-precision path tracer (src/volume/path_tracer.h, itself checked against the
+// double-precision path tracer (src/integrators/path_tracer.h, itself checked against the
 // adding-doubling slab in tests/unit/path_tracer_test.cpp) on a cloud-like slab: albedo 0.99,
 // Henyey-Greenstein g 0.6, optical thickness 4, a sun at normal incidence, no sky. The
 // octaves are an approximation: the tolerance is the error measured for the defaults (see
@@ -10,8 +10,8 @@
 #include "frame/renderer.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
-#include "volume/density_grid.h"
-#include "volume/path_tracer.h"
+#include "grid/density_grid.h"
+#include "integrators/path_tracer.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,5 +1,5 @@
 // The fog marcher against analytic values and the CPU double-precision reference
-// (src/volume/cpu_reference.h), and fog composited with glass under `reference`.
+// (src/integrators/cpu_reference.h), and fog composited with glass under `reference`.
 #include "gl_fixture.h"
 
 #include "base/error.h"
@@ -7,8 +7,8 @@
 #include "io/image_io.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
-#include "volume/cpu_reference.h"
-#include "volume/density_grid.h"
+#include "integrators/cpu_reference.h"
+#include "grid/density_grid.h"
 
 #include <nlohmann/json.hpp>
 

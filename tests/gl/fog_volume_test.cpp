@@ -1,4 +1,4 @@
-// Density grids that are hard to upload (src/volume/gpu_volume.cpp): grids of
+// Density grids that are hard to upload (src/fog/gpu_volume.cpp): grids of
 // active tiles, level sets turned into fog (interior tiles), grids wider than the GL 3D texture
 // limit, index coordinates near the int32 limits, and sparse data spread far apart. Each either
 // renders the analytic transmittance or ends quickly in one veil::Error giving the estimate and
@@ -9,9 +9,9 @@
 #include "frame/renderer.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
-#include "volume/cpu_reference.h"
-#include "volume/density_grid.h"
-#include "volume/gpu_volume.h"
+#include "integrators/cpu_reference.h"
+#include "grid/density_grid.h"
+#include "fog/gpu_volume.h"
 
 #include <nlohmann/json.hpp>
 #include <openvdb/tools/LevelSetSphere.h>
@@ -59,15 +59,6 @@ openvdb::FloatGrid::Ptr emptyGrid(double voxelSize) {
     g->setGridClass(openvdb::GRID_FOG_VOLUME);
     g->setTransform(openvdb::math::Transform::createLinearTransform(voxelSize));
     return g;
-}
-
-std::string errorOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return {};
 }
 
 } // namespace

@@ -6,7 +6,6 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
-#include <fstream>
 
 namespace veil::test {
 
@@ -14,10 +13,6 @@ namespace fs = std::filesystem;
 
 namespace {
 std::string glassScene() { return (sourceDir() / "datasets/scenes/oit-glass.json").string(); }
-nlohmann::json readJson(const fs::path& path) {
-    std::ifstream in(path);
-    return nlohmann::json::parse(in);
-}
 } // namespace
 
 TEST(OitCliGLTest, CompareReferenceWithItselfIsZero) {

@@ -5,22 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
-#include <sstream>
 
 namespace veil::test {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-std::string readText(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-} // namespace
 
 TEST(ProgressTest, StderrOnlyPastTheDelayAndOnlyWhenAsked) {
     const fs::path d = outputDir() / "progress";
@@ -39,12 +27,12 @@ TEST(ProgressTest, StderrOnlyPastTheDelayAndOnlyWhenAsked) {
     // Captured stderr is no terminal: nothing without --progress, even past the delay.
     CommandResult quiet = runCommand("(VEIL_PROGRESS_DELAY_S=0 " + render + " 2>'" + err + "')");
     ASSERT_EQ(quiet.exitCode, 0) << quiet.output;
-    EXPECT_EQ(readText(err), "");
+    EXPECT_EQ(readTextFile(err), "");
     // --progress past the delay (0 s here; 2 s by default): the line and the final time.
     CommandResult shown =
         runCommand("(VEIL_PROGRESS_DELAY_S=0 " + render + " --progress 2>'" + err + "')");
     ASSERT_EQ(shown.exitCode, 0) << shown.output;
-    const std::string progress = readText(err);
+    const std::string progress = readTextFile(err);
     EXPECT_NE(progress.find("veil: rendering with blend "), std::string::npos) << progress;
     EXPECT_NE(progress.find("veil: rendering with blend done in "), std::string::npos) << progress;
     EXPECT_EQ(shown.output, quiet.output); // stdout untouched
@@ -52,7 +40,7 @@ TEST(ProgressTest, StderrOnlyPastTheDelayAndOnlyWhenAsked) {
     CommandResult fast =
         runCommand("(VEIL_PROGRESS_DELAY_S=60 " + render + " --progress 2>'" + err + "')");
     ASSERT_EQ(fast.exitCode, 0) << fast.output;
-    EXPECT_EQ(readText(err), "");
+    EXPECT_EQ(readTextFile(err), "");
 }
 
 } // namespace veil::test

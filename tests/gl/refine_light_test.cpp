@@ -8,7 +8,7 @@
 #include "scene/scene.h"
 #include "support/test_support.h"
 #include "texel_bits.h"
-#include "volume/fog_pass.h"
+#include "fog/fog_pass.h"
 
 #include <cstdint>
 #include <vector>

@@ -146,11 +146,6 @@ fs::path folder(const std::string& name) {
     return d;
 }
 
-nlohmann::json readJson(const fs::path& p) {
-    std::ifstream in(p);
-    return nlohmann::json::parse(in);
-}
-
 } // namespace
 
 // The session's budget (view.refine_budget_ms) through `veil view --script` in a real window:

@@ -20,7 +20,7 @@
 #include "shadows/technique.h"
 #include "shadows/views.h"
 #include "support/test_support.h"
-#include "volume/fog_pass.h"
+#include "fog/fog_pass.h"
 
 #include <algorithm>
 #include <cstdint>

@@ -2,7 +2,7 @@
 // test: from a floor point toward the light, every shadow-casting triangle of the scene
 // (Moller-Trumbore in double) multiplies 1 - alpha + alpha T [McGuire16 Eq. 2] for a transparent
 // material and 0 for an opaque one, and the density volumes' transmittance comes from the fog's
-// CPU reference (src/volume/cpu_reference.h: OpenVDB trilinear sampling, in double). The GPU's
+// CPU reference (src/integrators/cpu_reference.h: OpenVDB trilinear sampling, in double). The GPU's
 // visibility is read as the ratio of the floor's radiance with and without shadows (the same
 // BRDF and light on both sides, so only the visibility and RGBA16F rounding remain).
 // Compared at every 4th floor pixel whose neighbourhood (+-0.75 pixel) has one CPU visibility
@@ -15,8 +15,8 @@
 #include "scene/scene.h"
 #include "shadow_test_scenes.h"
 #include "support/test_support.h"
-#include "volume/cpu_reference.h"
-#include "volume/density_grid.h"
+#include "integrators/cpu_reference.h"
+#include "grid/density_grid.h"
 
 #include <glm/glm.hpp>
 

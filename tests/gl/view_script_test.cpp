@@ -13,7 +13,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 
 namespace veil::test {
 
@@ -49,11 +48,6 @@ fs::path folder(const std::string& name) {
     return d;
 }
 
-fs::path writeFile(const fs::path& path, const std::string& text) {
-    std::ofstream(path) << text;
-    return path;
-}
-
 std::string q(const fs::path& p) {
     std::string s(1, '\'');
     s.append(p.string());
@@ -68,11 +62,6 @@ CommandResult view(const fs::path& scene, const fs::path& script, const std::str
 
 ImageF exr(const fs::path& p) { return io::readImage(p); }
 
-nlohmann::json readJson(const fs::path& p) {
-    std::ifstream in(p);
-    return nlohmann::json::parse(in);
-}
-
 void expectSame(const fs::path& a, const fs::path& b, int channels = 3) {
     const ImageF x = io::readImage(a), y = io::readImage(b);
     ASSERT_EQ(x.width, y.width) << a << " vs " << b;
@@ -86,7 +75,7 @@ void expectSame(const fs::path& a, const fs::path& b, int channels = 3) {
 // `extra`: options for both commands (the shadow technique).
 void checkEditsEqualRenderSet(const std::string& name, const std::string& extra) {
     const fs::path d = folder("view-script-set-" + name);
-    const fs::path scene = writeFile(d / "scene.json", kScene);
+    const fs::path scene = writeTextFile(d / "scene.json", kScene);
     // Live edits (no renderer rebuild): a light first, then a grid volume's values (each
     // followed by a frame, so stale light transmittance volumes would show), then exposure.
     const std::vector<std::string> sets = {
@@ -97,7 +86,7 @@ void checkEditsEqualRenderSet(const std::string& name, const std::string& extra)
         script.push_back({{"set", s}});
     script.push_back({{"screenshot", (d / "viewed.png").string()}});
     script.push_back({{"screenshot", (d / "viewed.exr").string()}});
-    writeFile(d / "script.json", script.dump());
+    writeTextFile(d / "script.json", script.dump());
     CommandResult r = view(scene, d / "script.json", extra);
     ASSERT_EQ(r.exitCode, 0) << r.output;
     std::string setArgs = " " + extra;
@@ -127,7 +116,7 @@ TEST(ViewScriptTest, PropertyChangeEqualsRenderSet) {
 
 TEST(ViewScriptTest, DebugViewsEqualTheDumpOfTheSameFrame) {
     const fs::path d = folder("view-script-debug");
-    const fs::path scene = writeFile(d / "scene.json", kScene);
+    const fs::path scene = writeTextFile(d / "scene.json", kScene);
     const std::vector<std::pair<std::string, std::string>> views = {
         {"depth", "depth.exr"},
         {"hdr", "hdr.exr"},
@@ -140,7 +129,7 @@ TEST(ViewScriptTest, DebugViewsEqualTheDumpOfTheSameFrame) {
         script.push_back({{"screenshot", (d / ("viewed-" + file)).string()}});
         script.push_back({{"screenshot", (d / ("viewed-" + resource + ".png")).string()}});
     }
-    writeFile(d / "script.json", script.dump());
+    writeTextFile(d / "script.json", script.dump());
     CommandResult r = view(scene, d / "script.json");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(d / "frame.exr") +
@@ -162,8 +151,8 @@ TEST(ViewScriptTest, DebugViewsEqualTheDumpOfTheSameFrame) {
 
 TEST(ViewScriptTest, ErrorsLeaveTheViewerRunningWithTheLastGoodFrame) {
     const fs::path d = folder("view-script-errors");
-    const fs::path scene = writeFile(d / "scene.json", kScene);
-    const fs::path bad = writeFile(d / "bad.json", R"({"render": {"width": "wide"}})");
+    const fs::path scene = writeTextFile(d / "scene.json", kScene);
+    const fs::path bad = writeTextFile(d / "bad.json", R"({"render": {"width": "wide"}})");
     const nlohmann::json script = {
         {{"screenshot", (d / "before.png").string()}},
         {{"open", (d / "missing.json").string()}},
@@ -178,7 +167,7 @@ TEST(ViewScriptTest, ErrorsLeaveTheViewerRunningWithTheLastGoodFrame) {
         // The capped pool in the viewer's mode: fragments dropped and counted, no error.
         {{"set", "render.oit.pool_overflow=drop"}},
         {{"status", (d / "dropped.json").string()}}};
-    writeFile(d / "script.json", script.dump());
+    writeTextFile(d / "script.json", script.dump());
     const CommandResult r = view(scene, d / "script.json");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     const nlohmann::json st = readJson(d / "status.json");
@@ -200,7 +189,7 @@ TEST(ViewScriptTest, ErrorsLeaveTheViewerRunningWithTheLastGoodFrame) {
 
 TEST(ViewScriptTest, CopiedRenderCommandReproducesTheScreenshot) {
     const fs::path d = folder("view-script-command");
-    const fs::path scene = writeFile(d / "scene.json", kScene);
+    const fs::path scene = writeTextFile(d / "scene.json", kScene);
     const nlohmann::json script = {{{"camera", "side"}},
                                    {{"orbit", {0.37, 0.21}}, {"zoom", 0.83}},
                                    {{"pan", {0.05, -0.03}}},
@@ -212,7 +201,7 @@ TEST(ViewScriptTest, CopiedRenderCommandReproducesTheScreenshot) {
                                    {{"copy_command", (d / "command.json").string()},
                                     {"output", (d / "rendered.png").string()}},
                                    {{"save_scene", (d / "saved.json").string()}}};
-    writeFile(d / "script.json", script.dump());
+    writeTextFile(d / "script.json", script.dump());
     CommandResult r = view(scene, d / "script.json");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     const nlohmann::json cmd = readJson(d / "command.json");
@@ -231,8 +220,8 @@ TEST(ViewScriptTest, CopiedRenderCommandReproducesTheScreenshot) {
 
 TEST(ViewScriptTest, BadScriptIsOneClearError) {
     const fs::path d = folder("view-script-bad");
-    const fs::path scene = writeFile(d / "scene.json", kScene);
-    writeFile(d / "script.json", R"([{"set": "render.exposure=2"}, {"zoom_in": 3}])");
+    const fs::path scene = writeTextFile(d / "scene.json", kScene);
+    writeTextFile(d / "script.json", R"([{"set": "render.exposure=2"}, {"zoom_in": 3}])");
     const CommandResult r = view(scene, d / "script.json");
     EXPECT_NE(r.exitCode, 0);
     EXPECT_NE(r.output.find("script.json: action 1: unknown action 'zoom_in'"), std::string::npos)
@@ -258,7 +247,7 @@ void expectNotFlat(const fs::path& png) {
 // pixel: shared triangle edges are not drawn twice).
 TEST(ViewScriptTest, FragmentsPerPixelHeatMapCountsTheStackedPlanes) {
     const fs::path d = folder("view-script-heatmap");
-    const fs::path scene = writeFile(d / "scene.json", R"({
+    const fs::path scene = writeTextFile(d / "scene.json", R"({
       "render": {"width": 64, "height": 48, "oit": "reference"},
       "cameras": [{"name": "top", "type": "orthographic", "ortho_height": 2,
                    "position": [0, 5, 0], "target": [0, 0, 0], "up": [0, 0, -1]}],
@@ -277,7 +266,7 @@ TEST(ViewScriptTest, FragmentsPerPixelHeatMapCountsTheStackedPlanes) {
                                    {{"screenshot", (d / "viewed.exr").string()}},
                                    {{"screenshot", (d / "viewed.png").string()}},
                                    {{"status", (d / "status.json").string()}}};
-    writeFile(d / "script.json", script.dump());
+    writeTextFile(d / "script.json", script.dump());
     CommandResult r = view(scene, d / "script.json");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     r = runCommand(veilExe() + " render " + q(scene) + " -o " + q(d / "frame.exr") +
@@ -305,7 +294,7 @@ TEST(ViewScriptTest, FragmentsPerPixelHeatMapCountsTheStackedPlanes) {
 // the viewer with the values of the dump of the same frame.
 TEST(ViewScriptTest, AccumulationTargetViewsEqualTheDump) {
     const fs::path d = folder("view-script-targets");
-    const fs::path scene = writeFile(d / "scene.json", kScene);
+    const fs::path scene = writeTextFile(d / "scene.json", kScene);
     const std::vector<std::pair<std::string, std::vector<std::string>>> techniques = {
         {"wboit", {"oit.wboit.accum", "oit.wboit.revealage"}},
         {"moment-p6",
@@ -323,7 +312,7 @@ TEST(ViewScriptTest, AccumulationTargetViewsEqualTheDump) {
         }
     }
     script.push_back({{"status", (d / "status.json").string()}});
-    writeFile(d / "script.json", script.dump());
+    writeTextFile(d / "script.json", script.dump());
     CommandResult r = view(scene, d / "script.json");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_TRUE(readJson(d / "status.json")["errors"].empty()) << r.output;
@@ -347,7 +336,7 @@ TEST(ViewScriptTest, AccumulationTargetViewsEqualTheDump) {
 // exactly |wboit - reference| of the two `veil render` frames' linear radiance, with its RMSE.
 TEST(ViewScriptTest, ErrorViewAgainstReference) {
     const fs::path d = folder("view-script-error");
-    const fs::path scene = writeFile(d / "scene.json", kScene);
+    const fs::path scene = writeTextFile(d / "scene.json", kScene);
     const nlohmann::json script = {{{"view", "error vs reference"}},
                                    {{"screenshot", (d / "error-reference.exr").string()}},
                                    {{"status", (d / "status-reference.json").string()}},
@@ -355,7 +344,7 @@ TEST(ViewScriptTest, ErrorViewAgainstReference) {
                                    {{"screenshot", (d / "error-wboit.exr").string()}},
                                    {{"screenshot", (d / "error-wboit.png").string()}},
                                    {{"status", (d / "status-wboit.json").string()}}};
-    writeFile(d / "script.json", script.dump());
+    writeTextFile(d / "script.json", script.dump());
     CommandResult r = view(scene, d / "script.json");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     const nlohmann::json same = readJson(d / "status-reference.json");
@@ -425,7 +414,7 @@ TEST(ViewScriptTest, TiledRefinementEqualsTheWholeFrame) {
                                    shot("whole-wboit.exr"),
                                    {{"view", "oit.wboit.accum"}},
                                    shot("accum-refine-off.exr")};
-    writeFile(d / "script.json", script.dump());
+    writeTextFile(d / "script.json", script.dump());
     const std::string options = " --width 150 --height 97 --set render.shadows.size=256 --set "
                                 "render.fog_resolution=4";
     CommandResult r = view(scene, d / "script.json", options);
@@ -465,13 +454,13 @@ TEST(ViewScriptTest, TiledRefinementEqualsTheWholeFrame) {
 // it completed) refines again from the start.
 TEST(ViewScriptTest, EachUiFrameRefinesAtMostOneTile) {
     const fs::path d = folder("view-script-refine-frames");
-    const fs::path scene = writeFile(d / "scene.json", kScene);
+    const fs::path scene = writeTextFile(d / "scene.json", kScene);
     const nlohmann::json script = {{{"refine_tile_px", 16}},
                                    {{"status", (d / "status.json").string()}},
                                    {{"orbit", {0.2, 0.05}}},
                                    {{"status", (d / "status-orbit.json").string()}},
                                    {{"screenshot", (d / "orbit.png").string()}}};
-    writeFile(d / "script.json", script.dump());
+    writeTextFile(d / "script.json", script.dump());
     CommandResult r = view(scene, d / "script.json");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     for (const char* name : {"status.json", "status-orbit.json"}) {
@@ -506,7 +495,7 @@ TEST(ViewScriptTest, EachUiFrameRefinesAtMostOneTile) {
 // frame draws them.
 TEST(ViewScriptTest, ShadowMapsKeptAcrossOrbitsRedrawnAfterEdits) {
     const fs::path d = folder("view-script-shadow-reuse");
-    const fs::path scene = writeFile(d / "scene.json", kScene);
+    const fs::path scene = writeTextFile(d / "scene.json", kScene);
     const auto status = [&](const std::string& name) {
         return nlohmann::json{{"status", (d / name).string()}};
     };
@@ -524,7 +513,7 @@ TEST(ViewScriptTest, ShadowMapsKeptAcrossOrbitsRedrawnAfterEdits) {
                                    status("light.json"),
                                    {{"copy_command", (d / "command.json").string()},
                                     {"output", (d / "rendered.png").string()}}};
-    writeFile(d / "script.json", script.dump());
+    writeTextFile(d / "script.json", script.dump());
     CommandResult r = view(scene, d / "script.json");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     const nlohmann::json orbit = readJson(d / "orbit.json"),
@@ -546,7 +535,7 @@ TEST(ViewScriptTest, ShadowMapsKeptAcrossOrbitsRedrawnAfterEdits) {
     nlohmann::json actionOff = nlohmann::json::array({{{"reuse_shadow_maps", false}}});
     for (const auto& a : script)
         actionOff.push_back(a);
-    writeFile(d / "script-off.json", actionOff.dump());
+    writeTextFile(d / "script-off.json", actionOff.dump());
     for (const auto& [file, option] :
          {std::pair<std::string, std::string>{"script.json", "--reuse-shadow-maps false"},
           {"script-off.json", ""}}) {

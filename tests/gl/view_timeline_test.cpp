@@ -10,7 +10,6 @@
 #include <nlohmann/json.hpp>
 
 #include <cstring>
-#include <fstream>
 
 namespace veil::test {
 
@@ -59,11 +58,6 @@ bool same(const fs::path& a, const fs::path& b) {
     const ImageF x = io::readImage(a), y = io::readImage(b);
     return x.width == y.width && x.height == y.height && x.channels == y.channels &&
            std::memcmp(x.pixels.data(), y.pixels.data(), x.pixels.size() * sizeof(float)) == 0;
-}
-
-nlohmann::json readJson(const fs::path& p) {
-    std::ifstream in(p);
-    return nlohmann::json::parse(in);
 }
 
 bool hasOverride(const nlohmann::json& status, const std::string& o) {

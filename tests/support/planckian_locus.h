@@ -1,6 +1,6 @@
 // The Planckian locus in CIE 1931 xy from Krystek's rational approximation in CIE 1960 UCS
 // [Krystek85] (|du|, |dv| < 1e-4 over 1000..15000 K): a reference that shares nothing with the
-// blackbody table's integration (src/volume/blackbody.h), for the tests of both.
+// blackbody table's integration (src/integrators/blackbody.h), for the tests of both.
 #pragma once
 
 #include <glm/glm.hpp>

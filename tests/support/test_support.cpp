@@ -47,6 +47,11 @@ std::string readTextFile(const fs::path& path) {
     return s.str();
 }
 
+nlohmann::json readJson(const fs::path& path) {
+    std::ifstream in(path);
+    return nlohmann::json::parse(in);
+}
+
 std::string shellQuote(const fs::path& path) {
     std::string s(1, '\'');
     for (const char c : path.string())

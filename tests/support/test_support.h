@@ -1,7 +1,11 @@
-// Helpers shared by the test suites: paths, image comparison, running the veil command.
+// Helpers shared by the test suites: paths, files, error messages, image comparison, running
+// the veil command.
 #pragma once
 
+#include "base/error.h"
 #include "base/image.h"
+
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <string>
@@ -18,6 +22,19 @@ std::filesystem::path freshOutputDir(const std::string& group, const std::string
 // Writes `text` to `path` as bytes and returns the path; the whole file as a string.
 std::filesystem::path writeTextFile(const std::filesystem::path& path, const std::string& text);
 std::string readTextFile(const std::filesystem::path& path);
+// The file parsed as JSON (nlohmann::json::parse_error if it is not).
+nlohmann::json readJson(const std::filesystem::path& path);
+
+// The message of the veil::Error that f() throws; empty when it throws none.
+template <class F>
+std::string errorOf(F&& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return {};
+}
 
 // The path in single quotes for the shell, a quote inside it written as '\''.
 std::string shellQuote(const std::filesystem::path& path);

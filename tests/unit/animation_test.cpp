@@ -12,7 +12,6 @@
 
 #include <cmath>
 #include <fstream>
-#include <functional>
 
 namespace veil::test {
 
@@ -40,15 +39,6 @@ FileSequence sequenceIn(const fs::path& dir, const std::string& pattern, int fir
     s.last = last;
     s.step = step;
     return s;
-}
-
-std::string errorOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
 }
 
 } // namespace

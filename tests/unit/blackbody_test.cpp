@@ -1,8 +1,8 @@
-// Blackbody colour (src/volume/blackbody.h) against the Planckian locus of Krystek's rational
+// Blackbody colour (src/integrators/blackbody.h) against the Planckian locus of Krystek's rational
 // approximation in CIE 1960 UCS [Krystek85] (|du|, |dv| < 1e-4 over 1000..15000 K), which
 // shares nothing with the table integration.
 #include "support/planckian_locus.h"
-#include "volume/blackbody.h"
+#include "integrators/blackbody.h"
 
 #include <gtest/gtest.h>
 
@@ -34,7 +34,7 @@ TEST(Blackbody, RadianceFollowsPlanck) {
 
 TEST(Blackbody, TableInterpolatesTheIntegral) {
     // As shaders/volume/fog_medium.glsl reads it: linear interpolation in T of (rgb / Y, ln Y)
-    // over 2048 entries to 25000 K (src/volume/fog_pass.cpp).
+    // over 2048 entries to 25000 K (src/fog/fog_pass.cpp).
     const int n = 2048;
     const double maxKelvin = 25000.0;
     const std::vector<glm::vec4> table = volume::blackbodyTable(n, maxKelvin);

@@ -8,7 +8,7 @@
 #include "io/metrics.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
-#include "volume/cpu_reference.h"
+#include "integrators/cpu_reference.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

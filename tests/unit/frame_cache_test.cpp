@@ -2,7 +2,7 @@
 // frames come prepared (scene at the frame, grid read and converted) in the order asked,
 // lookups never wait, the cache stays within its budget (plus the one frame it always
 // loads) dropping frames no longer wanted first, and a missing file is a frame with an error.
-#include "session/frame_cache.h"
+#include "viewer/session/frame_cache.h"
 #include "support/test_support.h"
 
 #include <fmt/format.h>

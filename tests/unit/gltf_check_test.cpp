@@ -3,6 +3,7 @@
 // refused with a message naming the file and the entity, before assimp allocates it.
 #include "base/error.h"
 #include "scene/mesh.h"
+#include "support/test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -16,11 +17,7 @@ using namespace veil::scene;
 
 namespace {
 
-fs::path outputDir() {
-    fs::path dir = fs::path(VEIL_TEST_OUTPUT_DIR) / "gltf_check_test";
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path outputDir() { return veil::test::outputSubdir("gltf_check_test"); }
 
 void putLe32(std::string& out, std::uint32_t v) {
     for (int i = 0; i < 4; ++i)

@@ -1,9 +1,9 @@
-// The CPU conversion of a grid for the GPU (volume/grid_conversion.h): multithreaded it equals
+// The CPU conversion of a grid for the GPU (grid/grid_conversion.h): multithreaded it equals
 // the single-threaded conversion bit for bit, and every active voxel of the grid is found
 // where the marcher looks for it (table -> brick -> texel, or the dense box), read straight
 // from the grid with an accessor.
-#include "volume/density_grid.h"
-#include "volume/grid_conversion.h"
+#include "grid/density_grid.h"
+#include "grid/grid_conversion.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>

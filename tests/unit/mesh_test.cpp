@@ -2,6 +2,7 @@
 // loaded through assimp (triangle counts and material mapping of the third-party data).
 #include "base/error.h"
 #include "scene/mesh.h"
+#include "support/test_support.h"
 
 #include <glm/gtc/constants.hpp>
 #include <gtest/gtest.h>
@@ -16,17 +17,14 @@
 
 namespace fs = std::filesystem;
 using namespace veil::scene;
+using veil::test::writeTextFile;
 
 namespace {
 
 const std::string kThirdParty = VEIL_DATA_DIR;
 constexpr double kPi = glm::pi<double>();
 
-fs::path outputDir() {
-    fs::path dir = fs::path(VEIL_TEST_OUTPUT_DIR) / "mesh_test";
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path outputDir() { return veil::test::outputSubdir("mesh_test"); }
 
 glm::dvec3 corner(const MeshData& m, std::size_t t, int k) {
     return glm::dvec3(m.positions[m.indices[3 * t + k]]);
@@ -83,15 +81,8 @@ void expectConsistentNormals(const MeshData& m) {
     }
 }
 
-void writeFile(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
-
-std::string errorOf(const fs::path& path) {
-    try {
-        loadMeshFile(path);
-    } catch (const veil::Error& e) {
-        return e.what();
-    }
-    return {};
+std::string loadError(const fs::path& path) {
+    return veil::test::errorOf([&] { loadMeshFile(path); });
 }
 
 } // namespace
@@ -281,7 +272,7 @@ TEST(MeshTest, TransmissionIsTintedByBaseColorAndIorIsRead) {
 
 TEST(MeshTest, ObjWithoutNormalsGetsUnitNormals) {
     fs::path path = outputDir() / "tetra.obj";
-    writeFile(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+    writeTextFile(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
     auto meshes = loadMeshFile(path);
     ASSERT_EQ(meshes.size(), 1u);
     EXPECT_EQ(meshes[0].mesh.triangleCount(), 4u);
@@ -290,18 +281,18 @@ TEST(MeshTest, ObjWithoutNormalsGetsUnitNormals) {
 }
 
 TEST(MeshTest, MissingOrEmptyFilesThrowNamingTheFile) {
-    std::string missing = errorOf(outputDir() / "does_not_exist.obj");
+    std::string missing = loadError(outputDir() / "does_not_exist.obj");
     EXPECT_NE(missing.find("does_not_exist.obj"), std::string::npos) << missing;
     EXPECT_NE(missing.find("does not exist"), std::string::npos) << missing;
 
     fs::path lines = outputDir() / "lines_only.obj";
-    writeFile(lines, "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3\n");
-    std::string empty = errorOf(lines);
+    writeTextFile(lines, "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3\n");
+    std::string empty = loadError(lines);
     EXPECT_NE(empty.find("lines_only.obj"), std::string::npos) << empty;
 
     fs::path garbage = outputDir() / "garbage.glb";
-    writeFile(garbage, "this is not a glTF file");
-    std::string bad = errorOf(garbage);
+    writeTextFile(garbage, "this is not a glTF file");
+    std::string bad = loadError(garbage);
     EXPECT_NE(bad.find("garbage.glb"), std::string::npos) << bad;
 }
 
@@ -347,7 +338,7 @@ TEST(MeshTest, PlyFaceIndicesOutOfRangeOrNegativeAreErrors) {
     for (bool binary : {false, true}) {
         const fs::path ok = outputDir() / (binary ? "tetra_ok_bin.ply" : "tetra_ok_ascii.ply");
         writeBytes(ok, tetraPly(binary, {1, 2, 3}));
-        ASSERT_EQ(errorOf(ok), "");
+        ASSERT_EQ(loadError(ok), "");
         EXPECT_EQ(loadMeshFile(ok).at(0).mesh.triangleCount(), 4u);
     }
     for (bool binary : {false, true})
@@ -355,7 +346,7 @@ TEST(MeshTest, PlyFaceIndicesOutOfRangeOrNegativeAreErrors) {
             const fs::path p =
                 outputDir() / fmt::format("bad_index_{}_{}.ply", binary ? "bin" : "ascii", bad);
             writeBytes(p, tetraPly(binary, {1, bad, 3}));
-            const std::string msg = errorOf(p);
+            const std::string msg = loadError(p);
             EXPECT_NE(msg.find(p.filename().string()), std::string::npos) << msg;
             EXPECT_NE(msg.find("refers to vertex"), std::string::npos) << msg;
         }
@@ -370,7 +361,7 @@ TEST(MeshTest, TruncatedPlyIsAnError) {
             const fs::path p =
                 outputDir() / fmt::format("cut_{}_{}.ply", binary ? "bin" : "ascii", cut);
             writeBytes(p, full.substr(0, cut));
-            const std::string msg = errorOf(p);
+            const std::string msg = loadError(p);
             EXPECT_NE(msg.find(p.filename().string()), std::string::npos) << msg;
             EXPECT_NE(msg.find("truncated"), std::string::npos) << msg;
         }
@@ -387,7 +378,7 @@ TEST(MeshTest, PlyUnknownHeaderKeywordIsRefusedNamingTheLine) {
         bytes.replace(bytes.find("property float y"), 8, "prnperty");
         const fs::path p = outputDir() / fmt::format("misspelt_{}.ply", binary ? "bin" : "ascii");
         writeBytes(p, bytes);
-        const std::string msg = errorOf(p);
+        const std::string msg = loadError(p);
         EXPECT_NE(msg.find(p.filename().string()), std::string::npos) << msg;
         EXPECT_NE(msg.find("line 5"), std::string::npos) << msg;
         EXPECT_NE(msg.find("unknown keyword 'prnperty'"), std::string::npos) << msg;
@@ -400,7 +391,7 @@ TEST(MeshTest, PlyUnknownHeaderKeywordIsRefusedNamingTheLine) {
     ASSERT_GT(leak.size(), 1u);
     const fs::path p = outputDir() / "ply-error-leak.ply";
     writeBytes(p, leak.substr(1));
-    const std::string msg = errorOf(p);
+    const std::string msg = loadError(p);
     EXPECT_NE(msg.find("line 6 of the PLY header has the unknown keyword 'propertyz'"),
               std::string::npos)
         << msg;
@@ -412,7 +403,7 @@ TEST(MeshTest, BinaryPlyBodyMustMatchItsHeaderSize) {
     const std::string tetra = tetraPly(true, {1, 2, 3});
     const fs::path extra = outputDir() / "tetra_extra_bytes.ply";
     writeBytes(extra, tetra + "junk");
-    std::string msg = errorOf(extra);
+    std::string msg = loadError(extra);
     EXPECT_NE(msg.find("tetra_extra_bytes.ply"), std::string::npos) << msg;
     EXPECT_NE(msg.find("4 bytes follow the last element"), std::string::npos) << msg;
 
@@ -422,12 +413,12 @@ TEST(MeshTest, BinaryPlyBodyMustMatchItsHeaderSize) {
     points.append(36, '\0');
     const fs::path shortBody = outputDir() / "points_short.ply";
     writeBytes(shortBody, points.substr(0, points.size() - 4));
-    msg = errorOf(shortBody);
+    msg = loadError(shortBody);
     EXPECT_NE(msg.find("points_short.ply"), std::string::npos) << msg;
     EXPECT_NE(msg.find("binary body of 36 bytes, but the file has 32"), std::string::npos) << msg;
     const fs::path longBody = outputDir() / "points_long.ply";
     writeBytes(longBody, points + std::string(8, '\0'));
-    msg = errorOf(longBody);
+    msg = loadError(longBody);
     EXPECT_NE(msg.find("binary body of 36 bytes, but the file has 44"), std::string::npos) << msg;
 
     // A count of billions in a file of bytes is refused at once, not walked.
@@ -435,7 +426,7 @@ TEST(MeshTest, BinaryPlyBodyMustMatchItsHeaderSize) {
     huge.replace(huge.find("element vertex 4"), 16, "element vertex 4000000000");
     const fs::path hugePath = outputDir() / "tetra_huge_count.ply";
     writeBytes(hugePath, huge);
-    msg = errorOf(hugePath);
+    msg = loadError(hugePath);
     EXPECT_NE(msg.find("tetra_huge_count.ply"), std::string::npos) << msg;
     EXPECT_NE(msg.find("at least 48000000004 bytes"), std::string::npos) << msg;
 }
@@ -450,7 +441,7 @@ TEST(MeshTest, PlyFacesAssimpWouldReadWithoutIndicesAreRefused) {
     bin.push_back('\0');
     const fs::path empty = outputDir() / "face_without_indices.ply";
     writeBytes(empty, bin);
-    std::string msg = errorOf(empty);
+    std::string msg = loadError(empty);
     EXPECT_NE(msg.find("face_without_indices.ply"), std::string::npos) << msg;
     EXPECT_NE(msg.find("face 3 has no vertex indices"), std::string::npos) << msg;
 
@@ -458,7 +449,7 @@ TEST(MeshTest, PlyFacesAssimpWouldReadWithoutIndicesAreRefused) {
     ascii.replace(ascii.find("element vertex 4"), 16, "element vertex 2");
     const fs::path shifted = outputDir() / "vertex_count_short.ply";
     writeBytes(shifted, ascii);
-    msg = errorOf(shifted);
+    msg = loadError(shifted);
     EXPECT_NE(msg.find("vertex_count_short.ply"), std::string::npos) << msg;
     EXPECT_NE(msg.find("face 0 has no vertex indices"), std::string::npos) << msg; // "0 1 0"
 
@@ -466,7 +457,7 @@ TEST(MeshTest, PlyFacesAssimpWouldReadWithoutIndicesAreRefused) {
     fewer.replace(fewer.find("\n3 0 2 1\n"), 9, "\n3 0 2\n");
     const fs::path shorter = outputDir() / "face_line_short.ply";
     writeBytes(shorter, fewer);
-    msg = errorOf(shorter);
+    msg = loadError(shorter);
     EXPECT_NE(msg.find("face_line_short.ply"), std::string::npos) << msg;
     EXPECT_NE(msg.find("line 14 (face 0) has 3 values, fewer than"), std::string::npos) << msg;
 
@@ -474,7 +465,7 @@ TEST(MeshTest, PlyFacesAssimpWouldReadWithoutIndicesAreRefused) {
     extra.replace(extra.find("\n3 0 2 1\n"), 9, "\n3 0 2 1 7\n");
     const fs::path longer = outputDir() / "face_line_too_long.ply";
     writeBytes(longer, extra);
-    msg = errorOf(longer);
+    msg = loadError(longer);
     EXPECT_NE(msg.find("face_line_too_long.ply"), std::string::npos) << msg;
     EXPECT_NE(msg.find("has 5 values, but the header's properties of 'face' give 4"),
               std::string::npos)
@@ -484,10 +475,10 @@ TEST(MeshTest, PlyFacesAssimpWouldReadWithoutIndicesAreRefused) {
 TEST(MeshTest, ObjWithNanOrInfiniteVerticesIsRefused) {
     for (const char* bad : {"nan", "inf", "-inf"}) {
         const fs::path p = outputDir() / fmt::format("nonfinite_{}.obj", bad);
-        writeFile(p, fmt::format("o spiky\nv 0 0 0\nv 1 0 0\nv 0 {} 0\nv 0 0 1\nf 1 3 2\nf 1 2 "
-                                 "4\nf 1 4 3\nf 2 3 4\n",
-                                 bad));
-        const std::string msg = errorOf(p);
+        writeTextFile(p, fmt::format("o spiky\nv 0 0 0\nv 1 0 0\nv 0 {} 0\nv 0 0 1\nf 1 3 2\nf 1 2 "
+                                     "4\nf 1 4 3\nf 2 3 4\n",
+                                     bad));
+        const std::string msg = loadError(p);
         EXPECT_NE(msg.find(p.filename().string()), std::string::npos) << msg;
         EXPECT_NE(msg.find("spiky"), std::string::npos) << msg;
         EXPECT_NE(msg.find("NaN or infinite"), std::string::npos) << msg;
@@ -496,7 +487,7 @@ TEST(MeshTest, ObjWithNanOrInfiniteVerticesIsRefused) {
 
 TEST(MeshTest, DirectoryOrDeviceIsNotARegularFile) {
     for (const fs::path& p : {outputDir(), fs::path("/dev/null")}) {
-        const std::string msg = errorOf(p);
+        const std::string msg = loadError(p);
         EXPECT_NE(msg.find(p.string()), std::string::npos) << msg;
         EXPECT_NE(msg.find("is not a regular file"), std::string::npos) << msg;
     }

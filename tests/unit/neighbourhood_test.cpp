@@ -1,7 +1,7 @@
-// The neighbourhood mean of the depth-aware octaves (src/volume/neighbourhood.h) against
+// The neighbourhood mean of the depth-aware octaves (src/grid/neighbourhood.h) against
 // means counted voxel by voxel through an accessor, and its interpolation against the
 // trilinear formula at points of known weights.
-#include "volume/neighbourhood.h"
+#include "grid/neighbourhood.h"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // The bare-.vdb density scale's statistic against chord lengths known in closed form.
-#include "vdb/optical_depth.h"
+#include "grid/optical_depth.h"
 
 #include <gtest/gtest.h>
 

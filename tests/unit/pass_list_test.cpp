@@ -2,19 +2,15 @@
 // naming the pass and the resource; the frame the renderer builds passes its own check.
 #include "base/error.h"
 #include "frame/pass_list.h"
+#include "support/test_support.h"
 
 #include <gtest/gtest.h>
 
 namespace veil::frame {
 namespace {
 
-std::string errorOf(const PassList& list, const std::vector<std::string>& external = {}) {
-    try {
-        list.validate(external);
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return {};
+std::string validationError(const PassList& list, const std::vector<std::string>& external = {}) {
+    return test::errorOf([&] { list.validate(external); });
 }
 
 PassList frameLike() {
@@ -30,7 +26,7 @@ PassList frameLike() {
 
 TEST(PassListTest, WellOrderedFrameValidates) {
     const PassList l = frameLike();
-    EXPECT_EQ(errorOf(l), "");
+    EXPECT_EQ(validationError(l), "");
     EXPECT_EQ(l.resources(), (std::vector<std::string>{"shadow.0", "depth", "hdr", "fog.radiance",
                                                        "oit.accumulation", "ldr"}));
     ASSERT_NE(l.find("fog"), nullptr);
@@ -44,26 +40,26 @@ TEST(PassListTest, ReadBeforeWriteNamesPassAndResource) {
     PassList l;
     l.add({"transparent", {"depth", "fog.radiance"}, {"oit.accumulation"}, {}})
         .add({"fog", {"depth"}, {"fog.radiance"}, {}});
-    const std::string e = errorOf(l, {"depth"});
+    const std::string e = validationError(l, {"depth"});
     EXPECT_NE(e.find("pass 'transparent' reads 'fog.radiance', which no earlier pass writes"),
               std::string::npos)
         << e;
     EXPECT_NE(e.find("written so far: depth"), std::string::npos) << e;
     // Without the external depth the first read already fails.
-    EXPECT_NE(errorOf(l).find("reads 'depth'"), std::string::npos);
+    EXPECT_NE(validationError(l).find("reads 'depth'"), std::string::npos);
     // A missing shadow pass: opaque reads a shadow map nobody rendered.
     PassList noShadow;
     noShadow.add({"opaque", {"shadow.0"}, {"depth", "hdr"}, {}});
-    EXPECT_NE(errorOf(noShadow).find("'shadow.0'"), std::string::npos);
+    EXPECT_NE(validationError(noShadow).find("'shadow.0'"), std::string::npos);
 }
 
 TEST(PassListTest, DuplicateAndEmptyNamesAreErrors) {
     PassList l = frameLike();
     l.add({"opaque", {}, {"hdr"}, {}});
-    EXPECT_NE(errorOf(l).find("two passes are named 'opaque'"), std::string::npos);
+    EXPECT_NE(validationError(l).find("two passes are named 'opaque'"), std::string::npos);
     PassList unnamed;
     unnamed.add({"", {}, {"x"}, {}});
-    EXPECT_NE(errorOf(unnamed).find("without a name"), std::string::npos);
+    EXPECT_NE(validationError(unnamed).find("without a name"), std::string::npos);
 }
 
 } // namespace

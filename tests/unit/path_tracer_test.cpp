@@ -1,9 +1,9 @@
-// The volumetric path tracer (src/volume/path_tracer.h) against what it did not produce:
+// The volumetric path tracer (src/integrators/path_tracer.h) against what it did not produce:
 // the adding-doubling slab solver (itself checked against Chandrasekhar's H-function and
 // energy conservation), Beer-Lambert, and the single-scattering CPU fog reference.
-#include "volume/adding_doubling.h"
-#include "volume/cpu_reference.h"
-#include "volume/path_tracer.h"
+#include "integrators/adding_doubling.h"
+#include "integrators/cpu_reference.h"
+#include "integrators/path_tracer.h"
 
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>

@@ -4,6 +4,7 @@
 #include "base/properties.h"
 #include "oit/technique.h"
 #include "scene/scene.h"
+#include "support/test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -24,13 +25,9 @@ PropertySchema schema() {
     return s;
 }
 
-std::string errorOf(const json& values) {
-    try {
-        schema().resolve(values, "scene.json: /render/oit", "OIT technique 'x'");
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return {};
+std::string resolveError(const json& values) {
+    return test::errorOf(
+        [&] { schema().resolve(values, "scene.json: /render/oit", "OIT technique 'x'"); });
 }
 
 TEST(PropertiesTest, DefaultsFillEveryKey) {
@@ -55,33 +52,34 @@ TEST(PropertiesTest, GivenValuesReplaceDefaultsAndTypeIsIgnored) {
 }
 
 TEST(PropertiesTest, UnknownKeysNameThePathAndListTheAccepted) {
-    const std::string e = errorOf({{"cuont", 3}});
+    const std::string e = resolveError({{"cuont", 3}});
     EXPECT_NE(e.find("scene.json: /render/oit/cuont"), std::string::npos) << e;
     EXPECT_NE(e.find("unknown key of OIT technique 'x'"), std::string::npos) << e;
     EXPECT_NE(e.find("accepted: on, count, bias, tint, mode"), std::string::npos) << e;
 }
 
 TEST(PropertiesTest, BadValuesAreErrorsNamingTheKey) {
-    EXPECT_NE(errorOf({{"count", 0}}).find("/render/oit/count: value 0 out of range [1, 64]"),
+    EXPECT_NE(resolveError({{"count", 0}}).find("/render/oit/count: value 0 out of range [1, 64]"),
               std::string::npos)
-        << errorOf({{"count", 0}});
-    EXPECT_NE(errorOf({{"count", 2.5}}).find("expected an integer"), std::string::npos);
-    EXPECT_NE(errorOf({{"bias", 1.0}}).find("out of range [0, 0.999]"), std::string::npos);
-    EXPECT_NE(errorOf({{"bias", "small"}}).find("expected a number"), std::string::npos);
-    EXPECT_NE(errorOf({{"bias", 1e39}}).find("does not fit a finite 32-bit float"),
+        << resolveError({{"count", 0}});
+    EXPECT_NE(resolveError({{"count", 2.5}}).find("expected an integer"), std::string::npos);
+    EXPECT_NE(resolveError({{"bias", 1.0}}).find("out of range [0, 0.999]"), std::string::npos);
+    EXPECT_NE(resolveError({{"bias", "small"}}).find("expected a number"), std::string::npos);
+    EXPECT_NE(resolveError({{"bias", 1e39}}).find("does not fit a finite 32-bit float"),
               std::string::npos)
-        << errorOf({{"bias", 1e39}});
-    EXPECT_NE(errorOf({{"on", 1}}).find("expected true or false"), std::string::npos);
-    EXPECT_NE(errorOf({{"mode", "c"}}).find("is not one of a, b"), std::string::npos);
-    EXPECT_NE(errorOf({{"tint", {1, 2}}}).find("expected an array of 3 numbers"),
+        << resolveError({{"bias", 1e39}});
+    EXPECT_NE(resolveError({{"on", 1}}).find("expected true or false"), std::string::npos);
+    EXPECT_NE(resolveError({{"mode", "c"}}).find("is not one of a, b"), std::string::npos);
+    EXPECT_NE(resolveError({{"tint", {1, 2}}}).find("expected an array of 3 numbers"),
               std::string::npos);
-    EXPECT_NE(errorOf({{"tint", {1, -2, 0}}}).find("/render/oit/tint/1"), std::string::npos);
-    EXPECT_NE(errorOf(json::array()).find("expected an object of properties"), std::string::npos);
+    EXPECT_NE(resolveError({{"tint", {1, -2, 0}}}).find("/render/oit/tint/1"), std::string::npos);
+    EXPECT_NE(resolveError(json::array()).find("expected an object of properties"),
+              std::string::npos);
     // A deep value is described, never dumped.
     json deep = 0;
     for (int i = 0; i < 2000; ++i)
         deep = json::array({deep});
-    EXPECT_LT(errorOf({{"bias", deep}}).size(), 200u);
+    EXPECT_LT(resolveError({{"bias", deep}}).size(), 200u);
 }
 
 TEST(PropertiesTest, DeclarationsAreChecked) {

@@ -1,9 +1,9 @@
-// The viewer's generated property widgets (src/ui/property_widgets.h), driven headless
+// The viewer's generated property widgets (src/viewer/ui/property_widgets.h), driven headless
 // through Dear ImGui without a backend: every declared property of every technique gets a
 // widget, nothing changes without input, a click on a checkbox flips its value, and the form
 // layout keeps labels whole.
 #include "oit/technique.h"
-#include "ui/property_widgets.h"
+#include "viewer/ui/property_widgets.h"
 
 #include <gtest/gtest.h>
 #include <imgui.h>

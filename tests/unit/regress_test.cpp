@@ -24,11 +24,6 @@ namespace {
 
 fs::path dir() { return outputSubdir("regress-library"); }
 
-std::string readText(const fs::path& p) {
-    std::ifstream in(p);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 const char* kScene = R"({
   "render": {"width": 16, "height": 12, "oit": "blend"},
   "cameras": [{"name": "c", "position": [0, 1, 4], "target": [0, 0.5, 0]}],
@@ -46,13 +41,8 @@ fs::path suiteFile(const std::string& name, const std::string& suite) {
     return d / "suite.json";
 }
 
-std::string errorOf(const fs::path& suite) {
-    try {
-        regress::loadSuite(suite, false);
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
+std::string suiteError(const fs::path& suite) {
+    return errorOf([&] { regress::loadSuite(suite, false); });
 }
 
 const char* kThreeCases = R"({
@@ -101,25 +91,25 @@ TEST(RegressLibraryTest, SuiteIsParsedWithDefaultsAndDerivedOverrides) {
 }
 
 TEST(RegressLibraryTest, BadSuitesNameTheFileAndJsonPointer) {
-    const std::string unknown = errorOf(suiteFile("unknown-key", R"({"cases": [
+    const std::string unknown = suiteError(suiteFile("unknown-key", R"({"cases": [
         {"name": "a", "scene": "scene.json", "reference": "reference", "metrics": {"rmse": 1},
          "colour": 3}]})"));
     EXPECT_NE(unknown.find("suite.json: /cases/0/colour: unknown key"), std::string::npos)
         << unknown;
-    const std::string twice = errorOf(suiteFile("twice", R"({"cases": [
+    const std::string twice = suiteError(suiteFile("twice", R"({"cases": [
         {"name": "a", "scene": "scene.json", "reference": "reference", "metrics": {"rmse": 1}},
         {"name": "a", "scene": "scene.json", "reference": "reference", "metrics": {"rmse": 1}}]})"));
     EXPECT_NE(twice.find("/cases/1/name: case name 'a' is used twice"), std::string::npos) << twice;
-    const std::string stored = errorOf(suiteFile("stored", R"({"cases": [
+    const std::string stored = suiteError(suiteFile("stored", R"({"cases": [
         {"name": "a", "scene": "scene.json", "reference": "a.exr", "metrics": {"rmse": 1}}]})"));
     EXPECT_NE(stored.find("/cases/0/reference: reference image"), std::string::npos) << stored;
     EXPECT_NE(stored.find("--update writes it"), std::string::npos) << stored;
     // With update, a missing stored reference is what is about to be written.
     EXPECT_NO_THROW(regress::loadSuite(dir() / "stored" / "suite.json", true));
-    const std::string cpu = errorOf(suiteFile("cpu", R"({"cases": [
+    const std::string cpu = suiteError(suiteFile("cpu", R"({"cases": [
         {"name": "a", "scene": "scene.json", "reference": "cpu", "metrics": {"rmse": 1}}]})"));
     EXPECT_NE(cpu.find("draws no surfaces"), std::string::npos) << cpu;
-    const std::string rejected = errorOf(suiteFile("rejected", R"({"cases": [
+    const std::string rejected = suiteError(suiteFile("rejected", R"({"cases": [
         {"name": "a", "scene": "scene.json", "reference": "reference",
          "metrics": {"rejected": 0.1}}]})"));
     EXPECT_NE(rejected.find("needs \"seeds\" >= 2"), std::string::npos) << rejected;
@@ -299,8 +289,8 @@ TEST(RegressLibraryTest, MergeKeepsEveryPathInsideItsFolder) {
             << e;
         EXPECT_NE(e.find(b.expected), std::string::npos) << e;
         EXPECT_FALSE(fs::exists(d / "out" / "images")) << b.png;
-        EXPECT_EQ(readText(d / "out" / "results.json"), "old");
-        EXPECT_EQ(readText(d / "victim.txt"), "precious");
+        EXPECT_EQ(readTextFile(d / "out" / "results.json"), "old");
+        EXPECT_EQ(readTextFile(d / "victim.txt"), "precious");
     }
     // Case names that are not file names are refused where they are read.
     for (const char* name : {"..", ".", ".hidden", "a/b"}) {
@@ -324,7 +314,7 @@ TEST(RegressLibraryTest, SuiteRefusesDotCaseNames) {
         const std::string suite = std::string(R"({"cases": [{"name": ")") + name +
                                   R"(", "scene": "scene.json", "reference": "reference",
                                   "metrics": {"rmse": 1}}]})";
-        const std::string e = errorOf(suiteFile("dot-name", suite));
+        const std::string e = suiteError(suiteFile("dot-name", suite));
         EXPECT_NE(e.find("/cases/0/name: '" + std::string(name) + "': use letters"),
                   std::string::npos)
             << e;
@@ -342,7 +332,7 @@ TEST(RegressLibraryTest, EveryReportFieldIsEscaped) {
     regress::Report r{evil, evil, evil, {c}, 1, "", "", ""};
     regress::writeReport(d, r);
     for (const char* f : {"index.html", "results.xml"}) {
-        const std::string text = readText(d / f);
+        const std::string text = readTextFile(d / f);
         // The page's own script (one, after the last card) is the only one.
         const std::size_t script = text.find("<script");
         if (std::string(f) == "index.html") {

@@ -11,7 +11,7 @@
 #include "regress/suite.h"
 #include "scene/mesh.h"
 #include "scene/scene.h"
-#include "session/view_session.h"
+#include "viewer/session/view_session.h"
 #include "support/test_support.h"
 #include "viewer/view_script.h"
 #include "voxelize/triangles.h"
@@ -33,16 +33,6 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path dir(const std::string& name) { return freshOutputDir("reliability", name); }
-
-template <class F>
-std::string errorOf(F&& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
-}
 
 const char* kScene = R"({"cameras": [{"name": "c", "position": [0, 0, 4]}],
   "materials": {"m": {"alpha": 0.5}},

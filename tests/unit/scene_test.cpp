@@ -2,6 +2,7 @@
 // pointer, overrides, transform order, camera projection and mesh files in scenes.
 #include "base/error.h"
 #include "scene/scene.h"
+#include "support/test_support.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -17,16 +18,13 @@
 namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace veil::scene;
+using veil::test::errorOf;
 
 namespace {
 
 const fs::path kThirdParty = VEIL_DATA_DIR;
 
-fs::path outputDir() {
-    fs::path dir = fs::path(VEIL_TEST_OUTPUT_DIR) / "scene_test";
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path outputDir() { return veil::test::outputSubdir("scene_test"); }
 
 fs::path writeScene(const std::string& name, const std::string& text) {
     fs::path path = outputDir() / name;
@@ -36,16 +34,6 @@ fs::path writeScene(const std::string& name, const std::string& text) {
 
 // A minimal valid document to which each test adds what it needs.
 json minimal() { return json::parse(R"({"cameras": [{"name": "main"}]})"); }
-
-template <typename F>
-std::string errorOf(F&& f) {
-    try {
-        f();
-    } catch (const veil::Error& e) {
-        return e.what();
-    }
-    return {};
-}
 
 std::string parseError(const json& doc) {
     return errorOf([&] { parseScene(doc, kThirdParty); });

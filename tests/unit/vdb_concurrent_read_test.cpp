@@ -1,11 +1,11 @@
 // OpenVDB files read on several threads at once while other threads run TBB work, as the
 // prefetch workers (one reading, one converting a grid with TBB) and the viewer's frame cache do.
-// Each read forks a child for the trial read (volume/vdb_file.h). A child forked while another
+// Each read forks a child for the trial read (grid/vdb_file.h). A child forked while another
 // thread held one of OpenVDB's registry locks (taken for every grid and metadata item a decode
 // creates) waited on it for ever; so did a child that used TBB (io::Stream's writer) while the
-// parent's TBB workers were busy (volume/vdb_reply.h).
+// parent's TBB workers were busy (grid/vdb_reply.h).
 #include "support/test_support.h"
-#include "volume/vdb_file.h"
+#include "grid/vdb_file.h"
 
 #include <gtest/gtest.h>
 #include <tbb/parallel_for.h>

@@ -3,9 +3,9 @@
 #include "base/error.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
-#include "volume/cpu_reference.h"
-#include "volume/density_grid.h"
-#include "volume/vdb_file.h"
+#include "integrators/cpu_reference.h"
+#include "grid/density_grid.h"
+#include "grid/vdb_file.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -28,15 +28,6 @@ fs::path dir() {
     const fs::path d = outputDir() / "volume";
     fs::create_directories(d);
     return d;
-}
-
-std::string errorOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return {};
 }
 } // namespace
 
@@ -84,7 +75,7 @@ TEST(VolumeTest, TruncatedCorruptAndMissingFilesAreErrors) {
 }
 
 // Every load of a damaged copy either succeeds with finite densities or throws veil::Error naming
-// the file in a bounded message. Before the trial read in a child (src/volume/vdb_file.h), 5 of
+// the file in a bounded message. Before the trial read in a child (src/grid/vdb_file.h), 5 of
 // these 24 flips killed the process (SIGSEGV, glibc heap-corruption abort), 2 threw OpenVDB's
 // "Expected to decompress" later from delayed loading without a file name, and the cut file gave
 // a 372 MB message.
