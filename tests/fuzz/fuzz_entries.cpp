@@ -6,7 +6,7 @@
 #include "scene/json_text.h"
 #include "scene/mesh.h"
 #include "scene/scene.h"
-#include "volume/density_grid.h"
+#include "grid/density_grid.h"
 
 #include <algorithm>
 #include <array>

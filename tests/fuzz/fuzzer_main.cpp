@@ -22,7 +22,7 @@ veil::fuzz::Outcome (*gRun)(std::span<const std::uint8_t>) = nullptr;
 bool gVerbose = false; // VEIL_FUZZ_VERBOSE=1: one line per input, for checking seeds
 
 // The VDB loader reads a file first in a forked child so that a crash inside OpenVDB
-// becomes a veil::Error (src/volume/vdb_file.cpp). The child inherits libFuzzer's death
+// becomes a veil::Error (src/grid/vdb_file.cpp). The child inherits libFuzzer's death
 // callback and signal handlers, which would save the input as a crash of the fuzzer; in a
 // child the crash is the loader's expected, contained outcome, so it ends by the signal.
 void plainCrashesInChild() {
