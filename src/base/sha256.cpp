@@ -1,5 +1,5 @@
 // Written from FIPS 180-4 (section 4.1.2 functions, 4.2.2 constants, 5.3.3 initial hash,
-// 6.2.2 computation); checked in tests/unit/sha256_test.cpp against the standard's examples.
+// 6.2.2 computation); checked in tests/unit/exr_writer_test.cpp against the standard's examples.
 #include "base/sha256.h"
 
 #include "base/error.h"

@@ -16,7 +16,7 @@
 // Properties: size, max_lights, bias, pcf_radius (0), media_steps (256), receiver_offset
 // (0.02 world units toward the light: a transparent receiver does not shadow itself),
 // max_list (4096 fragments read per texel at most), initial_pool (nodes, grown as needed).
-// The CPU double-precision ray caster it is checked against is tests/support/cpu_visibility.h.
+// The CPU double-precision ray caster it is checked against is tests/gl/ray_cast_shadows.h.
 #pragma once
 
 #include "shadows/technique.h"
