@@ -1,4 +1,4 @@
-// The frame's screen-space ambient obscurance (src/frame/ambient_occlusion.h) and
+// The frame's screen-space ambient obscurance (src/frame/stages/ambient_occlusion.h) and
 // phenomenological's inferred AO at partial coverage [McGuire17 sec. 6, Listing 2]:
 //  - the GPU estimator against a CPU double-precision evaluation of the same estimator (SAO's
 //    sum over the spiral, on a z pyramid the test builds itself from the depth buffer), and
