@@ -88,12 +88,11 @@ FrameStages buildStages(const scene::Scene& scene, const gpu::ContextInfo& conte
     }
     shadows->setBounds(lo, hi);
 
-    FrameStages s;
-    s.transparency =
+    std::unique_ptr<TransparencyStage> transparency =
         TransparencyStage::create(std::move(technique), std::move(techniquePrograms), scene,
-                                  programs, fog ? &fog->fog() : nullptr, visibility)
-            .release();
-    std::unique_ptr<pass::Stage> transparency(s.transparency);
+                                  programs, fog ? &fog->fog() : nullptr, visibility);
+    FrameStages s;
+    s.transparency = transparency.get();
     s.shadows = shadows.get();
     s.list.push_back(std::move(shadows));
     if (ao) {
