@@ -7,7 +7,8 @@
 #      naming the missing shard, and a re-submission of only that shard (--resume) completes
 #      the report, again equal to the unsharded one;
 #   3. (once `veil render --frames` exists) a frame range rendered as an array equals the
-#      same range rendered in one process.
+#      same range rendered in one process, and so does it after one task's frames are deleted
+#      and that task alone is re-submitted (VEIL_SHARDS=2 --array=1).
 # The cluster is stopped in a trap: the daemons by their pid files, then every process that
 # carries this cluster's SLURM_CONF (leftover slurmstepd and job processes).
 #   scripts/slurm/ci-test.sh VEIL_BINARY [SUITE]
@@ -251,16 +252,34 @@ if "$veil" render --help 2>/dev/null | grep -q -- '--frames' && [[ -f $frames_sc
   "$veil" render "$frames_scene" --frames "$range" --width 64 --height 48 \
     -o "$t/frames-one/f.####.exr" >"$t/frames-one.log" 2>&1 || { cat "$t/frames-one.log"; exit 1; }
   SCENE=$frames_scene FRAMES=$range PATTERN=$t/frames/f.####.exr VEIL=$veil \
-    VEIL_RENDER_ARGS="--width 64 --height 48" \
     sbatch --wait --export=ALL --array=0-1 -c 1 --mem=2G --output="$t/frames/%A_%a.log" \
-    "$here/render-frames.sbatch" >/dev/null
-  n=0
-  for f in "$t/frames-one"/f.*.exr; do
-    "$veil" compare "$t/frames/$(basename "$f")" "$f" --metric maxabs --fail 0 >/dev/null
-    n=$((n + 1))
-  done
-  ((n > 0)) || { echo "ci-test: no frames were rendered" >&2; exit 1; }
+    "$here/render-frames.sbatch" --width 64 --height 48 >/dev/null
+  same_frames() {
+    local n=0 f
+    for f in "$t/frames-one"/f.*.exr; do
+      "$veil" compare "$t/frames/$(basename "$f")" "$f" --metric maxabs --fail 0 >/dev/null
+      n=$((n + 1))
+    done
+    ((n > 0)) || { echo "ci-test: no frames were rendered" >&2; exit 1; }
+    echo $n
+  }
+  n=$(same_frames)
   step "$n frames equal to the one-process render"
+  # Partial re-submission (docs/cluster.md): the second task's frames removed, that task alone
+  # submitted again with VEIL_SHARDS=2 --array=1 renders the same frames (and only those).
+  second=("$t/frames"/f.*.exr)
+  second=("${second[@]:$((${#second[@]} / 2))}")
+  rm -f "${second[@]}"
+  SCENE=$frames_scene FRAMES=$range PATTERN=$t/frames/f.####.exr VEIL=$veil VEIL_SHARDS=2 \
+    sbatch --wait --export=ALL --array=1 -c 1 --mem=2G --output="$t/frames/resubmit-%A_%a.log" \
+    "$here/render-frames.sbatch" --width 64 --height 48 >/dev/null
+  for f in "${second[@]}"; do
+    [[ -f $f ]] || { echo "ci-test: the re-submitted task did not render $f" >&2; exit 1; }
+  done
+  grep -q "slice 1 of 2" "$t/frames"/resubmit-*.log ||
+    { echo "ci-test: the re-submitted task did not render slice 1 of 2" >&2; exit 1; }
+  n=$(same_frames)
+  step "re-submitted task 1 of 2: ${#second[@]} frames rendered again, all $n equal"
 else
   step "frame range: skipped (this veil render has no --frames)"
 fi

@@ -2,7 +2,7 @@
 # Submits a veil regression suite as a Slurm job array plus its merge job (docs/cluster.md).
 #   scripts/slurm/submit-regress.sh [options] SUITE OUT
 # Options (anything after -- goes to both sbatch calls, e.g. -- --account=X --partition=Y):
-#   --tasks N      array size = number of shards (default 4)
+#   --tasks N      array size = number of shards, 1..100000 (default 4)
 #   --gpu          request one GPU per task (--gres=gpu:1)
 #   --time T       per-task time limit (default the script's 00:30:00)
 #   --mem M        per-task memory (default the script's 4G)
@@ -16,27 +16,40 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 tasks=4 gpu=0 resume=0 wait=0 veil=veil
 extra=() task_opts=()
+me=submit-regress
 usage() { echo "usage: $0 [--tasks N] [--gpu] [--time T] [--mem M] [--cpus C] [--veil PATH] [--resume] [--wait] SUITE OUT [-- SBATCH-OPTIONS]" >&2; exit 2; }
+fail() { echo "$me: $*" >&2; exit 2; }
+# value OPTION ARGS...: the option's value (the first of ARGS), or a usage error.
+value() { (($# >= 2)) && [[ -n $2 ]] || fail "$1 needs a value"; echo "$2"; }
+# integer NAME VALUE MIN MAX: VALUE as a plain decimal integer (at most 9 digits after leading
+# zeros) in [MIN, MAX], matched as text and never evaluated as arithmetic; else a usage error.
+integer() {
+  [[ $2 =~ ^0*([0-9]{1,9})$ ]] && ((10#${BASH_REMATCH[1]} >= $3 && 10#${BASH_REMATCH[1]} <= $4)) ||
+    fail "$1 '$2' is not an integer in $3..$4"
+  echo $((10#${BASH_REMATCH[1]}))
+}
 pos=()
 while (($#)); do
   case $1 in
-    --tasks) tasks=${2:?}; shift 2 ;;
+    --tasks) tasks=$(value "$@"); shift 2 ;;
     --gpu) gpu=1; shift ;;
-    --time) task_opts+=("--time=${2:?}"); shift 2 ;;
-    --mem) task_opts+=("--mem=${2:?}"); shift 2 ;;
-    --cpus) task_opts+=("--cpus-per-task=${2:?}"); shift 2 ;;
-    --veil) veil=${2:?}; shift 2 ;;
+    --time) task_opts+=("--time=$(value "$@")"); shift 2 ;;
+    --mem) task_opts+=("--mem=$(value "$@")"); shift 2 ;;
+    --cpus) task_opts+=("--cpus-per-task=$(integer --cpus "$(value "$@")" 1 100000)"); shift 2 ;;
+    --veil) veil=$(value "$@"); shift 2 ;;
     --resume) resume=1; shift ;;
     --wait) wait=1; shift ;;
     --) shift; extra=("$@"); break ;;
-    -*) usage ;;
+    -*) echo "$me: unknown option '$1'" >&2; usage ;;
     *) pos+=("$1"); shift ;;
   esac
 done
 ((${#pos[@]} == 2)) || usage
-[[ $tasks =~ ^[1-9][0-9]*$ ]] || { echo "$0: --tasks '$tasks' is not a positive integer" >&2; exit 2; }
+# Slurm's own limit on an array's size (MaxArraySize) is at most 4000001; 100000 shards is far
+# more than a suite has cases.
+tasks=$(integer --tasks "$tasks" 1 100000)
 suite=$(realpath "${pos[0]}") out=$(realpath -m "${pos[1]}")
-[[ -f $suite ]] || { echo "$0: suite '$suite' does not exist" >&2; exit 1; }
+[[ -f $suite ]] || { echo "$me: suite '$suite' does not exist" >&2; exit 1; }
 [[ $veil == */* ]] && veil=$(realpath "$veil")
 mkdir -p "$out/logs"
 # The array indices to run: all, or with --resume those without a finished shard report.
