@@ -3,6 +3,7 @@
 #pragma once
 
 #include "convert.h"
+#include "errors.h"
 #include "gpu/context.h"
 #include "scene/scene_document.h"
 
@@ -30,6 +31,9 @@ struct PyScene {
     static PyScene fromDict(py::handle dict, const std::filesystem::path& baseDir);
     void set(const std::string& key, py::handle value);
     void reparse(nlohmann::json candidate);
+
+private:
+    void reparseChecked(nlohmann::json candidate);
 };
 
 // A Scene, a path to a scene file (a .vdb path: framed like `veil render file.vdb`) or a

@@ -1,6 +1,8 @@
 #include "convert.h"
 
 #include "base/error.h"
+#include "base/text.h"
+#include "scene/json_text.h"
 
 #include <fmt/format.h>
 
@@ -39,32 +41,45 @@ py::object toPython(const nlohmann::json& value) {
     }
 }
 
-nlohmann::json fromPython(py::handle value, const std::string& where) {
-    const std::string at = where.empty() ? "/" : where;
+namespace {
+
+nlohmann::json fromPythonAt(py::handle value, const std::string& what, const std::string& where,
+                            std::size_t depth) {
+    const auto at = [&] { return what + ": " + (where.empty() ? "/" : printable(where, 120)); };
     if (value.is_none()) return nullptr;
     if (py::isinstance<py::bool_>(value)) return value.cast<bool>();
     if (py::isinstance<py::int_>(value)) {
         try {
             return value.cast<long long>();
         } catch (const py::cast_error&) {
-            throw Error(fmt::format("{}: integer {} does not fit in 64 bits", at,
-                                    py::str(value).cast<std::string>()));
+            throw PyError(ErrorKind::Value,
+                          fmt::format("{}: integer {} does not fit in 64 bits", at(),
+                                      printable(py::str(value).cast<std::string>(), 60)));
         }
     }
     if (py::isinstance<py::float_>(value)) {
         const double d = value.cast<double>();
-        VEIL_CHECK(std::isfinite(d), "{}: {} is not a finite number (JSON has no NaN or inf)", at,
-                   d);
+        VEIL_PY_CHECK(ErrorKind::Value, std::isfinite(d),
+                      "{}: {} is not a finite number (JSON has no NaN or inf)", at(), d);
         return d;
     }
     if (py::isinstance<py::str>(value)) return value.cast<std::string>();
-    if (py::isinstance<py::dict>(value)) {
+    const bool dict = py::isinstance<py::dict>(value);
+    if (dict || py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
+        // The cap comes before the recursion: a 200000-deep list (or a list holding itself)
+        // would otherwise overflow the stack here or in nlohmann later.
+        VEIL_PY_CHECK(ErrorKind::Value, depth < scene::kMaxJsonDepth,
+                      "{}: nested deeper than {} levels (the limit of a scene document)", at(),
+                      scene::kMaxJsonDepth);
+    }
+    if (dict) {
         nlohmann::json out = nlohmann::json::object();
         for (auto item : value.cast<py::dict>()) {
-            VEIL_CHECK(py::isinstance<py::str>(item.first), "{}: key {} is not a string", at,
-                       py::repr(item.first).cast<std::string>());
+            VEIL_PY_CHECK(ErrorKind::Type, py::isinstance<py::str>(item.first),
+                          "{}: key {} is not a str", at(),
+                          printable(py::repr(item.first).cast<std::string>(), 60));
             const std::string key = item.first.cast<std::string>();
-            out[key] = fromPython(item.second, where + "/" + key);
+            out[key] = fromPythonAt(item.second, what, where + "/" + key, depth + 1);
         }
         return out;
     }
@@ -72,15 +87,24 @@ nlohmann::json fromPython(py::handle value, const std::string& where) {
         nlohmann::json out = nlohmann::json::array();
         std::size_t i = 0;
         for (auto item : value)
-            out.push_back(fromPython(item, where + "/" + std::to_string(i++)));
+            out.push_back(fromPythonAt(item, what, where + "/" + std::to_string(i++), depth + 1));
         return out;
     }
-    // NumPy scalars and arrays: through their Python equivalents.
+    // NumPy scalars and arrays: through their Python equivalents (an array's tolist() nests
+    // one list per dimension, counted as the lists are).
     if (py::hasattr(value, "tolist") && py::hasattr(value, "dtype"))
-        return fromPython(value.attr("tolist")(), where);
-    throw Error(fmt::format("{}: a value of type {} is not JSON (use dict, list, str, int, float, "
-                            "bool or None)",
-                            at, py::str(value.get_type().attr("__name__")).cast<std::string>()));
+        return fromPythonAt(value.attr("tolist")(), what, where, depth);
+    throw PyError(ErrorKind::Type,
+                  fmt::format("{}: a value of type {} is not JSON (use dict, list, str, int, "
+                              "float, bool or None)",
+                              at(),
+                              py::str(value.get_type().attr("__name__")).cast<std::string>()));
+}
+
+} // namespace
+
+nlohmann::json fromPython(py::handle value, const std::string& what) {
+    return fromPythonAt(value, what, "", 0);
 }
 
 py::array_t<float> toArray(ImageF image, bool squeeze) {
@@ -112,13 +136,15 @@ ImageF fromArray(py::handle value, const std::string& what) {
         a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(value);
     } catch (const py::error_already_set&) {
     }
-    VEIL_CHECK(a && a.ndim() >= 2 && a.ndim() <= 3 &&
-                   (a.ndim() == 2 || (a.shape(2) >= 1 && a.shape(2) <= 4)),
-               "{}: expected an image array of shape HxW or HxWxC (C = 1 to 4) of numbers, got {}",
-               what, py::repr(value).cast<std::string>().substr(0, 120));
+    VEIL_PY_CHECK(a ? ErrorKind::Value : ErrorKind::Type,
+                  a && a.ndim() >= 2 && a.ndim() <= 3 &&
+                      (a.ndim() == 2 || (a.shape(2) >= 1 && a.shape(2) <= 4)),
+                  "{}: expected an image array of shape HxW or HxWxC (C = 1 to 4) of numbers, "
+                  "got {}",
+                  what, printable(py::repr(value).cast<std::string>(), 120));
     const int h = static_cast<int>(a.shape(0)), w = static_cast<int>(a.shape(1));
     const int c = a.ndim() == 2 ? 1 : static_cast<int>(a.shape(2));
-    VEIL_CHECK(h > 0 && w > 0, "{}: the image is empty ({}x{})", what, w, h);
+    VEIL_PY_CHECK(ErrorKind::Value, h > 0 && w > 0, "{}: the image is empty ({}x{})", what, w, h);
     ImageF out(w, h, c);
     std::copy(a.data(), a.data() + out.pixels.size(), out.pixels.begin());
     return out;
@@ -129,10 +155,11 @@ bool isPathLike(py::handle value) {
 }
 
 std::filesystem::path toPath(py::handle value, const std::string& what) {
-    VEIL_CHECK(isPathLike(value), "{}: expected a path (str or os.PathLike), got {}", what,
-               py::str(value.get_type().attr("__name__")).cast<std::string>());
+    VEIL_PY_CHECK(ErrorKind::Type, isPathLike(value),
+                  "{}: expected a path (str or os.PathLike), got {}", what, typeName(value));
     py::object text = py::module_::import("os").attr("fspath")(value);
-    VEIL_CHECK(py::isinstance<py::str>(text), "{}: expected a str path, not bytes", what);
+    VEIL_PY_CHECK(ErrorKind::Type, py::isinstance<py::str>(text),
+                  "{}: expected a str path, not bytes", what);
     return std::filesystem::path(text.cast<std::string>());
 }
 

@@ -2,6 +2,7 @@
 // float images and NumPy arrays, paths. Shared by the binding files of the module.
 #pragma once
 
+#include "args.h"
 #include "base/image.h"
 
 #include <nlohmann/json.hpp>
@@ -18,8 +19,10 @@ namespace py = pybind11;
 // JSON -> Python: objects become dicts, arrays lists, numbers int or float.
 py::object toPython(const nlohmann::json& value);
 // Python -> JSON: dicts with str keys, lists and tuples, str, bool, int, float, None and NumPy
-// scalars and arrays. Anything else is a veil::Error naming `where` (a JSON pointer).
-nlohmann::json fromPython(py::handle value, const std::string& where = "");
+// scalars and arrays, nested at most scene::kMaxJsonDepth levels (the JSON parser's cap: a
+// deeper value, or one that contains itself, is refused before anything recurses past it).
+// Anything else is a veil.ValueError or TypeError "<what>: <JSON pointer>: <problem>".
+nlohmann::json fromPython(py::handle value, const std::string& what);
 
 // An image as a float32 array that owns its pixels (no copy): H x W x C, or H x W for one
 // channel (`squeeze`).

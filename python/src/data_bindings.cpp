@@ -22,11 +22,29 @@ namespace fs = std::filesystem;
 
 namespace {
 
-py::list vdbInfo(py::handle pathArg, py::handle grid) {
-    const fs::path path = toPath(pathArg, "vdb_info");
-    std::string selector;
-    if (!grid.is_none()) selector = py::str(grid).cast<std::string>();
-    const vdb::FileInfo file = vdb::describeVdbFile(path, selector);
+// An input file that must exist: veil.FileNotFoundError naming it and the argument.
+fs::path inputFile(py::handle value, const std::string& what) {
+    const fs::path path = toPath(value, what);
+    std::error_code ec;
+    if (!fs::exists(path, ec))
+        throw PyError(ErrorKind::FileNotFound,
+                      fmt::format("{}: '{}' does not exist", what, printable(path.string(), 500)),
+                      path.string());
+    return path;
+}
+
+// A grid selector: a name, an index or None (the default grid).
+std::string gridSelector(py::handle grid) {
+    if (grid.is_none()) return {};
+    if (py::isinstance<py::str>(grid)) return grid.cast<std::string>();
+    return std::to_string(toInt(grid, "grid"));
+}
+
+py::list vdbInfo(const PathArg& pathArg, const GridArg& grid) {
+    const fs::path path = inputFile(pathArg, "vdb_info(path)");
+    const std::string selector = gridSelector(grid);
+    const vdb::FileInfo file =
+        classified(ErrorKind::Value, [&] { return vdb::describeVdbFile(path, selector); });
     py::list out;
     for (const vdb::GridInfo& g : file.grids) {
         nlohmann::json j = {{"index", g.index},
@@ -55,16 +73,22 @@ py::list vdbInfo(py::handle pathArg, py::handle grid) {
     return out;
 }
 
-py::dict exportVti(py::handle vdbArg, py::handle vtiArg, py::handle grid,
-                   const std::vector<int>& box, double resample) {
-    const fs::path input = toPath(vdbArg, "export_vti"), output = toPath(vtiArg, "export_vti");
-    VEIL_CHECK(lowerExtension(input.string()) == ".vdb",
-               "input '{}' must be an OpenVDB file (.vdb)", printable(input.string(), 500));
-    VEIL_CHECK(lowerExtension(output.string()) == ".vti", "output '{}' must end in .vti",
-               printable(output.string(), 500));
-    checkOutputPath(output, "output", {input});
-    const std::string selector = grid.is_none() ? std::string() : py::str(grid).cast<std::string>();
-    const vdb::SampledGrid s = vdb::sampleVdbGrid(input, selector, box, resample);
+py::dict exportVti(const PathArg& vdbArg, const PathArg& vtiArg, const GridArg& grid,
+                   const IntListArg& boxArg, const FloatArg& resampleArg) {
+    const fs::path input = inputFile(vdbArg, "export_vti(vdb)");
+    const fs::path output = toPath(vtiArg, "export_vti(vti)");
+    const std::vector<int> box = boxArg.is_none() ? std::vector<int>{} : toIntList(boxArg, "box");
+    const double resample = toFloat(resampleArg, "resample");
+    VEIL_PY_CHECK(ErrorKind::Value, lowerExtension(input.string()) == ".vdb",
+                  "export_vti(vdb): '{}' must be an OpenVDB file (.vdb)",
+                  printable(input.string(), 500));
+    VEIL_PY_CHECK(ErrorKind::Value, lowerExtension(output.string()) == ".vti",
+                  "export_vti(vti): '{}' must end in .vti", printable(output.string(), 500));
+    const std::string selector = gridSelector(grid);
+    const vdb::SampledGrid s = classified(ErrorKind::Value, [&] {
+        checkOutputPath(output, "output", {input});
+        return vdb::sampleVdbGrid(input, selector, box, resample);
+    });
     io::writeVti(output, s.dense);
     const nlohmann::json j = {
         {"index", s.index},     {"name", s.name},           {"type", s.type},
@@ -73,20 +97,30 @@ py::dict exportVti(py::handle vdbArg, py::handle vtiArg, py::handle grid,
     return toPython(j);
 }
 
-py::array_t<bool> voxelize(py::handle source, int res, int slices, const std::string& methodName,
-                           bool solid, bool local, bool perspective, const std::string& camera,
-                           py::handle outputArg, double smooth, py::handle renderer) {
-    VEIL_CHECK(res >= 1 && res <= 8192, "res {} not in range [1, 8192]", res);
-    VEIL_CHECK(slices >= 0 && slices <= 65536, "slices {} not in range [0, 65536]", slices);
-    VEIL_CHECK(std::isfinite(smooth) && smooth >= 0.0 && smooth <= 64.0,
-               "smooth {} not in range [0, 64]", smooth);
-    const voxelize::Method method = voxelize::parseMethod(
-        methodName.empty() ? (solid ? "raster" : "conservative") : methodName);
+py::array_t<bool> voxelize(const SceneArg& source, const IntArg& resArg, const IntArg& slicesArg,
+                           const StrArg& methodArg, const BoolArg& solidArg,
+                           const BoolArg& localArg, const BoolArg& perspectiveArg,
+                           const StrArg& cameraArg, const OptPathArg& outputArg,
+                           const FloatArg& smoothArg, const RendererArg& renderer) {
+    const long long res = toInt(resArg, "res"), slices = toInt(slicesArg, "slices");
+    const std::string methodName = toStr(methodArg, "method"), camera = toStr(cameraArg, "camera");
+    const bool solid = toBool(solidArg, "solid"), local = toBool(localArg, "local"),
+               perspective = toBool(perspectiveArg, "perspective");
+    const double smooth = toFloat(smoothArg, "smooth");
+    VEIL_PY_CHECK(ErrorKind::Value, res >= 1 && res <= 8192, "res {} not in range [1, 8192]", res);
+    VEIL_PY_CHECK(ErrorKind::Value, slices >= 0 && slices <= 65536,
+                  "slices {} not in range [0, 65536]", slices);
+    VEIL_PY_CHECK(ErrorKind::Value, std::isfinite(smooth) && smooth >= 0.0 && smooth <= 64.0,
+                  "smooth {} not in range [0, 64]", smooth);
+    const voxelize::Method method = classified(ErrorKind::Value, [&] {
+        return voxelize::parseMethod(methodName.empty() ? (solid ? "raster" : "conservative")
+                                                        : methodName);
+    });
     fs::path output;
     if (!outputArg.is_none()) {
-        output = toPath(outputArg, "voxelize output");
-        VEIL_CHECK(lowerExtension(output.string()) == ".vdb", "output '{}' must end in .vdb",
-                   printable(output.string(), 500));
+        output = toPath(outputArg, "voxelize(output)");
+        VEIL_PY_CHECK(ErrorKind::Value, lowerExtension(output.string()) == ".vdb",
+                      "voxelize(output): '{}' must end in .vdb", printable(output.string(), 500));
     }
     // A mesh file is voxelized alone; anything else is a scene.
     bool mesh = false;
@@ -94,8 +128,10 @@ py::array_t<bool> voxelize(py::handle source, int res, int slices, const std::st
     std::shared_ptr<const scene::Scene> scene;
     if (isPathLike(source) && voxelize::isMeshFile(toPath(source, "voxelize").string())) {
         const fs::path path = toPath(source, "voxelize");
-        VEIL_CHECK(!perspective, "'{}' is a mesh: perspective needs a scene", path.string());
-        scene = std::make_shared<scene::Scene>(voxelize::sceneForMesh(path));
+        VEIL_PY_CHECK(ErrorKind::Value, !perspective, "'{}' is a mesh: perspective needs a scene",
+                      path.string());
+        scene = std::make_shared<scene::Scene>(
+            classified(ErrorKind::Value, [&] { return voxelize::sceneForMesh(path); }));
         mesh = true;
         sourceName = path.string();
     } else {
@@ -107,10 +143,11 @@ py::array_t<bool> voxelize(py::handle source, int res, int slices, const std::st
     if (!scene->sourcePath.empty()) inputs.push_back(scene->sourcePath);
     for (const scene::VolumeRef& v : scene->volumes)
         if (!v.path.empty()) inputs.push_back(v.path);
-    if (!output.empty()) checkOutputPath(output, "output", inputs);
-
-    voxelize::Voxelization voxels =
-        voxelize::prepareVoxelization(*scene, {res, slices, perspective, camera}, mesh);
+    voxelize::Voxelization voxels = classified(ErrorKind::Value, [&] {
+        if (!output.empty()) checkOutputPath(output, "output", inputs);
+        return voxelize::prepareVoxelization(
+            *scene, {static_cast<int>(res), static_cast<int>(slices), perspective, camera}, mesh);
+    });
     auto run = [&](const gpu::ContextInfo& info) {
         voxelize::fillGrid(voxels, info, {method, solid, local});
     };
@@ -179,8 +216,11 @@ its GL context instead of a new one.)doc");
 Suite(path, update=False); .names lists the cases; run(name, renderer, output)
 renders one case and compares it with its reference (veil.testing.regress_cases
 makes pytest parameters of them).)doc")
-        .def(py::init([](py::object path, bool update) {
-                 return PySuite{regress::loadSuite(toPath(path, "Suite"), update)};
+        .def(py::init([](const PathArg& path, const BoolArg& update) {
+                 const fs::path file = inputFile(path, "Suite(path)");
+                 const bool u = toBool(update, "update");
+                 return PySuite{
+                     classified(ErrorKind::Value, [&] { return regress::loadSuite(file, u); })};
              }),
              py::arg("path"), py::arg("update") = false)
         .def_property_readonly("name", [](const PySuite& s) { return s.suite.name; })
@@ -194,15 +234,19 @@ makes pytest parameters of them).)doc")
                                })
         .def(
             "run",
-            [](const PySuite& s, const std::string& name, py::handle renderer, py::object output,
-               bool update) {
+            [](const PySuite& s, const StrArg& nameArg, const RendererArg& renderer,
+               const PathArg& output, const BoolArg& update) {
+                const std::string name = toStr(nameArg, "Suite.run(name)");
                 const regress::RegressCase* k = nullptr;
                 for (const auto& c : s.suite.cases)
                     if (c.name == name) k = &c;
-                VEIL_CHECK(k, "{}: no case '{}'", s.suite.file.string(), printable(name, 200));
+                if (!k)
+                    throw PyError(ErrorKind::Key,
+                                  fmt::format("{}: no case '{}'", s.suite.file.string(),
+                                              printable(name, 200)));
                 regress::RunOptions options;
-                options.output = toPath(output, "Suite.run output");
-                options.update = update;
+                options.output = toPath(output, "Suite.run(output)");
+                options.update = toBool(update, "update");
                 regress::CaseResult r;
                 withRendererContext(renderer, [&](const gpu::ContextInfo& info) {
                     r = regress::runCase(*k, info, options);

@@ -17,47 +17,76 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// An image file to read: it must exist (veil.FileNotFoundError) and be a regular file
+// (/dev/zero or a FIFO would be read forever).
+fs::path imageFile(py::handle value, const std::string& what) {
+    const fs::path path = toPath(value, what);
+    std::error_code ec;
+    const auto status = fs::status(path, ec);
+    if (!fs::exists(status))
+        throw PyError(
+            ErrorKind::FileNotFound,
+            fmt::format("{}: image '{}' does not exist", what, printable(path.string(), 500)),
+            path.string());
+    VEIL_PY_CHECK(ErrorKind::Value, fs::is_regular_file(status),
+                  "{}: image '{}' is not a regular file", what, printable(path.string(), 500));
+    return path;
+}
+
 // An array, or a path read through OpenImageIO; RGB or RGBA needed for metrics.
 ImageF imageArgument(py::handle value, const char* what) {
     ImageF img;
     if (isPathLike(value)) {
-        const fs::path path = toPath(value, what);
-        VEIL_CHECK(fs::exists(path), "{} '{}' does not exist", what, printable(path.string(), 500));
-        img = io::readImage(path);
-        VEIL_CHECK(img.channels >= 3, "{} '{}' has {} channel(s): RGB or RGBA needed", what,
-                   printable(path.string(), 500), img.channels);
+        const fs::path path = imageFile(value, what);
+        img = classified(ErrorKind::Value, [&] { return io::readImage(path); });
+        VEIL_PY_CHECK(ErrorKind::Value, img.channels >= 3,
+                      "{}: '{}' has {} channel(s): RGB or RGBA needed", what,
+                      printable(path.string(), 500), img.channels);
     } else {
         img = fromArray(value, what);
-        VEIL_CHECK(img.channels >= 3, "{}: {} channel(s): RGB or RGBA needed", what, img.channels);
+        VEIL_PY_CHECK(ErrorKind::Value, img.channels >= 3, "{}: {} channel(s): RGB or RGBA needed",
+                      what, img.channels);
     }
     return img;
 }
 
-void checkSameSize(const ImageF& a, const ImageF& b) {
-    VEIL_CHECK(a.width == b.width && a.height == b.height,
-               "image is {}x{} but reference is {}x{}: cannot compare", a.width, a.height, b.width,
-               b.height);
+double exposureArgument(py::handle value) {
+    const double exposure = toFloat(value, "exposure");
+    VEIL_PY_CHECK(ErrorKind::Value, std::isfinite(exposure) && exposure > 0.0,
+                  "exposure={} must be a finite number > 0", exposure);
+    return exposure;
 }
 
-metrics::ToneMap toneMapArgument(const std::string& name) {
-    VEIL_CHECK(name == "clamp" || name == "aces", "tonemap '{}': use clamp or aces",
-               printable(name, 100));
+void checkSameSize(const ImageF& a, const ImageF& b) {
+    VEIL_PY_CHECK(ErrorKind::Value, a.width == b.width && a.height == b.height,
+                  "image is {}x{} but reference is {}x{}: cannot compare", a.width, a.height,
+                  b.width, b.height);
+}
+
+metrics::ToneMap toneMapArgument(py::handle value, const char* what) {
+    const std::string name = toStr(value, what);
+    VEIL_PY_CHECK(ErrorKind::Value, name == "clamp" || name == "aces", "{}='{}': use clamp or aces",
+                  what, printable(name, 100));
     return name == "aces" ? metrics::ToneMap::Aces : metrics::ToneMap::Clamp;
 }
 
-py::object compare(py::handle image, py::handle reference, py::handle metric, double exposure,
-                   const std::string& tonemap) {
+py::object compare(const ImageArg& image, const ImageArg& reference, const MetricArg& metric,
+                   const FloatArg& exposureArg, const StrArg& tonemap) {
     const bool single = py::isinstance<py::str>(metric);
-    std::vector<std::string> names;
-    if (single)
-        names.push_back(metric.cast<std::string>());
-    else
-        names = metric.cast<std::vector<std::string>>();
+    const std::vector<std::string> known = metrics::metricNames();
+    if (!single && !py::isinstance<py::list>(metric) && !py::isinstance<py::tuple>(metric))
+        throw PyError(ErrorKind::Type,
+                      fmt::format("metric: expected a metric name ({}) or a list of them, got {}",
+                                  fmt::join(known, ", "), typeName(metric)));
+    const std::vector<std::string> names = toStrList(metric, "metric", true);
+    VEIL_PY_CHECK(ErrorKind::Value, !names.empty(), "metric: an empty list (known: {})",
+                  fmt::join(known, ", "));
     for (const std::string& n : names)
-        VEIL_CHECK(metrics::isMetricName(n), "metric: unknown metric '{}' (known: {})",
-                   printable(n, 100), fmt::join(metrics::metricNames(), ", "));
-    VEIL_CHECK(std::isfinite(exposure) && exposure > 0.0, "exposure {} must be > 0", exposure);
-    const metrics::ToneMap op = toneMapArgument(tonemap);
+        VEIL_PY_CHECK(ErrorKind::Value, metrics::isMetricName(n),
+                      "metric: unknown metric '{}' (known: {})", printable(n, 100),
+                      fmt::join(known, ", "));
+    const double exposure = exposureArgument(exposureArg);
+    const metrics::ToneMap op = toneMapArgument(tonemap, "tonemap");
     const ImageF a = imageArgument(image, "image");
     const ImageF b = imageArgument(reference, "reference");
     checkSameSize(a, b);
@@ -70,13 +99,15 @@ py::object compare(py::handle image, py::handle reference, py::handle metric, do
     return out;
 }
 
-void writeImage(py::handle pathArg, py::handle array, bool half) {
-    const fs::path path = toPath(pathArg, "write_image");
+void writeImage(const PathArg& pathArg, const ArrayArg& array, const BoolArg& halfArg) {
+    const fs::path path = toPath(pathArg, "write_image(path)");
+    const bool half = toBool(halfArg, "half");
     const std::string ext = lowerExtension(path.string());
-    VEIL_CHECK(ext == ".png" || ext == ".exr", "output '{}' must end in .png or .exr",
-               printable(path.string(), 500));
-    checkOutputPath(path, "output", {});
-    ImageF img = fromArray(array, "write_image");
+    VEIL_PY_CHECK(ErrorKind::Value, ext == ".png" || ext == ".exr",
+                  "write_image(path): '{}' must end in .png or .exr",
+                  printable(path.string(), 500));
+    classified(ErrorKind::Value, [&] { checkOutputPath(path, "output", {}); });
+    ImageF img = fromArray(array, "write_image(image)");
     if (ext == ".png") {
         io::writeImage(path, img, false);
         return;
@@ -97,10 +128,9 @@ void writeImage(py::handle pathArg, py::handle array, bool half) {
 void bindImages(py::module_& m) {
     m.def(
         "read_image",
-        [](py::object path) {
-            const fs::path p = toPath(path, "read_image");
-            VEIL_CHECK(fs::exists(p), "image '{}' does not exist", printable(p.string(), 500));
-            return toArray(io::readImage(p));
+        [](const PathArg& path) {
+            const fs::path p = imageFile(path, "read_image(path)");
+            return toArray(classified(ErrorKind::Value, [&] { return io::readImage(p); }));
         },
         py::arg("path"),
         R"doc(Read an image (EXR, PNG, anything OpenImageIO reads) as float32.
@@ -124,7 +154,12 @@ use the RGB channels of linear images; ssim tone-maps both first (exposure,
 tonemap 'clamp' or 'aces').)doc");
     m.def(
         "heat_map",
-        [](py::handle a, py::handle b, double scale) {
+        [](const ImageArg& a, const ImageArg& b, const FloatArg& scaleArg) {
+            const double scale = toFloat(scaleArg, "scale");
+            VEIL_PY_CHECK(ErrorKind::Value, std::isfinite(scale) && scale >= 0.0,
+                          "scale={}: expected a finite number >= 0 (the error shown white; 0: the "
+                          "largest error)",
+                          scale);
             const ImageF x = imageArgument(a, "image"), y = imageArgument(b, "reference");
             checkSameSize(x, y);
             return toArray(metrics::heatMap(x, y, scale));
@@ -135,10 +170,9 @@ tonemap 'clamp' or 'aces').)doc");
 Black 0, through blue, red and yellow to white at `scale` (0: the largest error).)doc");
     m.def(
         "tonemap",
-        [](py::handle hdr, double exposure, const std::string& op) {
-            VEIL_CHECK(std::isfinite(exposure) && exposure > 0.0, "exposure {} must be > 0",
-                       exposure);
-            const metrics::ToneMap t = toneMapArgument(op);
+        [](const ImageArg& hdr, const FloatArg& exposureArg, const StrArg& op) {
+            const double exposure = exposureArgument(exposureArg);
+            const metrics::ToneMap t = toneMapArgument(op, "op");
             const ImageF img = imageArgument(hdr, "image");
             return toArray(metrics::toneMapSrgb(img, exposure, t));
         },

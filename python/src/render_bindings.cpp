@@ -3,6 +3,7 @@
 #include "bindings.h"
 
 #include "base/error.h"
+#include "base/text.h"
 #include "capture/frame_capture.h"
 #include "catalog/techniques.h"
 #include "gpu/context.h"
@@ -10,9 +11,11 @@
 #include "scene/scene_values.h"
 #include "shadows/technique.h"
 
+#include <EGL/egl.h>
 #include <fmt/ranges.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <chrono>
 #include <mutex>
 #include <optional>
@@ -21,33 +24,52 @@ namespace veil::python {
 
 namespace {
 
+void releaseCurrent() {
+    if (EGLDisplay display = eglGetCurrentDisplay(); display != EGL_NO_DISPLAY)
+        eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+}
+
+std::vector<std::string> quoted(const std::vector<std::string>& names) {
+    std::vector<std::string> out;
+    for (const std::string& n : names)
+        out.push_back("'" + printable(n, 60) + "'");
+    return out;
+}
+
 // `out`: a writable, C-contiguous float32 array of shape (height, width, 4), or veil.Error.
 py::array_t<float> checkedOutArray(const py::object& out, int height, int width) {
     const auto name = [](const py::handle& o) {
         return py::str(o.get_type().attr("__name__")).cast<std::string>();
     };
-    VEIL_CHECK(py::isinstance<py::array>(out), "out: expected a numpy array, got {}", name(out));
+    VEIL_PY_CHECK(ErrorKind::Type, py::isinstance<py::array>(out),
+                  "out: expected a numpy array, got {}", name(out));
     const auto a = py::reinterpret_borrow<py::array>(out);
     std::vector<py::ssize_t> shape(a.shape(), a.shape() + a.ndim());
-    VEIL_CHECK(a.dtype().is(py::dtype::of<float>()), "out: dtype {}, expected float32",
-               py::str(a.dtype()).cast<std::string>());
-    VEIL_CHECK(a.ndim() == 3 && shape[0] == height && shape[1] == width && shape[2] == 4,
-               "out: shape ({}), expected ({}, {}, 4) for a {}x{} frame", fmt::join(shape, ", "),
-               height, width, width, height);
-    VEIL_CHECK(a.flags() & py::array::c_style, "out: not C-contiguous (use numpy.ascontiguousarray "
-                                               "or numpy.empty)");
-    VEIL_CHECK(a.writeable(), "out: read-only array");
+    VEIL_PY_CHECK(ErrorKind::Value, a.dtype().is(py::dtype::of<float>()),
+                  "out: dtype {}, expected float32", py::str(a.dtype()).cast<std::string>());
+    VEIL_PY_CHECK(ErrorKind::Value,
+                  a.ndim() == 3 && shape[0] == height && shape[1] == width && shape[2] == 4,
+                  "out: shape ({}), expected ({}, {}, 4) for a {}x{} frame", fmt::join(shape, ", "),
+                  height, width, width, height);
+    VEIL_PY_CHECK(ErrorKind::Value, a.flags() & py::array::c_style,
+                  "out: not C-contiguous (use numpy.ascontiguousarray or numpy.empty)");
+    VEIL_PY_CHECK(ErrorKind::Value, a.writeable(), "out: read-only array");
     return py::reinterpret_borrow<py::array_t<float>>(out);
 }
 
-// One headless GL context (EGL; llvmpipe without a GPU) for every frame of a Renderer.
+// One headless GL context (EGL; llvmpipe without a GPU) for every frame of a Renderer. The
+// context is current on no thread between calls: each call makes it current on the calling
+// thread under the lock and releases it after, so any thread may use the Renderer (EGL lets a
+// context be current on one thread at a time).
 class PyRenderer {
 public:
-    explicit PyRenderer(std::optional<int> device) {
-        VEIL_CHECK(!device || (*device >= 0 && *device <= 1023), "device {} not in range [0, 1023]",
-                   device.value_or(0));
+    explicit PyRenderer(std::optional<long long> device) {
+        VEIL_PY_CHECK(ErrorKind::Value, !device || (*device >= 0 && *device <= 1023),
+                      "device={} is not in range [0, 1023]", device.value_or(0));
+        py::gil_scoped_release release;
         context_ = std::make_unique<gpu::HeadlessContext>(
-            gpu::HeadlessOptions{device.value_or(-1), false});
+            gpu::HeadlessOptions{static_cast<int>(device.value_or(-1)), false});
+        releaseCurrent();
     }
 
     const gpu::ContextInfo& info() const { return context_->info(); }
@@ -59,47 +81,80 @@ public:
         py::gil_scoped_release release;
         std::lock_guard<std::mutex> lock(mutex_);
         context_->makeCurrent();
+        struct Release {
+            ~Release() { releaseCurrent(); }
+        } releaseAfter;
         return f();
     }
 
-    py::dict render(const PyScene& scene, int width, int height, const std::string& oit,
+    py::dict render(const PyScene& scene, std::optional<long long> width,
+                    std::optional<long long> height, const std::string& oit,
                     const std::string& shadows, const std::string& camera,
                     const std::vector<std::string>& aovs, py::object outArray) {
-        VEIL_CHECK(width >= 0 && width <= 16384, "width {} not in range [1, 16384]", width);
-        VEIL_CHECK(height >= 0 && height <= 16384, "height {} not in range [1, 16384]", height);
+        for (const auto& [name, v] : {std::pair{"width", width}, std::pair{"height", height}})
+            VEIL_PY_CHECK(ErrorKind::Value, !v || (*v >= 1 && *v <= 16384),
+                          "{}={} is not in range [1, 16384]", name, v.value_or(0));
+        const scene::Scene& s = *scene.parsed;
         capture::FrameRequest request;
         for (const std::string& a : aovs) {
-            VEIL_CHECK(a == "fog", "aov '{}': unknown (known: fog)", a);
+            VEIL_PY_CHECK(ErrorKind::Value, a == "fog", "aovs=[{}]: unknown AOV '{}' (known: fog)",
+                          fmt::join(quoted(aovs), ", "), printable(a, 60));
+            VEIL_PY_CHECK(ErrorKind::Value, !s.volumes.empty(),
+                          "aovs=['fog']: the scene {} has no volumes or fog (add a volume, or "
+                          "render without aovs)",
+                          scene.source);
             request.fogAov = true;
         }
-        // Unknown techniques and bad properties fail before any GL work, as in `veil render`.
-        const scene::Scene& s = *scene.parsed;
+        // Unknown techniques, cameras and bad properties fail before any GL work, as in
+        // `veil render`, naming the argument that chose them.
         const std::string oitName = oit.empty() ? s.render.oit : oit;
         const auto& registry = oit::Registry::instance();
-        VEIL_CHECK(registry.find(oitName), "{}: unknown OIT technique '{}' (known: {})",
-                   oit.empty() ? s.render.oitWhere + "/type" : "oit", oitName,
-                   fmt::join(registry.names(), ", "));
-        if (oitName == s.render.oit)
-            registry.resolve(oitName, s.render.oitProperties, s.render.oitWhere);
-        if (!shadows.empty()) shadows::Registry::instance().get(shadows, "shadows");
-        request.width = width;
-        request.height = height;
+        VEIL_PY_CHECK(ErrorKind::Value, registry.find(oitName),
+                      "{}: unknown OIT technique '{}' (known: {})",
+                      oit.empty() ? s.render.oitWhere + "/type" : "oit", printable(oitName, 60),
+                      fmt::join(registry.names(), ", "));
+        classified(ErrorKind::Value, [&] {
+            if (oitName == s.render.oit)
+                registry.resolve(oitName, s.render.oitProperties, s.render.oitWhere);
+            if (!shadows.empty()) shadows::Registry::instance().get(shadows, "shadows");
+        });
+        if (!camera.empty()) {
+            std::vector<std::string> names;
+            for (const auto& c : s.cameras)
+                names.push_back(c.name);
+            VEIL_PY_CHECK(ErrorKind::Value,
+                          std::find(names.begin(), names.end(), camera) != names.end(),
+                          "camera='{}': the scene has no such camera (cameras: {})",
+                          printable(camera, 60), fmt::join(names, ", "));
+        }
+        request.width = static_cast<int>(width.value_or(0));
+        request.height = static_cast<int>(height.value_or(0));
         request.oit = oitName;
         request.shadows = shadows;
         request.camera = camera;
         // A caller's array receives the HDR read-back directly (no copy on the CPU side).
         py::array_t<float> hdrOut;
         if (!outArray.is_none()) {
-            const int w = width > 0 ? width : s.render.width;
-            const int h = height > 0 ? height : s.render.height;
+            const int w = width ? static_cast<int>(*width) : s.render.width;
+            const int h = height ? static_cast<int>(*height) : s.render.height;
             hdrOut = checkedOutArray(outArray, h, w);
             request.hdrOut = hdrOut.mutable_data();
             request.hdrOutCount = static_cast<std::size_t>(hdrOut.size());
         }
 
         const auto start = std::chrono::steady_clock::now();
-        capture::RenderedFrame f =
-            withContext([&] { return capture::renderFrame(s, context_->info(), request); });
+        capture::RenderedFrame f = withContext([&] {
+            try {
+                return capture::renderFrame(s, context_->info(), request);
+            } catch (const Error& e) {
+                // The library names the command line's flag; the caller wrote aovs=.
+                const std::string m = e.what();
+                const std::string flag = "--aov fog: ";
+                if (m.rfind(flag, 0) == 0)
+                    throw PyError(ErrorKind::Value, "aovs=['fog']: " + m.substr(flag.size()));
+                throw;
+            }
+        });
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
@@ -161,8 +216,8 @@ private:
 
 void withRendererContext(py::handle renderer,
                          const std::function<void(const gpu::ContextInfo&)>& f) {
-    VEIL_CHECK(py::isinstance<PyRenderer>(renderer), "renderer: expected a veil.Renderer, got {}",
-               py::str(renderer.get_type().attr("__name__")).cast<std::string>());
+    VEIL_PY_CHECK(ErrorKind::Type, py::isinstance<PyRenderer>(renderer),
+                  "renderer: expected a veil.Renderer, got {}", typeName(renderer));
     PyRenderer& r = renderer.cast<PyRenderer&>();
     r.withContext([&] {
         f(r.info());
@@ -172,23 +227,30 @@ void withRendererContext(py::handle renderer,
 
 void bindRenderer(py::module_& m) {
     py::class_<PyRenderer>(m, "_Renderer")
-        .def(py::init<std::optional<int>>(), py::arg("device") = py::none())
+        .def(py::init([](const OptIntArg& device) {
+                 return std::make_unique<PyRenderer>(toOptInt(device, "device"));
+             }),
+             py::arg("device") = py::none())
         .def(
             "_render",
-            [](PyRenderer& r, py::object scene, int width, int height, const std::string& oit,
-               const std::string& shadows, const std::string& camera,
-               const std::vector<std::string>& aovs, py::object out) {
+            [](PyRenderer& r, const SceneArg& scene, const OptIntArg& width,
+               const OptIntArg& height, const OptStrArg& oit, const OptStrArg& shadows,
+               const OptStrArg& camera, const StrListArg& aovs, const OptArrayArg& out) {
                 const PyScene s = sceneArgument(scene);
-                return r.render(s, width, height, oit, shadows, camera, aovs, out);
+                return r.render(
+                    s, toOptInt(width, "width"), toOptInt(height, "height"),
+                    toOptStr(oit, "oit").value_or(""), toOptStr(shadows, "shadows").value_or(""),
+                    toOptStr(camera, "camera").value_or(""), toStrList(aovs, "aovs", true), out);
             },
-            py::arg("scene"), py::arg("width") = 0, py::arg("height") = 0, py::arg("oit") = "",
-            py::arg("shadows") = "", py::arg("camera") = "",
-            py::arg("aovs") = std::vector<std::string>{}, py::arg("out") = py::none())
+            py::arg("scene"), py::arg("width") = py::none(), py::arg("height") = py::none(),
+            py::arg("oit") = py::none(), py::arg("shadows") = py::none(),
+            py::arg("camera") = py::none(), py::arg("aovs") = py::tuple(),
+            py::arg("out") = py::none())
         .def(
             "_render_loop",
             [](PyRenderer& r, py::object scene, int frames, int width, int height) {
-                VEIL_CHECK(frames > 0 && width > 0 && height > 0,
-                           "frames, width and height must be > 0");
+                VEIL_PY_CHECK(ErrorKind::Value, frames > 0 && width > 0 && height > 0,
+                              "frames, width and height must be > 0");
                 return r.renderLoop(sceneArgument(scene), frames, width, height);
             },
             py::arg("scene"), py::arg("frames"), py::arg("width"), py::arg("height"))

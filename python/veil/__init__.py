@@ -8,12 +8,15 @@
     frame.rgb                               # float32 H x W x 3, linear radiance
     frame.report["passes"]                  # per-pass times, as `veil render --report`
 
-Every error is a veil.Error carrying the one-line message the `veil` command prints.
+Every error is a veil.Error carrying the one-line message the `veil` command prints; each
+is also the standard exception of its kind (veil.FileNotFoundError is a FileNotFoundError,
+veil.ValueError a ValueError, veil.KeyError a KeyError, veil.TypeError a TypeError, ...).
 docs/python.md has the whole interface.
 """
 
 import os as _os
 from dataclasses import dataclass as _dataclass, field as _field
+from typing import Any as _Any, Optional as _Optional, Sequence as _Sequence, Union as _Union
 
 # An installed package carries the shaders beside it; a build tree reads the source tree's.
 _shaders = _os.path.join(_os.path.dirname(__file__), "shaders")
@@ -22,7 +25,13 @@ if "VEIL_SHADER_DIR" not in _os.environ and _os.path.isdir(_shaders):
 
 from ._veil import (  # noqa: E402
     Error,
+    FileNotFoundError,
+    KeyError,
+    MemoryError,
+    OSError,
     Scene,
+    TypeError,
+    ValueError,
     Suite,
     __version__,
     compare,
@@ -36,13 +45,23 @@ from ._veil import (  # noqa: E402
 )
 from . import _veil  # noqa: E402
 
+# The exception classes named like the built-in ones (veil.ValueError, ...) are not in
+# __all__: `from veil import *` must not replace a caller's built-in ValueError.
 __all__ = [
     "Error", "Frame", "Renderer", "Scene", "Suite", "__version__", "compare", "export_vti",
     "heat_map", "read_image", "techniques", "tonemap", "vdb_info", "voxelize", "write_image",
 ]
 
+# Public names in tracebacks and help(): veil.Scene, not veil._veil.Scene.
+for _name in ("Scene", "Suite", "compare", "export_vti", "heat_map", "read_image", "tonemap",
+              "vdb_info", "voxelize", "write_image"):
+    try:
+        globals()[_name].__module__ = "veil"
+    except Exception:  # a read-only attribute: the name stays as it is
+        pass
 
-@_dataclass
+
+@_dataclass(repr=False)
 class Frame:
     """One rendered frame. Arrays are float32, row 0 at the top, and share the read-back
     buffers (no copies).
@@ -65,6 +84,27 @@ class Frame:
     report: dict
     aovs: dict = _field(default_factory=dict)
 
+    def __repr__(self):
+        """<veil.Frame 640x360 aovs=[fog] oit=blend shadows=moment 4.2 ms>: the size, the AOVs,
+        the techniques and the GPU time, never the arrays or the whole report."""
+        r = self.report or {}
+        h, w = self.rgba.shape[:2]
+        parts = [f"{w}x{h}"]
+        if self.aovs:
+            parts.append("aovs=[" + ", ".join(k for k in self.aovs if "." not in k) + "]")
+        if r.get("oit"):
+            parts.append(f"oit={r['oit']}")
+        shadows = r.get("shadows")
+        if isinstance(shadows, dict):
+            shadows = shadows.get("name") or shadows.get("type")
+        if shadows:
+            parts.append(f"shadows={shadows}")
+        if isinstance(r.get("total_ms"), (int, float)):
+            parts.append(f"{r['total_ms']:.1f} ms")
+        return "<veil.Frame " + " ".join(parts) + ">"
+
+    __str__ = __repr__
+
     @property
     def rgb(self):
         return self.rgba[..., :3]
@@ -79,44 +119,52 @@ class Renderer(_veil._Renderer):
     frames. device: EGL device index (default: $VEIL_EGL_DEVICE, else the first that works).
 
     The GL work runs with the GIL released: other Python threads go on meanwhile. One frame at
-    a time per Renderer (calls from several threads wait for each other); use it from the
-    thread that made it or make one per thread.
+    a time per Renderer: calls from several threads wait for each other, each making the
+    context current on its own thread for the call (any thread may use it).
     """
 
-    def __init__(self, device=None):
+    def __init__(self, device: _Optional[int] = None):
         super().__init__(device)
 
-    def render(self, scene, width=None, height=None, oit=None, shadows=None, camera=None,
-               aovs=(), out=None):
+    def __repr__(self):
+        return f"<veil.Renderer {self.gl_renderer}, OpenGL {self.gl_version}>"
+
+    def render(self, scene: _Union["Scene", str, _os.PathLike, dict],
+               width: _Optional[int] = None, height: _Optional[int] = None,
+               oit: _Optional[str] = None, shadows: _Optional[str] = None,
+               camera: _Optional[str] = None, aovs: _Union[str, _Sequence[str]] = (),
+               out: _Any = None) -> Frame:
         """Render one frame of `scene` (a Scene, a scene file path, a .vdb path or a dict) as
         `veil render` does, and return a Frame.
 
         width, height: image size (default the scene's render.width/height); oit: the OIT
         technique (default the scene's render.oit; see techniques()); shadows: the shadow
         technique; camera: a camera name; aovs: ["fog"] adds the fog's radiance and
-        transmittance; out: a float32 C-contiguous H x W x 4 array that receives the linear
-        HDR image without a copy (frame.rgba is then `out` itself; reuse it across a sweep).
-        The result equals `veil render -o x.exr` of the same scene bit for bit.
+        transmittance (the scene needs a volume or fog); out: a float32 C-contiguous
+        H x W x 4 array that receives the linear HDR image without a copy (frame.rgba is
+        then `out` itself; reuse it across a sweep). The result equals `veil render -o x.exr`
+        of the same scene bit for bit. Errors: veil.TypeError for an argument of the wrong
+        type, veil.ValueError for a bad value, veil.FileNotFoundError for a missing scene.
         """
-        if isinstance(aovs, str):
-            aovs = [aovs]
-        out = self._render(scene, width or 0, height or 0, oit or "", shadows or "",
-                           camera or "", list(aovs), out)
+        out = self._render(scene, width, height, oit, shadows, camera, aovs, out)
         extra = {}
         if "fog" in out:
             extra = {"fog": out["fog"], "fog.transmittance": out["fog_transmittance"]}
         return Frame(rgba=out["rgba"], ldr=out["ldr"], depth=out["depth"],
                      report=out["report"], aovs=extra)
 
-    def techniques(self):
+    def techniques(self) -> list:
         """techniques() with availability on this renderer's driver."""
         return self._techniques()
 
 
-def techniques(renderer=None):
+def techniques(renderer: _Optional["Renderer"] = None) -> list:
     """Every registered technique: a list of dicts with kind ("oit" or "shadows"), name,
     description, available ("yes"/"no" on this GL driver) and properties (key, type,
     default, range, doc, citation), as `veil techniques --json` prints them."""
     if renderer is not None:
+        if not isinstance(renderer, Renderer):
+            raise TypeError(f"renderer: expected a veil.Renderer or None, got "
+                            f"{type(renderer).__name__}")
         return renderer.techniques()
     return _veil._techniques_without_renderer()
