@@ -8,7 +8,8 @@
 On failure the render, the reference and a heat map of |render - reference| are written
 beside the failing test (its folder's veil-failures/, or $VEIL_TEST_OUTPUT) and named in the
 assertion message. A missing reference file is an error unless VEIL_UPDATE_REFERENCES=1,
-which writes the render as the reference.
+which writes the render as the reference (an .exr: a PNG cannot hold linear radiance), making
+its folder when that folder lies inside the test's folder.
 """
 
 import inspect
@@ -24,13 +25,15 @@ _HIGHER_IS_BETTER = {"psnr", "ssim"}
 
 
 def _as_image(value, what):
+    __tracebackhide__ = True
     if hasattr(value, "rgb") and hasattr(value, "report"):  # a veil.Frame
         return np.ascontiguousarray(value.rgb)
     if isinstance(value, (str, os.PathLike)):
         return _veil.read_image(value)
     array = np.asarray(value, dtype=np.float32)
     if array.ndim != 3 or array.shape[2] not in (3, 4):
-        raise _veil.Error(f"{what}: expected an H x W x 3 or 4 image, got shape {array.shape}")
+        raise _veil.ValueError(f"{what}: expected an H x W x 3 or 4 image, got shape "
+                               f"{array.shape}")
     return array
 
 
@@ -58,7 +61,8 @@ def failure_folder():
     return os.path.join(_test_name_and_folder()[1], "veil-failures")
 
 
-def assert_image_close(image, reference, metric="p99", tol=1e-3, name=None, exposure=1.0):
+def assert_image_close(image, reference, metric: str = "p99", tol: float = 1e-3,
+                       name: "str | None" = None, exposure: float = 1.0) -> None:
     """Assert that `image` is within `tol` of `reference` by `metric` (veil.compare's names:
     rmse, maxabs, relmse, p99, psnr, ssim, nrmse; psnr and ssim are lower bounds).
 
@@ -67,12 +71,13 @@ def assert_image_close(image, reference, metric="p99", tol=1e-3, name=None, expo
     NAME.heat.png (white = the largest error) and NAME.render.png into failure_folder() and
     raises AssertionError naming them and the value. NAME defaults to the test's name.
     """
+    __tracebackhide__ = True  # pytest shows the caller's line, not this helper's
     test_name, folder = _test_name_and_folder()
     name = re.sub(r"[^A-Za-z0-9._-]+", "_", name or test_name)
     img = _as_image(image, "image")
     if isinstance(reference, (str, os.PathLike)) and not os.path.exists(reference):
         if os.environ.get("VEIL_UPDATE_REFERENCES") == "1":
-            _veil.write_image(reference, img)
+            _write_reference(os.fspath(reference), img, folder)
             return
         raise AssertionError(f"reference '{os.fspath(reference)}' does not exist (run with "
                              f"VEIL_UPDATE_REFERENCES=1 to write the render as the reference)")
@@ -96,6 +101,29 @@ def assert_image_close(image, reference, metric="p99", tol=1e-3, name=None, expo
                          f"{base}.render.exr, .reference.exr, .heat.png, .render.png")
 
 
+def _write_reference(path, img, test_folder):
+    """VEIL_UPDATE_REFERENCES=1: the render as the reference `path`. Only an .exr holds the
+    linear float values the comparison reads back; a missing folder is made when it lies
+    inside the test's folder (never elsewhere)."""
+    __tracebackhide__ = True
+    if os.path.splitext(path)[1].lower() != ".exr":
+        raise _veil.ValueError(
+            f"reference '{path}': VEIL_UPDATE_REFERENCES writes linear radiance, which only "
+            f"an .exr reference holds (a PNG stores 8-bit display values and would never "
+            f"match the render again); name the reference .exr")
+    parent = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(parent):
+        inside = os.path.realpath(test_folder)
+        target = os.path.realpath(parent)
+        if os.path.commonpath([inside, target]) != inside:
+            raise _veil.FileNotFoundError(
+                f"reference '{path}': folder '{parent}' does not exist and is outside the "
+                f"test's folder '{test_folder}' (VEIL_UPDATE_REFERENCES makes folders only "
+                f"inside it; create it first)")
+        os.makedirs(parent, exist_ok=True)
+    _veil.write_image(path, img)
+
+
 def regress_cases(suite_path):
     """The cases of a `veil regress` suite as pytest parameters:
 
@@ -112,6 +140,7 @@ def regress_cases(suite_path):
 def run_regress_case(case, renderer, output):
     """Runs one parameter of regress_cases() and fails with its metrics when it does not pass.
     Returns the case's result dict (the `veil regress` report's entry)."""
+    __tracebackhide__ = True
     suite, name = case
     result = suite.run(name, renderer, os.fspath(output))
     if not result.get("passed"):
