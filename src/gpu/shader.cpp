@@ -19,8 +19,29 @@ namespace veil::gpu {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// The shaders of an installed program: <prefix>/share/veil/shaders beside <prefix>/bin/veil
+// (`cmake --install`), when the running executable is one of Veil's (veil, veil-bench, ...)
+// and that folder exists; empty otherwise. A program in the build tree has no such folder
+// beside it; another executable (python3 running the module) is not asked, so that an
+// installed tree does not replace the shaders of the build the module came from.
+fs::path installedShaderDirectory() {
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (ec || exe.filename().string().rfind("veil", 0) != 0) return {};
+    fs::path dir = exe.parent_path().parent_path() / "share" / "veil" / "shaders";
+    return fs::is_directory(dir, ec) ? dir : fs::path();
+}
+
+} // namespace
+
+// $VEIL_SHADER_DIR if set; else the installed tree's share/veil/shaders beside the program;
+// else the source tree's shaders/ the build was configured from.
 fs::path shaderDirectory() {
     if (const char* env = std::getenv("VEIL_SHADER_DIR"); env && *env) return env;
+    static const fs::path installed = installedShaderDirectory();
+    if (!installed.empty()) return installed;
     return VEIL_DEFAULT_SHADER_DIR;
 }
 
