@@ -6,6 +6,59 @@
 
 namespace veil {
 
+namespace {
+
+struct Note {
+    std::mutex mutex;
+    std::string what;
+    double fraction = -1.0;
+    std::chrono::steady_clock::time_point start;
+};
+
+Note& note() {
+    static Note n;
+    return n;
+}
+
+} // namespace
+
+ProgressNote::ProgressNote(std::string what) {
+    Note& n = note();
+    std::lock_guard lock(n.mutex);
+    n.what = std::move(what);
+    n.fraction = -1.0;
+    n.start = std::chrono::steady_clock::now();
+}
+
+ProgressNote::~ProgressNote() {
+    Note& n = note();
+    std::lock_guard lock(n.mutex);
+    n.what.clear();
+}
+
+void ProgressNote::set(double fraction) {
+    Note& n = note();
+    std::lock_guard lock(n.mutex);
+    n.fraction = fraction;
+}
+
+std::string progressNoteText() {
+    Note& n = note();
+    std::lock_guard lock(n.mutex);
+    if (n.what.empty()) return {};
+    std::string s = n.what;
+    if (n.fraction > 0.0 && n.fraction <= 1.0) {
+        const double elapsed =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - n.start).count();
+        const double left = elapsed * (1.0 - n.fraction) / n.fraction;
+        char buffer[64];
+        std::snprintf(buffer, sizeof buffer, ", %.0f %%, about %.0f s left", 100.0 * n.fraction,
+                      left);
+        s += buffer;
+    }
+    return s;
+}
+
 bool progressWanted(bool flag) { return flag || ::isatty(STDERR_FILENO) == 1; }
 
 ProgressTicker::ProgressTicker(std::string label, bool enabled)
@@ -46,8 +99,9 @@ void ProgressTicker::run() {
         const double s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
         // On a terminal the line is redrawn in place; in a log each tick is its own line.
-        std::fprintf(stderr, terminal_ ? "\r\033[Kveil: %s %.1f s" : "veil: %s %.1f s\n",
-                     label_.c_str(), s);
+        const std::string n = progressNoteText();
+        std::fprintf(stderr, terminal_ ? "\r\033[Kveil: %s %.1f s%s%s" : "veil: %s %.1f s%s%s\n",
+                     label_.c_str(), s, n.empty() ? "" : ": ", n.c_str());
         std::fflush(stderr);
         shown_ = true;
         next += period;

@@ -2,6 +2,8 @@
 // delay (2 s), then "veil: <label> 3.5 s" redrawn in place every half second on a terminal, or
 // one line per second when stderr is not a terminal but --progress asked for it; a last
 // "<label> done in 7.1 s" line when anything was shown. stdout is never touched.
+// Work deep inside a ticker's span (a cache baked before the first frame) names itself on the
+// line with a ProgressNote: "veil: <label> 3.5 s: <note>, 40 %, about 5 s left".
 #pragma once
 
 #include <chrono>
@@ -14,6 +16,21 @@ namespace veil {
 
 // Whether to show progress: --progress, or stderr is a terminal.
 bool progressWanted(bool flag);
+
+// The note shown after the running ticker's label while it lives (one at a time, any thread):
+// what is being done and the fraction done (set(); negative: unknown), from which the line
+// estimates the time left. Without a ticker nothing is shown.
+class ProgressNote {
+public:
+    explicit ProgressNote(std::string what);
+    ~ProgressNote();
+    ProgressNote(const ProgressNote&) = delete;
+    ProgressNote& operator=(const ProgressNote&) = delete;
+    void set(double fraction);
+};
+
+// The current note as the ticker shows it (", 40 %, about 5 s left" included), or "" (tests).
+std::string progressNoteText();
 
 class ProgressTicker {
 public:

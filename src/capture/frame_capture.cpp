@@ -1,10 +1,10 @@
 #include "capture/frame_capture.h"
 
 #include "capture/dump.h"
+#include "fog/fog_pass.h"
 #include "frame/renderer.h"
 #include "oit/technique.h"
 #include "shadows/technique.h"
-#include "fog/fog_pass.h"
 
 #include <optional>
 
@@ -37,6 +37,7 @@ RenderedFrame renderFrame(const scene::Scene& scene, const gpu::ContextInfo& inf
     }
     r.gpuBytes = renderer.gpuBytes();
     if (const volume::FogPass* fog = renderer.fog()) {
+        r.scatteredLightBakeMs = fog->scatteredLightBakeMs();
         for (const auto& v : fog->stats())
             r.volumes.push_back({{"gpu_bytes", v.gpuBytes},
                                  {"grid_bytes", v.gridBytes},
@@ -77,6 +78,8 @@ nlohmann::json frameReport(const RenderedFrame& f) {
     report["shadow_lights"] = f.shadowLights;
     if (!f.shadowStats.is_null()) report["shadow_stats"] = f.shadowStats;
     if (!f.volumes.empty()) report["volumes"] = f.volumes;
+    // Baked before the frame's passes, so not in `passes` or total_ms.
+    if (f.scatteredLightBakeMs >= 0.0) report["scattered_light_bake_ms"] = f.scatteredLightBakeMs;
     report["timer"] = f.timer == gpu::GpuTimer::Mode::Query
                           ? "GL_TIME_ELAPSED"
                           : "glFinish + CPU clock (driver timer unusable)";

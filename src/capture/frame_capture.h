@@ -48,8 +48,9 @@ struct RenderedFrame {
     nlohmann::json shadowLights = nlohmann::json::array(); // scene light indices with maps
     nlohmann::json framePasses = nlohmann::json::array();  // the frame's passes and resources
     nlohmann::json volumes = nlohmann::json::array();
-    FrameExtras extras;          // Z, AOVs and camera matrices (capture/exr_output.h)
-    nlohmann::json dumpManifest; // FrameRequest::dumpDir
+    double scatteredLightBakeMs = -1.0; // the fog's scattered-light cache bake (-1: none)
+    FrameExtras extras;                 // Z, AOVs and camera matrices (capture/exr_output.h)
+    nlohmann::json dumpManifest;        // FrameRequest::dumpDir
 };
 
 // Renders one frame in the current context (a new frame::Renderer, as `veil render` does) and
@@ -59,7 +60,8 @@ RenderedFrame renderFrame(const scene::Scene& scene, const gpu::ContextInfo& inf
 
 // The frame's part of `veil render --report`: gpu_bytes, passes, total_ms, oit_stats (when
 // any), oit_properties, frame_passes, shadows, shadow_properties, shadow_lights,
-// shadow_stats (when any), volumes (when any), timer.
+// shadow_stats (when any), volumes (when any), scattered_light_bake_ms (with the fog's
+// scattered-light cache: its last bake, run before the timed passes), timer.
 nlohmann::json frameReport(const RenderedFrame& frame);
 
 } // namespace veil::capture

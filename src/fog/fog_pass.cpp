@@ -132,7 +132,15 @@ FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
                    "{}: render.fog_scattered_light needs grid volumes and no homogeneous fog (the "
                    "path tracer that bakes it has no fog filling all space)",
                    source);
-        scattered_ = std::make_unique<ScatteredLightCache>(scene, std::move(densities));
+        // The GPU bake samples the density textures as the marcher does.
+        ScatteredLightGpu gpu{&programs_, {slotsDefine()}, [this](const gpu::Program& p) {
+                                  setVolumeUniforms(p);
+                                  p.set("blackbodyMaxKelvin", float(kBlackbodyMaxKelvin));
+                                  if (blackbody_) blackbody_.bind(VEIL_TEX_BLACKBODY);
+                              }};
+        if (emissive_) gpu.defines.push_back("VEIL_VOLUME_EMISSION 1");
+        scattered_ =
+            std::make_unique<ScatteredLightCache>(scene, std::move(densities), std::move(gpu));
     }
     for (std::size_t i = 0; i < scene.lights.size() && i < VEIL_MAX_LIGHTS; ++i)
         if (scene.lights[i].castShadows) {
@@ -296,6 +304,14 @@ bool FogPass::lightVolumesStale(const pass::Context& targets, glm::vec4& key) {
 void FogPass::updateLightVolumes(const pass::Context& targets) {
     while (updateLightVolumesSlab(targets, std::numeric_limits<int>::max())) {
     }
+}
+
+void FogPass::prepareScatteredLight() {
+    if (scattered_) scattered_->ensure();
+}
+
+double FogPass::scatteredLightBakeMs() const {
+    return scattered_ && scattered_->bakes() > 0 ? scattered_->lastBakeSeconds() * 1e3 : -1.0;
 }
 
 bool FogPass::updateLightVolumesSlab(const pass::Context& targets, int slabTexels) {

@@ -114,6 +114,13 @@ public:
     // The next march() recomputes the light transmittance volumes: the volumes' values
     // (density scale, albedo) or a light changed in the scene, or a benchmark compares with
     // renderers that shadow every frame (veil-bench --relight).
+    // Bakes the scattered-light cache (render.fog_scattered_light) when the lights, ambient or
+    // volume values changed since its last bake; the frame calls it before its timed passes
+    // (frame/stages/fog_stage.h beginFrame), so that the bake is not booked as pass `fog`.
+    void prepareScatteredLight();
+    // Milliseconds of the cache's last bake; -1 without a cache or before its first bake.
+    double scatteredLightBakeMs() const;
+    const ScatteredLightCache* scatteredLightCache() const { return scattered_.get(); }
     void invalidateLightVolumes() {
         lightValid_ = false;
         slab_ = {};

@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numbers>
 
@@ -45,7 +46,8 @@ const PropertySchema& pathTracerSchema() {
     static const PropertySchema s = [] {
         const char* ref = "[Woodcock65, Novak14, Novak18]";
         PropertySchema p;
-        p.integer("spp", 256, 1, 1 << 24, "samples per pixel", ref)
+        p.integer("spp", 256, 2, 1 << 24,
+                  "samples per pixel (at least 2: the standard error needs two)", ref)
             .integer("max_bounces", 256, 1, 1 << 20,
                      "most scattering events per path (1 = single scattering)", ref)
             .integer("seed", 1, 0, std::numeric_limits<std::uint32_t>::max(),
@@ -239,7 +241,8 @@ void VolumePathTracer::worldBounds(glm::dvec3& lo, glm::dvec3& hi) const {
 }
 
 ScatteredLight VolumePathTracer::scatteredLight(const glm::dvec3& lo, const glm::dvec3& hi,
-                                                const glm::ivec3& dims, int samples) const {
+                                                const glm::ivec3& dims, int samples,
+                                                const std::function<void(double)>& progress) const {
     VEIL_CHECK(glm::all(glm::greaterThan(dims, glm::ivec3(0))) && samples > 0,
                "scattered-light cache: empty grid or no samples");
     ScatteredLight out;
@@ -251,6 +254,8 @@ ScatteredLight VolumePathTracer::scatteredLight(const glm::dvec3& lo, const glm:
     out.mean.assign(n, glm::vec4(0.0f));
     out.flux.assign(n, glm::vec4(0.0f));
     const glm::dvec3 lum(0.2126, 0.7152, 0.0722);
+    std::atomic<std::size_t> done{0};
+    const std::size_t every = std::max<std::size_t>(1, n / 1000);
     tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
         const glm::ivec3 c(int(i % dims.x), int((i / dims.x) % dims.y),
                            int(i / (std::size_t(dims.x) * dims.y)));
@@ -272,6 +277,7 @@ ScatteredLight VolumePathTracer::scatteredLight(const glm::dvec3& lo, const glm:
         const glm::dvec3 mean = sum / double(samples);
         out.mean[i] = glm::vec4(glm::vec3(mean), float(glm::dot(mean, lum)));
         out.flux[i] = glm::vec4(glm::vec3(3.0 * g / double(samples)), 0.0f);
+        if (const std::size_t k = ++done; progress && k % every == 0) progress(double(k) / n);
     });
     return out;
 }

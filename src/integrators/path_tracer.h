@@ -124,9 +124,11 @@ public:
 
     // The scattered-light cache (ScatteredLight above) on a dims grid over [lo, hi] (TBB over
     // texels; each texel's random numbers are keyed by (settings.seed, texel, sample), so it
-    // does not depend on the thread count).
+    // does not depend on the thread count). `progress(fraction of texels done)` is called now
+    // and then, from any thread.
     ScatteredLight scatteredLight(const glm::dvec3& lo, const glm::dvec3& hi,
-                                  const glm::ivec3& dims, int samples) const;
+                                  const glm::ivec3& dims, int samples,
+                                  const std::function<void(double)>& progress = {}) const;
     // The world box of the volumes (the union of their bounds).
     void worldBounds(glm::dvec3& lo, glm::dvec3& hi) const;
 

@@ -143,6 +143,8 @@ struct RenderSettings {
     bool fogScatteredLight = false;
     int fogScatteredLightSamples = 64;
     float fogScatteredLightCell = 4.0f;
+    // Where the cache is baked: "gpu" (compute shader), "cpu" (the path tracer) or "auto".
+    std::string fogScatteredLightBake = "auto";
     float fogAmbient = 1.0f; // scale of the isotropic ambient (sky) in-scattering
     // GPU memory budget for all volumes (MiB); larger grids are coarsened or refused.
     int volumeBudgetMiB = 1024;

@@ -185,6 +185,10 @@ const std::vector<ValueDecl<RenderSettings>>& renderValueDecls() {
             .real("fog_scattered_light_cell", &R::fogScatteredLightCell, kNonNegative, 0.25, 64.0,
                   "voxels per texel of the scattered-light cache (at most 128 texels per axis)")
             .edited(ValueGroup::FogMarcher)
+            .choice("fog_scattered_light_bake", &R::fogScatteredLightBake, {"auto", "gpu", "cpu"},
+                    "where the scattered-light cache is baked: a compute shader (gpu), the path "
+                    "tracer (cpu) or auto (the GPU on hardware, the CPU on software renderers)")
+            .edited(ValueGroup::FogMarcher)
             .real("fog_ambient", &R::fogAmbient, kNonNegative, 0.0, 4.0,
                   "scale of the fog's isotropic ambient (sky) in-scattering, render.ambient x "
                   "sigma_s x fog_ambient")

@@ -23,6 +23,7 @@ public:
     void addResources(pass::Resources& resources) const override { fog_->addResources(resources); }
     std::size_t gpuBytes() const override { return fog_->gpuBytes(); }
     void beginFrame(pass::Context& context) override {
+        fog_->prepareScatteredLight(); // its bake is not part of the timed pass `fog`
         context.bindMedia = nullptr;
         if (fog_->hasGridVolumes())
             context.bindMedia = [this](const gpu::Program& program) { fog_->bindVolumes(program); };

@@ -1,0 +1,81 @@
+// The scattered-light cache baked on the GPU (render.fog_scattered_light_bake gpu, docs/volumes.md
+// "Scattered-light cache"): shaders/volume/cache_bake.comp, the CPU bake's estimator
+// (integrators/path_tracer.h VolumePathTracer::scatteredLight) on the fog pass's density
+// textures (gpu_volume.h), one invocation per texel. One majorant for all volumes (the CPU
+// bake's), not one per brick. The work is split into dispatches of texels x samples: step()
+// runs dispatches for a time budget, so a bake can be spread over frames; the textures hold the
+// P1 terms of the samples so far after every step. Deterministic for a seed and sample count:
+// every path's random numbers are keyed by (seed, texel, sample), whatever the split.
+#pragma once
+
+#include "gpu/objects.h"
+#include "gpu/shader.h"
+#include "integrators/path_tracer.h"
+#include "scene/scene.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace veil::volume {
+
+class ScatteredLightBake {
+public:
+    // `defines`: the fog programs' VEIL_VOLUME_SLOTS (and VEIL_VOLUME_EMISSION where a volume
+    // has an emission channel); `bindVolumes` binds the density textures and sets the volume
+    // uniforms of volume_common.glsl (FogPass::bindVolumes) and the blackbody table.
+    ScatteredLightBake(gpu::ProgramManager& programs, std::vector<std::string> defines,
+                       std::function<void(const gpu::Program&)> bindVolumes);
+
+    struct Setup {
+        glm::dvec3 lo{0.0}, hi{0.0}; // the volumes' world box (ScatteredLightCache)
+        glm::ivec3 dims{0};
+        int samples = 0;
+        std::uint32_t seed = 1;
+        double majorant = 0.0; // VolumePathTracer::majorant()
+        int maxBounces = 256, rouletteDepth = 8;
+    };
+    // Starts a bake of `scene`'s lights and ambient over `setup` (the textures are kept when
+    // the grid is the same; their contents stand until the first step).
+    void start(const scene::Scene& scene, const Setup& setup);
+    // Dispatches until `budgetMs` of wall time (glFinish after each) has passed, at least one;
+    // true when every sample is in. A pass over the texels adds `batch` samples to each: a few
+    // where a bake is spread over frames (every texel's mean shows early), all of them where
+    // it runs to its end.
+    bool step(double budgetMs, int batch);
+    bool done() const { return next_.sampleBegin >= setup_.samples; }
+    // Texel-samples done over texel-samples to do.
+    double fraction() const;
+
+    const gpu::Texture& mean() const { return mean_; }
+    const gpu::Texture& flux() const { return flux_; }
+    // The textures read back as the CPU bake's result (tests).
+    ScatteredLight read() const;
+    // Per texel the sample variance of the paths' luminance (tests: the Monte Carlo error).
+    std::vector<double> luminanceVariance() const;
+    int dispatches() const { return dispatches_; }
+
+private:
+    void dispatch(int cellBegin, int cellCount, int sampleBegin, int sampleEnd);
+
+    gpu::ProgramManager& programs_;
+    gpu::ProgramHandle program_;
+    std::function<void(const gpu::Program&)> bindVolumes_;
+    const scene::Scene* scene_ = nullptr;
+    Setup setup_;
+    std::size_t cells_ = 0;
+    gpu::Texture mean_{gpu::NoCreate}, flux_{gpu::NoCreate};
+    gpu::Buffer accumulator_{gpu::NoCreate};
+    // The next dispatch: samples [sampleBegin, sampleEnd) of texels from cellBegin on.
+    struct Cursor {
+        int sampleBegin = 0, sampleEnd = 0;
+        std::size_t cellBegin = 0;
+    } next_;
+    double cellSamplesPerMs_ = 0.0; // measured throughput (0: unknown)
+    int dispatches_ = 0;
+};
+
+} // namespace veil::volume
