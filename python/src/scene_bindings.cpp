@@ -101,6 +101,11 @@ PyScene sceneArgument(py::handle value) {
 }
 
 void bindScene(py::module_& m) {
+    // The converter Scene() and Scene.set() use, alone: the JSON text of a value, for the
+    // randomized tests of the conversion (tests/python/test_errors.py).
+    m.def(
+        "_json_text", [](const ValueArg& value) { return fromPython(value, "value").dump(); },
+        py::arg("value"));
     py::class_<PyScene>(
         m, "Scene",
         R"doc(A scene: the JSON document of docs/scene-format.md and the scene parsed from it.

@@ -227,3 +227,70 @@ def test_a_renderer_works_from_other_threads(renderer):
         assert np.array_equal(results[key], here), key
     # The module's renderer (made on this thread) is usable after another one ran here.
     assert renderer.render(SMOKE_GLASS, width=8, height=8).rgb.shape == (8, 8, 3)
+
+
+def random_value(rng, depth):
+    """A random Python value as Scene() takes them: nested dicts, lists and tuples (down to
+    `depth` levels) of str, int, float, bool, None and NumPy scalars and arrays."""
+    kind = rng.integers(0, 10) if depth > 0 else rng.integers(0, 6)
+    if kind == 0:
+        return None
+    if kind == 1:
+        return bool(rng.integers(0, 2))
+    if kind == 2:
+        return int(rng.integers(-2**62, 2**62))
+    if kind == 3:
+        return float(rng.normal() * 10.0 ** rng.integers(-30, 30))
+    if kind == 4:
+        return "".join(chr(c) for c in rng.integers(1, 0x2FF, rng.integers(0, 8)))
+    if kind == 5:
+        return np.float32(rng.normal())
+    if kind in (6, 7):
+        return {f"k{i}": random_value(rng, depth - 1) for i in range(rng.integers(0, 4))}
+    if kind == 8:
+        return [random_value(rng, depth - 1) for _ in range(rng.integers(0, 4))]
+    return tuple(random_value(rng, depth - 1) for _ in range(rng.integers(0, 3)))
+
+
+def plain(value):
+    """What JSON makes of a value: tuples are lists, NumPy scalars Python numbers."""
+    if isinstance(value, dict):
+        return {k: plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [plain(v) for v in value]
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+def container_depth(value):
+    if isinstance(value, dict):
+        return 1 + max(map(container_depth, value.values()), default=0)
+    if isinstance(value, (list, tuple)):
+        return 1 + max(map(container_depth, value), default=0)
+    return 0
+
+
+def test_the_converter_on_random_values():
+    # 2000 random documents: each converts to the JSON of its plain form, exactly; a deep
+    # chain wrapped around one is refused by depth alone, with the pointer to where.
+    import json
+    rng = np.random.default_rng(7)
+    for i in range(2000):
+        value = random_value(rng, int(rng.integers(0, 6)))
+        assert json.loads(veil._veil._json_text(value)) == plain(value), i
+        depth = int(rng.integers(250, 262))
+        wrapped = nested(depth, "list" if i % 2 else "dict")
+        inner = wrapped
+        for _ in range(depth - 1):
+            inner = inner[0] if i % 2 else inner["a"]
+        if i % 2:
+            inner[0] = value
+        else:
+            inner["a"] = value
+        levels = depth + container_depth(value)
+        if levels <= 256:
+            assert json.loads(veil._veil._json_text(wrapped)) == plain(wrapped), i
+        else:
+            with pytest.raises(veil.ValueError, match="^value: /.*nested deeper than 256"):
+                veil._veil._json_text(wrapped)
