@@ -4,6 +4,7 @@
 // driver has them. bench/run.py runs it over the benchmark sets of bench/sets/.
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "fog/fog_pass.h"
 #include "frame/renderer.h"
 #include "gpu/context.h"
 #include "scene/scene.h"
@@ -335,6 +336,13 @@ int main(int argc, char** argv) try {
                           {"max_ms", *std::max_element(v.begin(), v.end())}});
         // llvmpipe: the process's CPU time over the pass (all driver threads).
         if (!cpuSamples[name].empty()) passes.back()["cpu_median_ms"] = median(cpuSamples[name]);
+    }
+    // The scattered-light cache's bake (before the first frame, outside the passes): one sample.
+    if (const veil::volume::FogPass* fog = renderer.fog();
+        fog && fog->scatteredLightBakeMs() >= 0) {
+        const double ms = fog->scatteredLightBakeMs();
+        passes.push_back(
+            {{"name", "scattered_light_bake"}, {"median_ms", ms}, {"min_ms", ms}, {"max_ms", ms}});
     }
     out["passes"] = passes;
     out["total_median_ms"] = median(totals);
