@@ -32,8 +32,8 @@ std::shared_ptr<const GridConversion> findPreconverted(const std::filesystem::pa
                                                        const GpuVolumeOptions& options, int max3D) {
     if (!tCurrent) return nullptr;
     for (const PreloadedGrid& g : *tCurrent)
-        if (g.converted && g.grid == grid && g.path == path && g.max3D == max3D &&
-            g.options.budgetBytes == options.budgetBytes &&
+        if (g.converted && g.channel.empty() && g.grid == grid && g.path == path &&
+            g.max3D == max3D && g.options.budgetBytes == options.budgetBytes &&
             g.options.refuseOverBudget == options.refuseOverBudget &&
             g.options.denseVoxelLimit == options.denseVoxelLimit &&
             g.options.neighbourhood == options.neighbourhood)

@@ -23,6 +23,10 @@ struct PreloadedGrid {
     std::shared_ptr<const GridConversion> converted;
     GpuVolumeOptions options;
     int max3D = 0;
+    // Set: `converted` also holds this grid of the same file as its emission channel
+    // (addChannel(), as the fog pass converts a volume with a temperature grid); such a
+    // conversion is for frame::Renderer::replaceVolumes, never found by findPreconverted().
+    std::string channel;
 };
 
 class PreloadedGridScope {

@@ -6,6 +6,7 @@
 
 #include <openvdb/io/Stream.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -19,6 +20,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <sys/resource.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -303,10 +305,25 @@ openvdb::GridPtrVecPtr readEagerly(const fs::path& path, std::uint64_t size) {
     return grids;
 }
 
-bool writeAll(int fd, const std::string& s) {
+bool writeAll(int fd, const void* data, std::size_t size) {
+    const char* bytes = static_cast<const char*>(data);
     std::size_t done = 0;
-    while (done < s.size()) {
-        const ssize_t n = ::write(fd, s.data() + done, s.size() - done);
+    while (done < size) {
+        // MSG_NOSIGNAL: a reader that died is an error here, not a SIGPIPE ending this process.
+        const ssize_t n = ::send(fd, bytes + done, size - done, MSG_NOSIGNAL);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        done += std::size_t(n);
+    }
+    return true;
+}
+
+// Exactly `size` bytes, blocking; false at the end of the stream or on an error.
+bool readAll(int fd, void* data, std::size_t size) {
+    char* bytes = static_cast<char*>(data);
+    std::size_t done = 0;
+    while (done < size) {
+        const ssize_t n = ::read(fd, bytes + done, size - done);
         if (n < 0 && errno == EINTR) continue;
         if (n <= 0) return false;
         done += std::size_t(n);
@@ -315,14 +332,55 @@ bool writeAll(int fd, const std::string& s) {
 }
 
 std::function<void()> gAfterTrialRead;
+std::mutex gCrashMutex;
+std::string gCrashForTesting; // a file name whose read crashes the reader (tests)
+std::atomic<int> gReaderStarts{0};
 
 // The most of an error reply the child sends and the parent keeps: OpenVDB's messages quote
 // what they read (a grid type of 4 GB was quoted whole).
 constexpr std::size_t kMaxErrorReply = 4096;
 
+// A reader child never frees the grids it read (keepUntilExit): after replies of this many
+// bytes in all (about the memory of those grids) it is replaced by a fresh one.
+constexpr std::uint64_t kReaderReplyBudget = std::uint64_t(512) << 20;
+
+struct Request {
+    std::uint64_t size = 0;      // the file's size when this process checked its header
+    std::uint32_t pathBytes = 0; // then the path
+    std::uint32_t crash = 0;     // tests: the reader crashes (SIGSEGV) instead of reading
+};
+
+// The reader child's loop: a request, the file read and decoded (readEagerly), the reply
+// ('K' and the grids re-encoded, vdb_reply.h, or 'E' and a message) with its length first.
+// The parent closing its end (or dying) ends the child.
+[[noreturn]] void serveReads(int fd) {
+    for (;;) {
+        Request r;
+        if (!readAll(fd, &r, sizeof r)) ::_exit(0);
+        std::string path(r.pathBytes, '\0');
+        if (!readAll(fd, path.data(), path.size())) ::_exit(0);
+        if (r.crash) ::raise(SIGSEGV);
+        std::string reply;
+        try {
+            const openvdb::GridPtrVecPtr grids = readEagerly(path, r.size);
+            std::ostringstream out(std::ios::binary);
+            out.put('K');
+            writeGridReply(out, *grids); // no TBB here: see vdb_reply.h
+            reply = std::move(out).str();
+        } catch (const std::exception& e) {
+            reply = std::string("E") + e.what();
+        } catch (...) {
+            reply = "Ecannot read OpenVDB file '" + path + "': unknown exception";
+        }
+        if (reply[0] == 'E' && reply.size() > kMaxErrorReply) reply.resize(kMaxErrorReply);
+        const std::uint64_t n = reply.size();
+        if (!writeAll(fd, &n, sizeof n) || !writeAll(fd, reply.data(), reply.size())) ::_exit(1);
+    }
+}
+
 // The trial read in a child process, which also decides what this process gets: the child
 // reads the untrusted file and, when it read all of it, writes the grids it holds back through
-// the pipe (vdb_reply.h: COMPRESS_NONE, every value plain, no zip, blosc or mask coding), and
+// the socket (vdb_reply.h: COMPRESS_NONE, every value plain, no zip, blosc or mask coding), and
 // this process decodes only that re-encoding. Reading the original bytes again here would not be
 // safe: a blosc block whose header claims more bytes than its buffer holds overflows the heap
 // without a crash (tests/fuzz/regressions/volume/blosc-heap-overflow.vdb: natively the child read
@@ -339,94 +397,181 @@ constexpr std::size_t kMaxErrorReply = 4096;
 // written in about 5 ms and decoded here in 2-8 ms instead of the 11 ms of the second read).
 // COMPRESS_NONE is the cheapest to write: active-mask coding took 11 ms, blosc 30 ms.
 //
-// Reply: 'K' and the grids (vdb_reply.h), the child exiting 0; or 'E' and an error message of
-// at most kMaxErrorReply bytes.
-openvdb::GridPtrVecPtr readInChild(const fs::path& path, std::uint64_t size) {
-    int fds[2];
-    VEIL_CHECK(::pipe(fds) == 0, "cannot read OpenVDB file '{}': no pipe for the trial read ({})",
-               path.string(), std::strerror(errno));
-    // A pipe of 1 MiB (Linux's default upper limit for unprivileged processes) instead of 64 KiB:
-    // the grids pass in a few writes rather than one context switch per 64 KiB. Best effort.
-    ::fcntl(fds[1], F_SETPIPE_SZ, 1 << 20);
-    pid_t pid = 0;
-    {
-        const std::lock_guard registries(openVdbIoMutex());
-        pid = ::fork();
-    }
-    if (pid < 0) {
-        const int err = errno;
-        ::close(fds[0]);
-        ::close(fds[1]);
-        throw Error(fmt::format("cannot read OpenVDB file '{}': cannot fork for the trial read "
-                                "({})",
-                                path.string(), std::strerror(err)));
-    }
-    if (pid == 0) {
-        // Child: no core file for a crash we expect; _exit so that no atexit handler or stdio
-        // buffer of the parent runs twice.
-        ::close(fds[0]);
-        const rlimit noCore{0, 0};
-        ::setrlimit(RLIMIT_CORE, &noCore);
-        // glibc's heap-corruption report would be a second line before ours.
-        const int devNull = ::open("/dev/null", O_WRONLY);
-        if (devNull >= 0) ::dup2(devNull, STDERR_FILENO);
+// One child serves every read of its thread (a frame range's worker reads one file after the
+// other) instead of one fork per file, whose cost grows with this process's address space (a GL
+// context, the grids of earlier frames). The child is replaced (a fresh fork for the next read)
+// after a read that failed or crashed or timed out, so a file that damaged its heap never
+// reaches the next file, and after kReaderReplyBudget bytes of replies (it keeps what it read).
+class ReaderChild {
+public:
+    ReaderChild() = default;
+    ReaderChild(const ReaderChild&) = delete;
+    ReaderChild& operator=(const ReaderChild&) = delete;
+    ~ReaderChild() { stop(); }
+
+    // The reply to reading `path` ('K' and the grids, or 'E' and a message), or a veil::Error
+    // naming the file when the reader crashed, hung or could not be started.
+    std::string read(const fs::path& path, std::uint64_t size, bool crash) {
+        if (owner_ != ::getpid()) forget(); // inherited through a fork of this process
+        if (pid_ < 0) start(path);
+        Request r;
+        r.size = size;
+        r.pathBytes = std::uint32_t(path.native().size());
+        r.crash = crash ? 1 : 0;
+        if (!writeAll(fd_, &r, sizeof r) || !writeAll(fd_, path.c_str(), r.pathBytes)) {
+            // It died while idle (killed from outside): one fresh child for this read.
+            stop();
+            start(path);
+            if (!writeAll(fd_, &r, sizeof r) || !writeAll(fd_, path.c_str(), r.pathBytes))
+                failed(path);
+        }
+        const auto deadline =
+            std::chrono::steady_clock::now() + std::chrono::seconds(kTrialTimeoutSeconds);
+        std::uint64_t n = 0;
+        if (!receive(&n, sizeof n, deadline, path)) failed(path);
+        // Our own child's length; an error reply is bounded there, grids are kept whole.
         std::string reply;
         try {
-            const openvdb::GridPtrVecPtr grids = readEagerly(path, size);
-            std::ostringstream out(std::ios::binary);
-            out.put('K');
-            writeGridReply(out, *grids); // no TBB here: see vdb_reply.h
-            reply = std::move(out).str();
-        } catch (const std::exception& e) {
-            reply = std::string("E") + e.what();
-        } catch (...) {
-            reply = "Ecannot read OpenVDB file '" + path.string() + "': unknown exception";
+            reply.resize(std::size_t(n));
+        } catch (const std::exception&) {
+            stop();
+            throw Error(fmt::format("cannot read OpenVDB file '{}': its reader's reply of {} "
+                                    "bytes does not fit in memory",
+                                    path.string(), n));
         }
-        if (reply[0] == 'E' && reply.size() > kMaxErrorReply) reply.resize(kMaxErrorReply);
-        ::_exit(writeAll(fds[1], reply) ? 0 : 1);
+        if (!receive(reply.data(), reply.size(), deadline, path)) failed(path);
+        replied_ += n;
+        if (reply.empty() || reply[0] != 'K' || replied_ > kReaderReplyBudget) stop();
+        return reply;
     }
-    ::close(fds[1]);
-    std::string reply;
-    std::vector<char> buf(std::size_t(1) << 20);
-    const auto deadline =
-        std::chrono::steady_clock::now() + std::chrono::seconds(kTrialTimeoutSeconds);
-    bool timedOut = false;
-    for (;;) {
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-                              deadline - std::chrono::steady_clock::now())
-                              .count();
-        if (left <= 0) {
-            timedOut = true;
-            break;
+
+private:
+    void start(const fs::path& path) {
+        int sv[2];
+        VEIL_CHECK(::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) == 0,
+                   "cannot read OpenVDB file '{}': no socket for its reader ({})", path.string(),
+                   std::strerror(errno));
+        // Buffers of 1 MiB: the grids pass in a few writes rather than one context switch per
+        // default-sized buffer. Best effort.
+        const int buffer = 1 << 20;
+        ::setsockopt(sv[0], SOL_SOCKET, SO_RCVBUF, &buffer, sizeof buffer);
+        ::setsockopt(sv[1], SOL_SOCKET, SO_SNDBUF, &buffer, sizeof buffer);
+        pid_t pid = 0;
+        {
+            const std::lock_guard registries(openVdbIoMutex());
+            pid = ::fork();
         }
-        pollfd p{fds[0], POLLIN, 0};
-        const int r = ::poll(&p, 1, int(std::min<long long>(left, 1000)));
-        if (r < 0 && errno == EINTR) continue;
-        if (r <= 0) continue;
-        const ssize_t n = ::read(fds[0], buf.data(), buf.size());
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) break; // end of file: the child is done or dead
-        // An error reply is kept to its bound (the rest drained); grids are kept whole.
-        const bool error = reply.empty() ? buf[0] != 'K' : reply[0] != 'K';
-        if (!error)
-            reply.append(buf.data(), std::size_t(n));
-        else if (reply.size() < kMaxErrorReply)
-            reply.append(buf.data(), std::min(std::size_t(n), kMaxErrorReply - reply.size()));
+        if (pid < 0) {
+            const int err = errno;
+            ::close(sv[0]);
+            ::close(sv[1]);
+            throw Error(fmt::format("cannot read OpenVDB file '{}': cannot fork its reader ({})",
+                                    path.string(), std::strerror(err)));
+        }
+        if (pid == 0) {
+            // Child: no core file for a crash we expect; _exit so that no atexit handler or
+            // stdio buffer of the parent runs twice; glibc's heap-corruption report would be a
+            // second line before ours. Every other descriptor is closed: a sibling reader
+            // holding this process's end of another reader's socket would keep that reader
+            // from seeing its parent go.
+            const rlimit noCore{0, 0};
+            ::setrlimit(RLIMIT_CORE, &noCore);
+            const int devNull = ::open("/dev/null", O_WRONLY);
+            if (devNull >= 0) ::dup2(devNull, STDERR_FILENO);
+            constexpr int kFd = 3;
+            if (sv[1] != kFd && ::dup2(sv[1], kFd) < 0) ::_exit(1);
+            ::close_range(kFd + 1, ~0U, 0);
+            serveReads(kFd);
+        }
+        ::close(sv[1]);
+        pid_ = pid;
+        fd_ = sv[0];
+        owner_ = ::getpid();
+        replied_ = 0;
+        ++gReaderStarts;
     }
-    ::close(fds[0]);
-    if (timedOut) ::kill(pid, SIGKILL);
-    int status = 0;
-    pid_t w;
-    do {
-        w = ::waitpid(pid, &status, 0);
-    } while (w < 0 && errno == EINTR);
-    if (timedOut)
-        throw Error(fmt::format("cannot read OpenVDB file '{}': reading it took over {} s "
-                                "(corrupt?)",
-                                path.string(), kTrialTimeoutSeconds));
+
+    // Ends the child: closing the socket ends its loop (SIGKILL first when `kill`), then reaps
+    // it. Returns its wait status (0 when none).
+    int stop(bool kill = false) {
+        if (pid_ < 0) return 0;
+        if (kill) ::kill(pid_, SIGKILL);
+        ::close(fd_);
+        int status = 0;
+        pid_t w;
+        do {
+            w = ::waitpid(pid_, &status, 0);
+        } while (w < 0 && errno == EINTR);
+        pid_ = -1;
+        fd_ = -1;
+        return w < 0 ? 0 : status;
+    }
+
+    // A forked copy of this process has a copy of the parent's socket: it starts its own.
+    void forget() {
+        if (fd_ >= 0) ::close(fd_);
+        pid_ = -1;
+        fd_ = -1;
+    }
+
+    // `size` bytes of the reply before `deadline`; false when the stream ended (the child is
+    // gone). A timeout kills the child and throws.
+    bool receive(void* data, std::size_t size, std::chrono::steady_clock::time_point deadline,
+                 const fs::path& path) {
+        char* bytes = static_cast<char*>(data);
+        std::size_t done = 0;
+        while (done < size) {
+            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+                                  deadline - std::chrono::steady_clock::now())
+                                  .count();
+            if (left <= 0) {
+                stop(true);
+                throw Error(fmt::format("cannot read OpenVDB file '{}': reading it took over "
+                                        "{} s (corrupt?)",
+                                        path.string(), kTrialTimeoutSeconds));
+            }
+            pollfd p{fd_, POLLIN, 0};
+            const int r = ::poll(&p, 1, int(std::min<long long>(left, 1000)));
+            if (r < 0 && errno == EINTR) continue;
+            if (r <= 0) continue;
+            const ssize_t n = ::read(fd_, bytes + done, size - done);
+            if (n < 0 && errno == EINTR) continue;
+            if (n <= 0) return false;
+            done += std::size_t(n);
+        }
+        return true;
+    }
+
+    // The child ended without a whole reply: a crash (named by its signal) or an exit.
+    [[noreturn]] void failed(const fs::path& path) {
+        const int status = stop();
+        if (WIFSIGNALED(status))
+            throw Error(fmt::format("cannot read OpenVDB file '{}' (corrupt?): the OpenVDB "
+                                    "reader crashed on it (signal {}, {})",
+                                    path.string(), WTERMSIG(status),
+                                    ::strsignal(WTERMSIG(status))));
+        throw Error(fmt::format("cannot read OpenVDB file '{}' (corrupt?): the trial read ended "
+                                "without an answer",
+                                path.string()));
+    }
+
+    pid_t pid_ = -1, owner_ = -1;
+    int fd_ = -1;
+    std::uint64_t replied_ = 0;
+};
+
+// Every thread that reads has its reader (the prefetch workers read in parallel).
+thread_local ReaderChild tReader;
+
+openvdb::GridPtrVecPtr readInChild(const fs::path& path, std::uint64_t size) {
+    bool crash = false;
+    {
+        const std::lock_guard lock(gCrashMutex);
+        crash = !gCrashForTesting.empty() && path.filename() == gCrashForTesting;
+    }
+    std::string reply = tReader.read(path, size, crash);
     if (gAfterTrialRead) gAfterTrialRead();
-    const bool exitedCleanly = w == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
-    if (exitedCleanly && !reply.empty() && reply[0] == 'K') {
+    if (!reply.empty() && reply[0] == 'K') {
         reply.erase(0, 1);
         std::istringstream in(std::move(reply), std::ios::binary);
         try {
@@ -439,16 +584,19 @@ openvdb::GridPtrVecPtr readInChild(const fs::path& path, std::uint64_t size) {
         }
     }
     if (!reply.empty() && reply[0] == 'E') throw Error(boundedText(reply.substr(1), 600));
-    if (w == pid && WIFSIGNALED(status))
-        throw Error(fmt::format("cannot read OpenVDB file '{}' (corrupt?): the OpenVDB reader "
-                                "crashed on it (signal {}, {})",
-                                path.string(), WTERMSIG(status), ::strsignal(WTERMSIG(status))));
     throw Error(fmt::format("cannot read OpenVDB file '{}' (corrupt?): the trial read ended "
                             "without an answer",
                             path.string()));
 }
 
 } // namespace
+
+int readerStartsForTesting() { return gReaderStarts.load(); }
+
+void setReaderCrashForTesting(const std::string& fileName) {
+    const std::lock_guard lock(gCrashMutex);
+    gCrashForTesting = fileName;
+}
 
 std::mutex& openVdbIoMutex() {
     static std::mutex m;
@@ -473,6 +621,13 @@ std::string boundedText(const std::string& text, std::size_t limit) {
     return out;
 }
 
+namespace {
+thread_local VdbReadScope* tReadScope = nullptr;
+}
+
+VdbReadScope::VdbReadScope() : previous_(tReadScope) { tReadScope = this; }
+VdbReadScope::~VdbReadScope() { tReadScope = previous_; }
+
 openvdb::GridPtrVecPtr readVdbFile(const fs::path& path) {
     static std::once_flag once;
     std::call_once(once, [] { openvdb::initialize(); });
@@ -486,9 +641,14 @@ openvdb::GridPtrVecPtr readVdbFile(const fs::path& path) {
         VEIL_CHECK(!ec, "cannot open volume '{}': {}", path.string(), ec.message());
         size = s;
     }
+    const fs::file_time_type time = fs::last_write_time(path, ec);
+    if (tReadScope)
+        for (const VdbReadScope::Entry& e : tReadScope->entries_)
+            if (e.path == path && e.size == size && e.time == time) return e.grids;
     const auto t0 = std::chrono::steady_clock::now();
     HeaderCheck(path, size).run();
     openvdb::GridPtrVecPtr grids = readInChild(path, size);
+    if (tReadScope && !ec) tReadScope->entries_.push_back({path, size, time, grids});
     log::debug(
         "volume '{}': read in a child and decoded here in {:.1f} ms", path.string(),
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());

@@ -17,6 +17,15 @@
 // child checks each grid's descriptor and header again where it reads them, and that each
 // grid ends where its descriptor says.
 //
+// One child per reading thread serves all of that thread's reads (a frame range's worker reads
+// file after file) instead of a fork per file. A crash, a hang or a
+// failed read ends that child, the error names the file, and the next read starts a fresh one;
+// a child is also replaced after about 512 MiB of grids read (it keeps what it read). What a
+// file did to a child's heap can therefore reach the next files that child reads only when
+// OpenVDB read the damaged file without noticing (the silent blosc overflow above): then the
+// values those later files give may be wrong, but this process still decodes nothing but
+// plain re-encoded values.
+//
 // The child's read is eager (no delayed loading), so OpenVDB's "Expected to decompress N bytes"
 // cannot surface later without a file name, and goes through io::Stream, which reports a file
 // that ends early (io::File's eager path silently reads zeros there).
@@ -28,6 +37,7 @@
 #include <functional>
 #include <mutex>
 #include <string>
+#include <vector>
 
 namespace veil::volume {
 
@@ -36,9 +46,37 @@ namespace veil::volume {
 // could be read, its grids; OpenVDB's own text is cut to a bounded length).
 openvdb::GridPtrVecPtr readVdbFile(const std::filesystem::path& path);
 
+// While one is alive on a thread, readVdbFile() there of a file it read already in the scope
+// (same path, size and modification time) returns the same grids instead of reading it again:
+// a frame's density and its emission channel (two grids of one file) come from one read.
+class VdbReadScope {
+public:
+    VdbReadScope();
+    ~VdbReadScope();
+    VdbReadScope(const VdbReadScope&) = delete;
+    VdbReadScope& operator=(const VdbReadScope&) = delete;
+
+    struct Entry {
+        std::filesystem::path path;
+        std::uint64_t size = 0;
+        std::filesystem::file_time_type time;
+        openvdb::GridPtrVecPtr grids;
+    };
+
+private:
+    std::vector<Entry> entries_;
+    VdbReadScope* previous_;
+    friend openvdb::GridPtrVecPtr readVdbFile(const std::filesystem::path& path);
+};
+
 // Called in this process after the child's reply arrived and before it is decoded (tests:
 // replacing the file there shows that this process does not read it again). Empty: none.
 void setAfterTrialReadHookForTesting(std::function<void()> hook);
+
+// Tests: reader children started so far (in this process, all threads), and a file name (no
+// folder) whose read makes the reader child crash with SIGSEGV (empty: none).
+int readerStartsForTesting();
+void setReaderCrashForTesting(const std::string& fileName);
 
 // OpenVDB guards its type registries (grids, metadata, maps) with mutexes of its own, taken for
 // every grid and metadata item a read creates. A trial read's child forked while another thread

@@ -2,8 +2,9 @@
 #include "sequence/prefetch.h"
 
 #include "base/error.h"
-#include "scene/timeline.h"
 #include "grid/density_grid.h"
+#include "grid/vdb_file.h"
+#include "scene/timeline.h"
 
 #include <algorithm>
 #include <chrono>
@@ -16,7 +17,23 @@ namespace {
 // left by the volumes before it). A procedural volume before a file one leaves the rest to the
 // renderer (its size is known only once built); so does a conversion that fails, whose error
 // the renderer then gives with the volume's place in the scene.
-void convertAhead(PreparedFrame& p, int max3D) {
+// `grid` converted, with `channel` (a temperature grid) as its emission channel when given.
+std::shared_ptr<const volume::GridConversion> convert(const openvdb::FloatGrid& grid,
+                                                      const openvdb::FloatGrid::Ptr& channel,
+                                                      const volume::GpuVolumeOptions& options,
+                                                      int max3D) {
+    auto c = std::make_shared<volume::GridConversion>(volume::convertGrid(grid, options, max3D));
+    if (channel) volume::addChannel(*c, {channel});
+    return c;
+}
+
+bool sameOptions(const volume::GpuVolumeOptions& a, const volume::GpuVolumeOptions& b) {
+    return a.budgetBytes == b.budgetBytes && a.refuseOverBudget == b.refuseOverBudget &&
+           a.denseVoxelLimit == b.denseVoxelLimit && a.neighbourhood == b.neighbourhood;
+}
+
+void convertAhead(PreparedFrame& p, int max3D, const std::vector<volume::PreloadedGrid>& statics,
+                  StaticConversions* conversions) {
     std::size_t used = 0;
     for (const scene::VolumeRef& v : p.scene.volumes) {
         if (v.procedural == "homogeneous") continue;
@@ -31,16 +48,32 @@ void convertAhead(PreparedFrame& p, int max3D) {
         options.neighbourhood =
             p.scene.render.fogOctaveRadius > 0.0f && p.scene.render.fogOctaves > 1;
         if (g->converted) return; // one grid under two budgets: the renderer converts the rest
+        // A colour or scalar emission grid: the fog pass converts the volume itself.
+        if (!v.emissionGrid.empty()) return;
+        if (!v.temperatureGrid.empty()) {
+            // Density and temperature in one layout, as the fog pass makes it: the density
+            // planned within half the budget left, the channel sampled at its texels.
+            if (!volume::findPreloadedGridIn(p.grids, v.path, v.temperatureGrid)) return;
+            options.budgetBytes /= 2;
+        }
+        const openvdb::FloatGrid::Ptr channel =
+            v.temperatureGrid.empty()
+                ? nullptr
+                : volume::findPreloadedGridIn(p.grids, v.path, v.temperatureGrid);
+        const bool isStatic =
+            conversions && std::any_of(statics.begin(), statics.end(),
+                                       [&](const auto& s) { return s.value == g->value; });
         try {
-            g->converted = std::make_shared<const volume::GridConversion>(
-                volume::convertGrid(*g->value, options, max3D));
+            g->converted = isStatic ? conversions->get(*g->value, channel, options, max3D)
+                                    : convert(*g->value, channel, options, max3D);
         } catch (const Error&) {
             return;
         }
+        g->channel = v.temperatureGrid;
         g->options = options;
         g->max3D = max3D;
         used += g->converted->stats.gpuBytes;
-        p.bytes += g->converted->bytes();
+        if (!isStatic) p.bytes += g->converted->bytes(); // static ones are held once
     }
 }
 
@@ -81,33 +114,70 @@ std::vector<volume::PreloadedGrid> readStaticGrids(const scene::AnimatedScene& s
     for (std::size_t i = 0; i < scene.scene.volumes.size(); ++i) {
         const scene::VolumeRef& v = scene.scene.volumes[i];
         const bool sequence = i < scene.timeline.volumes.size() && scene.timeline.volumes[i];
-        if (!sequence && v.procedural.empty())
-            grids.push_back({v.path, v.grid, volume::loadVolume(v), nullptr, {}, 0});
+        if (!sequence && v.procedural.empty()) {
+            const volume::VdbReadScope oneRead;
+            grids.push_back({v.path, v.grid, volume::loadVolume(v), nullptr, {}, 0, {}});
+            const std::string& channel =
+                v.temperatureGrid.empty() ? v.emissionGrid : v.temperatureGrid;
+            if (channel.empty()) continue;
+            const std::vector<openvdb::FloatGrid::Ptr> c = volume::loadEmissionChannel(v);
+            if (c.size() == 1) grids.push_back({v.path, channel, c[0], nullptr, {}, 0, {}});
+        }
     }
     return grids;
 }
 
+std::shared_ptr<const volume::GridConversion>
+StaticConversions::get(const openvdb::FloatGrid& grid, const openvdb::FloatGrid::Ptr& channel,
+                       const volume::GpuVolumeOptions& options, int max3D) {
+    const std::lock_guard lock(mutex_); // the first frames' workers wait for one conversion
+    for (const Item& i : items_)
+        if (i.grid == &grid && i.channel == channel.get() && i.max3D == max3D &&
+            sameOptions(i.options, options))
+            return i.converted;
+    auto c = convert(grid, channel, options, max3D);
+    items_.push_back({&grid, channel.get(), options, max3D, c});
+    return c;
+}
+
+std::size_t StaticConversions::conversions() const {
+    const std::lock_guard lock(mutex_);
+    return items_.size();
+}
+
 PreparedFrame prepareFrame(const scene::AnimatedScene& scene, int frame,
-                           const std::vector<volume::PreloadedGrid>& staticGrids, int max3D) {
+                           const std::vector<volume::PreloadedGrid>& staticGrids, int max3D,
+                           StaticConversions* conversions) {
     const auto start = std::chrono::steady_clock::now();
     PreparedFrame p;
     p.frame = frame;
     try {
         p.scene = scene::sceneAtFrame(scene, frame, &p.notes);
         p.grids = staticGrids;
+        // A file is read once for all the grids the frame takes from it.
+        const volume::VdbReadScope oneReadPerFile;
         for (const scene::VolumeRef& v : p.scene.volumes) {
             if (!v.procedural.empty()) continue;
-            if (volume::findPreloadedGridIn(p.grids, v.path, v.grid)) continue;
-            p.grids.push_back({v.path, v.grid, volume::loadVolume(v), nullptr, {}, 0});
+            if (!volume::findPreloadedGridIn(p.grids, v.path, v.grid))
+                p.grids.push_back({v.path, v.grid, volume::loadVolume(v), nullptr, {}, 0, {}});
+            // The emission channel's grid too (a colour emission grid is left to the fog pass).
+            const std::string& channel =
+                v.temperatureGrid.empty() ? v.emissionGrid : v.temperatureGrid;
+            if (channel.empty() || volume::findPreloadedGridIn(p.grids, v.path, channel)) continue;
+            const std::vector<openvdb::FloatGrid::Ptr> c = volume::loadEmissionChannel(v);
+            if (c.size() == 1) p.grids.push_back({v.path, channel, c[0], nullptr, {}, 0, {}});
         }
         for (const volume::PreloadedGrid& g : p.grids) {
             p.bytes += g.value->memUsage();
-            p.activeVoxels += g.value->activeVoxelCount();
+            const bool density =
+                std::any_of(p.scene.volumes.begin(), p.scene.volumes.end(),
+                            [&](const auto& v) { return v.path == g.path && v.grid == g.grid; });
+            if (density) p.activeVoxels += g.value->activeVoxelCount();
         }
         p.readMs = msSince(start);
         if (max3D > 0) {
             const auto converting = std::chrono::steady_clock::now();
-            convertAhead(p, max3D);
+            convertAhead(p, max3D, staticGrids, conversions);
             p.convertMs = msSince(converting);
         }
     } catch (const Error& e) {
@@ -136,7 +206,7 @@ void FramePrefetcher::work() {
             index = claimed_++;
         }
         auto p = std::make_unique<PreparedFrame>(
-            prepareFrame(scene_, frames_[index], staticGrids_, max3D_));
+            prepareFrame(scene_, frames_[index], staticGrids_, max3D_, &conversions_));
         {
             std::lock_guard lock(mutex_);
             heldBytes_ += p->bytes;

@@ -6,8 +6,8 @@
 // while the grids read and not yet taken use more than the memory budget.
 #pragma once
 
-#include "scene/timeline.h"
 #include "grid/grid_preload.h"
+#include "scene/timeline.h"
 
 #include <condition_variable>
 #include <cstddef>
@@ -31,11 +31,38 @@ struct PreparedFrame {
     std::uint64_t activeVoxels = 0;
 };
 
+// GPU conversions of the grids that do not change with the frame (readStaticGrids()), made
+// once and shared by every frame whose conversion options match. Thread-safe.
+class StaticConversions {
+public:
+    // The conversion of static grid `grid` (with `channel`, a temperature grid, as its
+    // emission channel when not null) with `options` for `max3D`, made on first use.
+    std::shared_ptr<const volume::GridConversion> get(const openvdb::FloatGrid& grid,
+                                                      const openvdb::FloatGrid::Ptr& channel,
+                                                      const volume::GpuVolumeOptions& options,
+                                                      int max3D);
+    std::size_t conversions() const; // made so far (tests)
+
+private:
+    struct Item {
+        const openvdb::FloatGrid* grid;
+        const openvdb::FloatGrid* channel;
+        volume::GpuVolumeOptions options;
+        int max3D;
+        std::shared_ptr<const volume::GridConversion> converted;
+    };
+    mutable std::mutex mutex_;
+    std::vector<Item> items_;
+};
+
 // Everything a frame needs before the render thread takes it: the scene at `frame`, its file
-// volumes' grids (those of `staticGrids` shared, the rest read) and, with `max3D` > 0, their
-// GPU conversions. Errors (a missing or corrupt file) are kept in PreparedFrame::error.
+// volumes' grids (those of `staticGrids` shared, the rest read; a volume's temperature or scalar
+// emission grid with its density, from the same read of the file) and, with `max3D` > 0, their
+// GPU conversions (a static grid's from `conversions` when given, so converted once). Errors (a
+// missing or corrupt file) are kept in PreparedFrame::error.
 PreparedFrame prepareFrame(const scene::AnimatedScene& scene, int frame,
-                           const std::vector<volume::PreloadedGrid>& staticGrids, int max3D);
+                           const std::vector<volume::PreloadedGrid>& staticGrids, int max3D,
+                           StaticConversions* conversions = nullptr);
 
 // File volumes that do not change with the frame, read once (errors thrown at once).
 std::vector<volume::PreloadedGrid> readStaticGrids(const scene::AnimatedScene& scene);
@@ -66,6 +93,7 @@ private:
     int max3D_ = 0;
     // Grids of file volumes that are not sequences, read once and shared by every frame.
     std::vector<volume::PreloadedGrid> staticGrids_;
+    StaticConversions conversions_;
     mutable std::mutex mutex_;
     std::condition_variable ready_, space_;
     std::vector<std::unique_ptr<PreparedFrame>> slots_; // by position in frames_

@@ -87,7 +87,7 @@ void FrameCache::work() {
         if (!found) continue;
         lock.unlock();
         auto p = std::make_shared<const sequence::PreparedFrame>(
-            sequence::prepareFrame(*scene_, frame, staticGrids_, max3D_));
+            sequence::prepareFrame(*scene_, frame, staticGrids_, max3D_, &conversions_));
         lock.lock();
         ++loads_;
         if (cache_.count(frame)) continue;

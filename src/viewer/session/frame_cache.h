@@ -48,6 +48,7 @@ private:
 
     std::shared_ptr<const scene::AnimatedScene> scene_;
     std::vector<volume::PreloadedGrid> staticGrids_;
+    sequence::StaticConversions conversions_; // of staticGrids_, made once
     std::size_t budget_;
     int max3D_;
     mutable std::mutex mutex_;
