@@ -14,6 +14,7 @@ veil.ValueError a ValueError, veil.KeyError a KeyError, veil.TypeError a TypeErr
 docs/python.md has the whole interface.
 """
 
+import builtins as _builtins
 import os as _os
 from dataclasses import dataclass as _dataclass, field as _field
 from typing import Any as _Any, Optional as _Optional, Sequence as _Sequence, Union as _Union
@@ -52,13 +53,62 @@ __all__ = [
     "heat_map", "read_image", "techniques", "tonemap", "vdb_info", "voxelize", "write_image",
 ]
 
-# Public names in tracebacks and help(): veil.Scene, not veil._veil.Scene.
-for _name in ("Scene", "Suite", "compare", "export_vti", "heat_map", "read_image", "tonemap",
-              "vdb_info", "voxelize", "write_image"):
+
+
+def _public(function):
+    """The extension's `function` behind a Python function of the same name, signature and
+    docstring: help() and inspect.signature() show its typed parameters, and a call with
+    unknown or missing arguments is a veil.TypeError in Python's words ("compare(): got an
+    unexpected keyword argument 'metrc'"), not pybind11's list of overloads."""
+    import ast
+    import functools
+    import inspect
+    import re
+
+    name = function.__name__
+    head, _, doc = (function.__doc__ or "").partition("\n")
+    m = re.fullmatch(r"\w+\((.*)\) -> (.*)", head.strip())
+    if not m:
+        return function
+    parameters = []
     try:
-        globals()[_name].__module__ = "veil"
-    except Exception:  # a read-only attribute: the name stays as it is
-        pass
+        for part in filter(None, m.group(1).split(", ")):
+            pname, _, rest = part.partition(": ")
+            annotation, _, default = rest.partition(" = ")
+            value = ast.literal_eval(default) if default else inspect.Parameter.empty
+            parameters.append(inspect.Parameter(pname, inspect.Parameter.POSITIONAL_OR_KEYWORD,
+                                                default=value, annotation=annotation))
+        signature = inspect.Signature(parameters, return_annotation=m.group(2))
+    except (ValueError, SyntaxError):
+        return function
+
+    @functools.wraps(function)
+    def call(*args, **kwargs):
+        __tracebackhide__ = True
+        try:
+            signature.bind(*args, **kwargs)
+        except _builtins.TypeError as e:
+            raise TypeError(f"{name}(): {e}") from None
+        return function(*args, **kwargs)
+
+    del call.__wrapped__  # inspect shows `signature`, not the extension's opaque one
+    call.__signature__ = signature
+    call.__doc__ = doc.strip()
+    call.__module__ = "veil"
+    return call
+
+
+compare = _public(compare)
+export_vti = _public(export_vti)
+heat_map = _public(heat_map)
+read_image = _public(read_image)
+tonemap = _public(tonemap)
+vdb_info = _public(vdb_info)
+voxelize = _public(voxelize)
+write_image = _public(write_image)
+# Public names in tracebacks and help(): veil.Scene, not veil._veil.Scene.
+Scene.__module__ = "veil"
+Suite.__module__ = "veil"
 
 
 @_dataclass(repr=False)

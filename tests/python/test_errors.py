@@ -149,16 +149,30 @@ def test_heat_map_scale_must_be_finite_and_not_negative(scale):
 
 
 def test_help_shows_types():
-    doc = veil.compare.__doc__
-    assert "image: numpy.ndarray | str | os.PathLike" in doc
-    assert "metric: str | list[str] = 'rmse'" in doc and "exposure: float = 1.0" in doc
-    assert "handle" not in doc and ": object" not in doc
+    compare = str(inspect.signature(veil.compare))
+    assert "image: 'numpy.ndarray | str | os.PathLike'" in compare
+    assert "metric: 'str | list[str]' = 'rmse'" in compare and "exposure: 'float' = 1.0" in compare
     for f in (veil.read_image, veil.write_image, veil.heat_map, veil.tonemap, veil.vdb_info,
-              veil.export_vti, veil.voxelize, veil.Scene.set, veil.Scene.load):
-        assert "handle" not in f.__doc__ and ": object" not in f.__doc__.split("\n")[0], f
+              veil.export_vti, veil.voxelize):
+        text = str(inspect.signature(f))
+        assert "handle" not in text and "'object'" not in text.split(" -> ")[0], f
+        assert f.__doc__ and f.__module__ == "veil", f
+    for f in (veil.Scene.set, veil.Scene.load, veil.Scene.__init__):
+        assert "handle" not in f.__doc__ and ": object" not in f.__doc__, f
+    assert "value: str | int | float | bool | list | dict | None" in veil.Scene.set.__doc__
     render = inspect.signature(veil.Renderer.render)
-    assert render.parameters["width"].annotation is not inspect.Parameter.empty
     assert "Optional[int]" in str(render.parameters["width"].annotation)
+
+
+def test_unknown_or_missing_arguments_are_plain_type_errors():
+    with pytest.raises(veil.TypeError, match=r"^compare\(\): got an unexpected keyword "
+                                             r"argument 'metrc'$"):
+        veil.compare(np.zeros((2, 2, 3)), np.zeros((2, 2, 3)), metrc="rmse")
+    with pytest.raises(veil.TypeError, match=r"^read_image\(\): missing a required argument: "
+                                             r"'path'$"):
+        veil.read_image()
+    with pytest.raises(veil.TypeError, match=r"^tonemap\(\): too many positional arguments$"):
+        veil.tonemap(np.zeros((2, 2, 3)), 1.0, "clamp", 4)
 
 
 @pytest.mark.parametrize("path", ["/dev/zero", "fifo"])
