@@ -76,7 +76,7 @@ def assert_image_close(image, reference, metric: str = "p99", tol: float = 1e-3,
     name = re.sub(r"[^A-Za-z0-9._-]+", "_", name or test_name)
     img = _as_image(image, "image")
     if isinstance(reference, (str, os.PathLike)) and not os.path.exists(reference):
-        if os.environ.get("VEIL_UPDATE_REFERENCES") == "1":
+        if _updating():
             _write_reference(os.fspath(reference), img, folder)
             return
         raise AssertionError(f"reference '{os.fspath(reference)}' does not exist (run with "
@@ -99,6 +99,10 @@ def assert_image_close(image, reference, metric: str = "p99", tol: float = 1e-3,
     relation = "<" if metric in _HIGHER_IS_BETTER else ">"
     raise AssertionError(f"{name}: {metric} {value:.6g} {relation} tolerance {tol:g}; wrote "
                          f"{base}.render.exr, .reference.exr, .heat.png, .render.png")
+
+
+def _updating():
+    return os.environ.get("VEIL_UPDATE_REFERENCES") == "1"
 
 
 def _write_reference(path, img, test_folder):
@@ -133,16 +137,18 @@ def regress_cases(suite_path):
     """
     import pytest
 
-    suite = _veil.Suite(suite_path)
+    suite = _veil.Suite(suite_path, update=_updating())
     return [pytest.param((suite, name), id=name) for name in suite.names]
 
 
 def run_regress_case(case, renderer, output):
     """Runs one parameter of regress_cases() and fails with its metrics when it does not pass.
-    Returns the case's result dict (the `veil regress` report's entry)."""
+    Returns the case's result dict (the `veil regress` report's entry). With
+    VEIL_UPDATE_REFERENCES=1 a case with a stored (.exr) reference writes its render as the
+    new reference, as `veil regress --update` does."""
     __tracebackhide__ = True
     suite, name = case
-    result = suite.run(name, renderer, os.fspath(output))
+    result = suite.run(name, renderer, os.fspath(output), update=_updating())
     if not result.get("passed"):
         if result.get("error"):
             raise AssertionError(f"{name}: {result['error']}")

@@ -78,3 +78,33 @@ def test_failures_show_the_callers_line(tmp_path):
     assert "# CALLER" in out and "maxabs" in out and "tolerance 0" in out, out
     # The helper's own lines (its raise) are hidden.
     assert "raise AssertionError" not in out and "testing.py" not in out, out
+
+
+def test_update_references_of_a_regress_suite(tmp_path, monkeypatch):
+    # A new suite whose stored reference does not exist yet: VEIL_UPDATE_REFERENCES=1 reads it
+    # (the reference may be missing) and writes the render as the reference; without it the
+    # suite then passes against that file.
+    import json
+
+    import pytest
+
+    import veil
+    from veil.testing import regress_cases, run_regress_case
+
+    scene = os.path.join(os.path.dirname(__file__), "..", "..", "datasets", "scenes",
+                         "oit-smoke-glass.json")
+    suite = {"name": "new", "cases": [{
+        "name": "golden", "scene": os.path.abspath(scene), "technique": "blend",
+        "reference": "golden.exr", "width": 24, "height": 16, "metrics": {"maxabs": 0.0}}]}
+    (tmp_path / "suite.json").write_text(json.dumps(suite))
+    with pytest.raises(veil.Error, match="golden.exr"):
+        regress_cases(tmp_path / "suite.json")
+    monkeypatch.setenv("VEIL_UPDATE_REFERENCES", "1")
+    renderer = veil.Renderer()
+    (case,) = regress_cases(tmp_path / "suite.json")
+    run_regress_case(case.values[0], renderer, tmp_path / "out1")
+    assert (tmp_path / "golden.exr").is_file()
+    monkeypatch.delenv("VEIL_UPDATE_REFERENCES")
+    (case,) = regress_cases(tmp_path / "suite.json")
+    result = run_regress_case(case.values[0], renderer, tmp_path / "out2")
+    assert result["passed"]
