@@ -6,6 +6,7 @@
 #include "base/error.h"
 #include "gpu/readback.h"
 #include "io/exr_writer.h"
+#include "io/provenance.h"
 #include "io/vtk_export.h"
 
 #include <fmt/format.h>
@@ -223,7 +224,8 @@ nlohmann::json writeDump(const frame::Renderer& renderer, const fs::path& dir) {
         }
         entries.push_back(e);
     }
-    nlohmann::json manifest = {{"renderer", "veil " VEIL_VERSION},
+    nlohmann::json manifest = {{"renderer", "veil " + io::veilVersion()},
+                               {"veil_commit", io::gitCommit()},
                                {"oit", renderer.oitName()},
                                {"camera", renderer.camera().name},
                                {"frame_width", renderer.width()},

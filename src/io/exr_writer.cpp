@@ -3,9 +3,12 @@
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/half.h"
+#include "io/image_io.h"
+#include "io/provenance.h"
 
 #include <OpenImageIO/imageio.h>
 
+#include <cerrno>
 #include <cstdint>
 
 namespace veil::io {
@@ -23,6 +26,8 @@ void writeExr(const fs::path& path, const ExrImage& image) {
     spec.alpha_channel = spec.channelindex("A");
     spec.z_channel = spec.channelindex("Z");
     spec.attribute("compression", "zip");
+    for (const auto& [name, value] : provenanceAttributes())
+        spec.attribute(name, value);
     for (const auto& [name, value] : image.strings)
         spec.attribute(name, value);
     for (const auto& [name, m] : image.matrices)
@@ -36,16 +41,18 @@ void writeExr(const fs::path& path, const ExrImage& image) {
     writeFileAtomically(path, [&](const fs::path& tmp) {
         auto out = OIIO::ImageOutput::create(tmp.string());
         VEIL_CHECK(out, "cannot write '{}': {}", path.string(), OIIO::geterror());
-        VEIL_CHECK(out->open(tmp.string(), spec), "cannot write '{}': {}", path.string(),
-                   out->geterror());
+        errno = 0;
+        if (!out->open(tmp.string(), spec))
+            throw Error(describeWriteFailure(path, out->geterror(), errno));
         // Data already in the file's type: OpenImageIO copies it without converting.
         const bool ok = image.half ? out->write_image(OIIO::TypeDesc::HALF, halves.data())
                                    : out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
+        int savedErrno = errno;
         std::string err = out->geterror();
         const bool closed = out->close(); // flushes the last compressed rows
+        if (ok) savedErrno = errno;
         if (err.empty()) err = out->geterror();
-        VEIL_CHECK(ok && closed, "cannot write '{}': {}", path.string(),
-                   err.empty() ? "the image writer failed" : err);
+        if (!ok || !closed) throw Error(describeWriteFailure(path, err, savedErrno));
     });
 }
 

@@ -3,21 +3,43 @@
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/half.h"
+#include "io/provenance.h"
 
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdint>
 #include <cstdio>
 #include <string>
 
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 namespace veil::io {
 
 namespace fs = std::filesystem;
 
-void writeImage(const fs::path& path, const ImageF& image, bool dropAlpha) {
+std::string describeWriteFailure(const fs::path& path, const std::string& libraryError,
+                                 int savedErrno) {
+    const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+    bool full = savedErrno == ENOSPC || savedErrno == EDQUOT;
+    struct statvfs st {};
+    if (!full && ::statvfs(dir.c_str(), &st) == 0 && st.f_blocks > 0)
+        full = (::geteuid() == 0 ? st.f_bfree : st.f_bavail) == 0;
+    std::string library = libraryError;
+    for (char& c : library)
+        if (c == '\n' || c == '\r') c = ' ';
+    if (full)
+        return fmt::format("cannot write '{}': no space left on device (the file system holding "
+                           "'{}' is full{})",
+                           path.string(), dir.string(), library.empty() ? "" : "; " + library);
+    return fmt::format("cannot write '{}': {}", path.string(),
+                       library.empty() ? std::string("the image writer failed") : library);
+}
+
+void writeImage(const fs::path& path, const ImageF& image, bool dropAlpha,
+                const std::vector<std::pair<std::string, std::string>>& attributes) {
     std::string ext = path.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
     VEIL_CHECK(ext == ".png" || ext == ".exr", "cannot write '{}': use a .png or .exr name",
@@ -38,8 +60,13 @@ void writeImage(const fs::path& path, const ImageF& image, bool dropAlpha) {
         OIIO::ImageSpec spec(image.width, image.height, outChannels,
                              ext == ".png" ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::HALF);
         if (ext == ".exr") spec.attribute("compression", "zip");
-        VEIL_CHECK(out->open(tmp.string(), spec), "cannot write '{}': {}", path.string(),
-                   out->geterror());
+        for (const auto& [name, value] : provenanceAttributes())
+            spec.attribute(name, value);
+        for (const auto& [name, value] : attributes)
+            spec.attribute(name, value);
+        errno = 0;
+        if (!out->open(tmp.string(), spec))
+            throw Error(describeWriteFailure(path, out->geterror(), errno));
         // Half rounded to nearest here (base/half.h), not left to the library's conversion.
         std::vector<std::uint16_t> halves;
         if (ext == ".exr")
@@ -47,12 +74,13 @@ void writeImage(const fs::path& path, const ImageF& image, bool dropAlpha) {
                 halves.push_back(floatToHalf(v));
         const bool ok = ext == ".exr" ? out->write_image(OIIO::TypeDesc::HALF, halves.data())
                                       : out->write_image(OIIO::TypeDesc::FLOAT, data.data());
+        int savedErrno = errno;
         std::string err = out->geterror();
         // close() flushes the last compressed rows: its failure is a truncated file too.
         const bool closed = out->close();
+        if (ok) savedErrno = errno;
         if (err.empty()) err = out->geterror();
-        VEIL_CHECK(ok && closed, "cannot write '{}': {}", path.string(),
-                   err.empty() ? "the image writer failed" : err);
+        if (!ok || !closed) throw Error(describeWriteFailure(path, err, savedErrno));
     });
 }
 
@@ -107,7 +135,20 @@ private:
 
 } // namespace
 
+void checkReadableFile(const fs::path& path, const char* what) {
+    // /dev/zero or a FIFO would be read forever (scene files refuse them the same way): only
+    // regular files (or links to them) are opened.
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    VEIL_CHECK(!fs::is_directory(st), "cannot read {} '{}': it is a folder, not a file", what,
+               path.string());
+    VEIL_CHECK(!fs::exists(st) || fs::is_regular_file(st),
+               "cannot read {} '{}': not a regular file (a device, FIFO or socket)", what,
+               path.string());
+}
+
 ImageF readImage(const fs::path& path) {
+    checkReadableFile(path, "image");
     StderrCapture codec;
     const auto failed = [&](const std::string& err) {
         const std::string printed = codec.text();
@@ -124,6 +165,22 @@ ImageF readImage(const fs::path& path) {
     in->close();
     if (!ok) throw failed(err);
     return image;
+}
+
+std::vector<std::pair<std::string, std::string>> readImageAttributes(const fs::path& path) {
+    checkReadableFile(path, "image");
+    StderrCapture codec;
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in) {
+        const std::string printed = codec.text();
+        throw Error(fmt::format("cannot read image '{}': {}{}", path.string(), OIIO::geterror(),
+                                printed.empty() ? "" : " (" + printed + ")"));
+    }
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const OIIO::ParamValue& p : in->spec().extra_attribs)
+        if (p.type() == OIIO::TypeDesc::STRING) out.emplace_back(p.name().string(), p.get_string());
+    in->close();
+    return out;
 }
 
 } // namespace veil::io

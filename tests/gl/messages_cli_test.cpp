@@ -122,11 +122,11 @@ TEST(MessagesCli, NonJsonSceneIsNamedByItsFormat) {
 TEST(MessagesCli, VersionNamesTheCommit) {
     const CommandResult r = veil("--version");
     EXPECT_EQ(r.exitCode, 0) << r.output;
-    // A git checkout gives 12 hex digits; a tree without history says it has none.
+    // A git checkout gives `git describe` (12 hex digits, after a tag's name and distance when
+    // there is one; "-dirty" with uncommitted changes); a tree without history says "unknown".
     EXPECT_TRUE(std::regex_search(
         r.output,
-        std::regex(
-            R"(^veil \d+\.\d+\.\d+ \(commit ([0-9a-f]{12}|unknown \(not configured from a git checkout\)))")))
+        std::regex(R"(^veil \d+\.\d+\.\d+ \(commit ([^ ]*[0-9a-f]{12}(-dirty)?|unknown))")))
         << r.output;
 }
 
