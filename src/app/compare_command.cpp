@@ -74,6 +74,25 @@ std::string formatValue(double v) {
     return fmt::format("{:.6g}", v);
 }
 
+// Where |a - b| is largest over the RGB channels (the first NaN difference wins, as it is the
+// worst): what idiff calls the worst pixel.
+struct LargestError {
+    double value = 0.0;
+    int x = 0, y = 0, channel = 0;
+};
+
+LargestError largestError(const ImageF& a, const ImageF& b) {
+    LargestError e;
+    for (int y = 0; y < a.height; ++y)
+        for (int x = 0; x < a.width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const double d = std::abs(double(a.at(x, y, c)) - double(b.at(x, y, c)));
+                if (std::isnan(d)) return {d, x, y, c};
+                if (d > e.value) e = {d, x, y, c};
+            }
+    return e;
+}
+
 void runCompare(const CompareArgs& args) {
     std::vector<std::string> names = args.metrics;
     if (names.empty()) names = {"rmse", "maxabs", "relmse", "p99", "psnr", "ssim"};
@@ -89,8 +108,9 @@ void runCompare(const CompareArgs& args) {
     if (args.tonemap != "clamp" && args.tonemap != "aces")
         usageError(fmt::format("--tonemap '{}': use clamp or aces", printable(args.tonemap, 100)));
     if (!args.diff.empty()) {
-        VEIL_CHECK(lowerExtension(args.diff) == ".png" || lowerExtension(args.diff) == ".exr",
-                   "--diff '{}' must end in .png or .exr", printable(args.diff, 500));
+        if (lowerExtension(args.diff) != ".png" && lowerExtension(args.diff) != ".exr")
+            usageError(
+                fmt::format("--diff '{}' must end in .png or .exr", printable(args.diff, 500)));
         checkOutputPath(args.diff, "difference image", {args.image, args.reference});
     }
     const ImageF a = readRgb(args.image, "image");
@@ -126,6 +146,12 @@ void runCompare(const CompareArgs& args) {
         }
         std::cout << fmt::format("  {:<7} {}{}\n", n, formatValue(v), note);
     }
+    if (const LargestError e = largestError(a, b); e.value != 0.0)
+        std::cout << fmt::format("  largest |a - b| {} at x {}, y {} (row 0 at the top), channel "
+                                 "{} (image {}, reference {})\n",
+                                 formatValue(e.value), e.x, e.y, "RGB"[e.channel],
+                                 formatValue(a.at(e.x, e.y, e.channel)),
+                                 formatValue(b.at(e.x, e.y, e.channel)));
     if (!args.diff.empty()) {
         io::writeImage(args.diff, metrics::heatMap(a, b, args.diffScale));
         std::cout << "wrote " << args.diff << " (max |a - b| over RGB; white = "

@@ -3,6 +3,7 @@
 #include "base/error.h"
 #include "base/sha256.h"
 #include "gpu/readback.h"
+#include "io/provenance.h"
 
 #include <fmt/format.h>
 #include <glm/gtc/type_ptr.hpp>
@@ -81,8 +82,19 @@ FrameExtras captureExtras(const frame::Renderer& renderer, bool fogAov) {
     return e;
 }
 
+float backgroundDepth(const glm::mat4& projection, bool half) {
+    constexpr float kHalfMax = 65504.0f; // the largest finite half float
+    const glm::dvec4 v = glm::inverse(glm::dmat4(projection)) * glm::dvec4(0.0, 0.0, 1.0, 1.0);
+    const double far = -v.z / v.w;
+    if (!std::isfinite(far) || far <= 0.0) return kHalfMax;
+    return half ? std::min(static_cast<float>(far), kHalfMax) : static_cast<float>(far);
+}
+
 io::ExrImage makeExr(const ImageF& hdr, const FrameExtras& extras, const RenderMetadata& metadata,
                      bool half) {
+    // Z is finite everywhere, so tools that difference every channel (idiff, oiiotool) see
+    // equal files as equal: no opaque surface is the far plane's depth, named in the header.
+    const float background = backgroundDepth(metadata.projection, half);
     io::ExrImage exr;
     exr.width = hdr.width;
     exr.height = hdr.height;
@@ -100,7 +112,8 @@ io::ExrImage makeExr(const ImageF& hdr, const FrameExtras& extras, const RenderM
             for (int c = 0; c < 3; ++c)
                 p[c] = hdr.at(x, y, c);
             p[3] = 1.0f;
-            p[4] = extras.viewDepth.at(x, y, 0);
+            const float z = extras.viewDepth.at(x, y, 0);
+            p[4] = std::isfinite(z) ? std::min(z, background) : background;
             if (fog) {
                 for (int c = 0; c < 3; ++c)
                     p[5 + c] = extras.fogRadiance.at(x, y, c);
@@ -109,6 +122,7 @@ io::ExrImage makeExr(const ImageF& hdr, const FrameExtras& extras, const RenderM
         }
     for (const auto& [key, value] : metadata.strings.items())
         exr.strings.emplace_back(key, value.get<std::string>());
+    exr.strings.emplace_back("veil:background_depth", fmt::format("{}", background));
     auto matrix = [](const glm::mat4& m) {
         std::array<float, 16> a{};
         std::memcpy(a.data(), glm::value_ptr(m), sizeof a);
@@ -145,8 +159,8 @@ RenderMetadata describeRender(const std::filesystem::path& scene, const std::str
                               const FrameExtras& extras, int width, int height,
                               const std::string& glRenderer) {
     RenderMetadata m;
-    m.strings["Software"] = std::string("veil ") + VEIL_VERSION;
-    m.strings["veil:version"] = VEIL_VERSION;
+    for (const auto& [name, value] : io::provenanceAttributes())
+        m.strings[name] = value;
     m.strings["veil:scene"] = std::filesystem::absolute(scene).string();
     m.strings["veil:scene_sha256"] = sha256File(scene);
     m.strings["veil:oit"] = oit;
@@ -156,7 +170,7 @@ RenderMetadata describeRender(const std::filesystem::path& scene, const std::str
     m.strings["veil:gl_renderer"] = glRenderer;
     m.strings["veil:channels"] =
         "RGB linear radiance; A = 1 (background included in RGB); Z = view depth of the "
-        "nearest opaque surface in scene units, +inf for none";
+        "nearest opaque surface in scene units, veil:background_depth (the far plane) for none";
     m.view = extras.view;
     m.projection = extras.projection;
     return m;

@@ -6,8 +6,11 @@
 //   A        1 everywhere: the background colour is part of R, G, B, so the image is opaque;
 //            there is nothing behind it to composite over
 //   Z        view depth of the nearest opaque surface in scene units (distance along the
-//            camera's forward axis, not along the ray); +inf where the ray hits no opaque
-//            surface. Transparent surfaces and fog write no depth.
+//            camera's forward axis, not along the ray); where the ray hits no opaque surface,
+//            the far plane's depth (min(far, 65504) in half files), recorded in the header as
+//            veil:background_depth, so Z is finite and tools that compare every channel
+//            (idiff) see equal renders as equal. Transparent surfaces and fog write no depth.
+//            (FrameExtras::viewDepth keeps +inf there.)
 //   --aov fog: fog.R, fog.G, fog.B (radiance the fog scatters toward the camera in front of
 //            the opaque surface) and fog.transmittance (of the fog alone, along the same
 //            segment), as the fog pass computed them (upsampled to full size by nearest
@@ -49,7 +52,11 @@ struct RenderMetadata {
 
 // The EXR for a frame: channels as above, `metadata` as header attributes (strings, plus the
 // matrices as worldtocamera / worldtoscreen (OpenEXR worldToCamera / worldToNDC) and
-// veil:projection).
+// veil:projection), and veil:background_depth (backgroundDepth).
+// Z of pixels without an opaque surface: the far plane's view depth of `projection` (65504,
+// the largest half, when the far plane is at infinity or, for `half`, beyond it).
+float backgroundDepth(const glm::mat4& projection, bool half);
+
 io::ExrImage makeExr(const ImageF& hdr, const FrameExtras& extras, const RenderMetadata& metadata,
                      bool half);
 
@@ -61,8 +68,8 @@ void addRgbLayer(io::ExrImage& exr, const std::string& layer, const ImageF& rgb)
 
 namespace veil::capture {
 
-// The metadata of one rendered frame: veil:version, veil:scene (absolute path),
-// veil:scene_sha256, veil:oit, veil:oit_properties (the effective values as JSON text),
+// The metadata of one rendered frame: Software, veil:version, veil:commit, veil:scene (absolute
+// path), veil:scene_sha256, veil:oit, veil:oit_properties (the effective values as JSON text),
 // veil:camera, veil:size ("WxH"), veil:gl_renderer, veil:channels (what A and Z mean), and the
 // camera's view and projection matrices.
 RenderMetadata describeRender(const std::filesystem::path& scene, const std::string& oit,

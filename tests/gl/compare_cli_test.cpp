@@ -1,6 +1,6 @@
-// `veil compare` through the real binary: metrics printed, heat map written, exit status 0
-// within --fail and 1 beyond it; unreadable, missing and mismatched files are one line
-// naming the file.
+// `veil compare` through the real binary: metrics printed, the largest error located, heat map
+// written, exit status 0 within --fail and 1 beyond it; unreadable, missing, mismatched and
+// non-regular files (a device, a FIFO, a folder) are one line naming the file.
 #include "io/image_io.h"
 #include "support/test_support.h"
 
@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <fstream>
+
+#include <sys/stat.h>
 
 namespace veil::test {
 
@@ -108,6 +110,46 @@ TEST(CompareCliTest, MissingUnreadableOrMismatchedFilesNameTheFile) {
     EXPECT_NE(r.output.find("8x8"), std::string::npos) << r.output;
 }
 
+TEST(CompareCliTest, NamesWhereTheLargestErrorIs) {
+    ImageF a(16, 8, 3), b(16, 8, 3);
+    a.at(3, 2, 1) = 0.5f;  // the largest: G at (3, 2)
+    a.at(9, 5, 0) = 0.25f; // a smaller one elsewhere
+    io::writeImage(dir() / "where-a.exr", a);
+    io::writeImage(dir() / "where-b.exr", b);
+    const CommandResult r =
+        compare(shellQuote(dir() / "where-a.exr") + " " + shellQuote(dir() / "where-b.exr"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("largest |a - b| 0.5 at x 3, y 2 (row 0 at the top), channel G "
+                            "(image 0.5, reference 0)"),
+              std::string::npos)
+        << r.output;
+    // Equal images have no such line.
+    const CommandResult same =
+        compare(shellQuote(dir() / "where-b.exr") + " " + shellQuote(dir() / "where-b.exr"));
+    EXPECT_EQ(same.output.find("largest"), std::string::npos) << same.output;
+}
+
+TEST(CompareCliTest, DevicesAndFifosAreRefusedNotRead) {
+    const fs::path a = image("dev-a.exr", 0.5f);
+    const fs::path fifo = dir() / "pipe.exr";
+    fs::remove(fifo);
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    // Without the check these would block forever: `timeout` turns a hang into status 124.
+    for (const std::string& bad : {std::string("/dev/zero"), fifo.string()}) {
+        CommandResult r = runCommand("timeout 20 " + veilExe() + " compare " + shellQuote(bad) +
+                                     " " + shellQuote(a));
+        expectOneErrorLine(r, "not a regular file");
+        EXPECT_NE(r.output.find(bad), std::string::npos) << r.output;
+        r = runCommand("timeout 20 " + veilExe() + " compare " + shellQuote(a) + " " +
+                       shellQuote(bad));
+        expectOneErrorLine(r, "not a regular file");
+    }
+    expectOneErrorLine(compare(shellQuote(dir()) + " " + shellQuote(a)), "is a folder");
+    // The library call every reader goes through (veil.read_image too).
+    EXPECT_NE(errorOf([&] { io::readImage(fifo); }).find("not a regular file"), std::string::npos);
+    fs::remove(fifo);
+}
+
 TEST(CompareCliTest, UsageErrorsAreOneLine) {
     const fs::path a = image("u-a.exr", 0.5f);
     expectOneErrorLine(compare(shellQuote(a) + " " + shellQuote(a) + " --metric mse"),
@@ -118,7 +160,7 @@ TEST(CompareCliTest, UsageErrorsAreOneLine) {
     expectOneErrorLine(compare(shellQuote(a)), "reference", 2);
     expectOneErrorLine(
         compare(shellQuote(a) + " " + shellQuote(a) + " --diff " + shellQuote(dir() / "x.txt")),
-        "x.txt");
+        "x.txt", 2);
 }
 
 } // namespace veil::test

@@ -44,7 +44,8 @@ TEST(CompareToTest, StoredImageGivesTheClosedFormError) {
     EXPECT_TRUE(fs::exists(dir() / "same-error.png"));
 
     // Background 0.7 -> 0.8 changes only the sky, by 0.1 in R, G and B: RMSE = 0.1 sqrt(f),
-    // f the sky's share of the pixels, counted from the stored Z channel (+inf = no surface).
+    // f the sky's share of the pixels, counted from the stored Z channel (no surface: Z is
+    // veil:background_depth, the far plane's depth).
     auto in = OIIO::ImageInput::open(stored.string());
     ASSERT_TRUE(in);
     const OIIO::ImageSpec spec = in->spec();
@@ -52,8 +53,10 @@ TEST(CompareToTest, StoredImageGivesTheClosedFormError) {
     ASSERT_GE(z, 0);
     std::vector<float> zs(std::size_t(spec.width) * spec.height);
     ASSERT_TRUE(in->read_image(0, 0, z, z + 1, OIIO::TypeDesc::FLOAT, zs.data()));
+    const float far = std::stof(spec.get_string_attribute("veil:background_depth", "0"));
+    ASSERT_GT(far, 0.0f);
     const double sky =
-        double(std::count_if(zs.begin(), zs.end(), [](float v) { return std::isinf(v); })) /
+        double(std::count_if(zs.begin(), zs.end(), [&](float v) { return v >= far; })) /
         double(zs.size());
     ASSERT_GT(sky, 0.1);
     const fs::path brighter = dir() / "brighter.png", report = dir() / "brighter.json";

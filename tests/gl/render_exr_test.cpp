@@ -85,6 +85,9 @@ TEST(RenderExrTest, FloatChannelsZAndMetadata) {
     const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(0, 1, 0)));
     const glm::dvec3 up = glm::cross(right, forward);
     const double tanHalf = std::tan(glm::radians(50.0) / 2.0), aspect = 80.0 / 60.0;
+    // The far plane (200) through the float projection matrix: within 1e-4 relative.
+    const float background = std::stof(exr.spec.get_string_attribute("veil:background_depth", "0"));
+    EXPECT_NEAR(background, 200.0f, 0.02f);
     int plane = 0, sky = 0;
     for (int y = 0; y < 60; ++y)
         for (int x = 0; x < 80; ++x) {
@@ -94,7 +97,8 @@ TEST(RenderExrTest, FloatChannelsZAndMetadata) {
             const float z = exr.at(x, y, "Z");
             EXPECT_EQ(exr.at(x, y, "A"), 1.0f);
             if (d.y >= 0.0) {
-                EXPECT_TRUE(std::isinf(z) && z > 0) << x << "," << y << ": " << z;
+                // No opaque surface: the far plane's depth (finite, for idiff), in the header.
+                EXPECT_EQ(z, background) << x << "," << y;
                 ++sky;
                 continue;
             }
@@ -119,10 +123,16 @@ TEST(RenderExrTest, FloatChannelsZAndMetadata) {
     EXPECT_EQ(std::string(exr.spec.get_string_attribute("veil:scene")),
               fs::absolute(scene).string());
     const CommandResult version = runCommand(veilExe() + " --version");
+    const nlohmann::json j0 = readJson(report);
     const std::string versionAttribute = exr.spec.get_string_attribute("veil:version");
     // `veil --version` adds the commit it was built from: "veil 0.1.0 (commit ...)".
     EXPECT_EQ(version.output.rfind(fmt::format("veil {}", versionAttribute), 0), 0u)
         << version.output;
+    // The commit the binary was built from, as --version names it.
+    const std::string commit = exr.spec.get_string_attribute("veil:commit");
+    EXPECT_FALSE(commit.empty());
+    EXPECT_NE(version.output.find("(commit " + commit), std::string::npos) << version.output;
+    EXPECT_EQ(j0["metadata"]["veil:commit"], commit);
     EXPECT_EQ(std::string(exr.spec.get_string_attribute("veil:oit")), "blend");
     EXPECT_EQ(std::string(exr.spec.get_string_attribute("veil:camera")), "low");
     EXPECT_EQ(std::string(exr.spec.get_string_attribute("veil:size")), "80x60");
@@ -144,6 +154,26 @@ TEST(RenderExrTest, FloatChannelsZAndMetadata) {
         EXPECT_NEAR(j["metadata"]["worldtocamera"][i].get<double>(), (&view[0][0])[i], 1e-6);
     }
     EXPECT_TRUE(exr.spec.find_attribute("worldtoscreen", OIIO::TypeDesc::TypeMatrix44));
+}
+
+TEST(RenderExrTest, IdenticalRendersAreEqualForOpenImageIOTools) {
+    // Every channel is finite (Z of the sky is the far plane's depth), so idiff, which
+    // differences every channel, finds two renders of one scene equal.
+    const fs::path scene = dir() / "idiff.json", a = dir() / "idiff-a.exr",
+                   b = dir() / "idiff-b.exr";
+    std::ofstream(scene) << kScene;
+    for (const fs::path& out : {a, b}) {
+        const CommandResult r =
+            runCommand(veilExe() + " render " + shellQuote(scene) + " -o " + shellQuote(out));
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+    }
+    const Exr exr = readExr(a);
+    for (float v : exr.pixels)
+        ASSERT_TRUE(std::isfinite(v));
+    if (runCommand("command -v idiff").exitCode != 0) GTEST_SKIP() << "idiff is not installed";
+    const CommandResult d = runCommand("idiff " + shellQuote(a) + " " + shellQuote(b));
+    EXPECT_EQ(d.exitCode, 0) << d.output;
+    EXPECT_EQ(d.output.find("inf"), std::string::npos) << d.output;
 }
 
 TEST(RenderExrTest, HalfAndFogAov) {
