@@ -12,6 +12,7 @@
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/sha256.h"
+#include "io/provenance.h"
 #include "regress/processes.h"
 #include "regress/report.h"
 #include "regress/report_folder.h"
@@ -57,18 +58,41 @@ void printCase(const regress::CaseResult& r) {
 
 std::string exePath() { return fs::read_symlink("/proc/self/exe").string(); }
 
-// The binary's identity in reports: its version and the start of its executable's SHA-256, so
-// shards of two builds of one version are not merged.
+// The binary's identity in reports: its version and commit (io/provenance.h) and the start of
+// its executable's SHA-256, so shards of two builds of one commit are not merged either.
 std::string versionId() {
-    return fmt::format("{} {}", VEIL_VERSION, sha256File(exePath()).substr(0, 12));
+    return fmt::format("{}, binary sha256 {}", io::versionLine(),
+                       sha256File(exePath()).substr(0, 12));
 }
+
+// Creates the folder when it does not exist; the destructor removes it again when it is still
+// empty (a refused run: the lock file, removed first, was all it held).
+class CreatedFolder {
+public:
+    explicit CreatedFolder(const fs::path& dir) : dir_(dir) {
+        std::error_code ec;
+        if (fs::exists(dir, ec)) return;
+        fs::create_directories(dir);
+        created_ = true;
+    }
+    ~CreatedFolder() {
+        std::error_code ec;
+        if (created_ && fs::is_empty(dir_, ec) && !ec) fs::remove(dir_, ec);
+    }
+    CreatedFolder(const CreatedFolder&) = delete;
+    CreatedFolder& operator=(const CreatedFolder&) = delete;
+
+private:
+    fs::path dir_;
+    bool created_ = false;
+};
 
 [[noreturn]] void usage(const std::string& option, const std::string& problem) {
     throw CLI::ValidationError(option, problem);
 }
 
 regress::ChildCommand childCommand(const RegressArgs& args) {
-    return {exePath(), args.suite, args.update, args.device};
+    return {exePath(), args.suite, args.update, args.device, args.resume};
 }
 
 void runWorker(const RegressArgs& args, const regress::Suite& suite, const regress::Shard& shard) {
@@ -88,6 +112,14 @@ void runRegress(const RegressArgs& args) {
         usage("--jobs", "cannot be combined with --shard or --merge");
     if (!args.shard.empty() && !args.merge.empty())
         usage("--shard", "cannot be combined with --merge");
+    // CLI11 takes the word after --merge as a folder even when it is an option: `--merge -o out`
+    // would merge folders '-o' and 'out' into ./regress-report.
+    for (const std::string& d : args.merge)
+        if (!d.empty() && d[0] == '-')
+            usage("--merge", fmt::format("'{}' is not a shard folder: give the folders after "
+                                         "--merge, other options before it (veil regress "
+                                         "suite.json -o out --merge shard0 shard1)",
+                                         d));
     regress::Shard shard;
     if (args.merge.empty() && args.jobs == 1) {
         try {
@@ -100,12 +132,19 @@ void runRegress(const RegressArgs& args) {
     const regress::Suite suite = regress::loadSuite(args.suite, args.update);
     VEIL_CHECK(!fs::exists(out) || fs::is_directory(out), "output '{}' is not a folder",
                out.string());
-    fs::create_directories(out);
-    checkOutputPath(out / "results.json", "report", {suite.file});
     if (!args.worker.empty()) return runWorker(args, suite, shard);
+    // A run refused before it wrote its report leaves no -o folder it created.
+    const CreatedFolder created(out);
+    checkOutputPath(out / "results.json", "report", {suite.file});
 
     regress::installSignalHandlers();
     const regress::ReportLock lock(out);
+    if (args.resume) // the folders --resume keeps must not lead the writes out of -o
+        for (const char* sub : {"cases", "images"})
+            regress::reportSubfolder(out, sub);
+    if (args.update) // every reference path checked, its folders made, before rendering
+        for (const fs::path& d : regress::prepareReferenceFolders(suite))
+            std::cout << "created reference folder " << d.string() << "\n";
     const std::string version = versionId();
     regress::Report report;
     if (!args.merge.empty()) {
@@ -113,7 +152,7 @@ void runRegress(const RegressArgs& args) {
     } else if (args.jobs > 1) {
         if (!args.resume) regress::clearPreviousReport(out);
         const std::vector<fs::path> dirs =
-            regress::runShardProcesses(childCommand(args), args.jobs, out);
+            regress::runShardProcesses(childCommand(args), args.jobs, out, suite, version);
         report = regress::mergeReports(suite, dirs, out, version);
         for (const fs::path& d : dirs)
             fs::remove_all(d);

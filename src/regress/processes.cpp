@@ -1,6 +1,7 @@
 // The processes of a regress run (processes.h).
 #include "regress/processes.h"
 
+#include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/process.h"
 #include "regress/report_folder.h"
@@ -12,6 +13,7 @@
 
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 namespace veil::regress {
@@ -45,6 +47,23 @@ std::vector<std::string> childArgv(const ChildCommand& command, const Shard& sha
 void addOptions(const ChildCommand& command, std::vector<std::string>& argv) {
     if (command.update) argv.push_back("--update");
     if (command.device >= 0) argv.insert(argv.end(), {"--device", std::to_string(command.device)});
+    if (command.resume) argv.push_back("--resume");
+}
+
+// --resume with --jobs: the finished cases of shard `shard` that `out` holds, copied into the
+// shard's folder (case file and images) for the child's own --resume.
+void seedShardFolder(const fs::path& out, const fs::path& dir, const Suite& suite,
+                     const Shard& shard, const std::string& version) {
+    for (const RegressCase* k : shardCases(suite, shard)) {
+        const std::optional<CaseResult> done = readCaseFile(out, k->name, suite.sha256, version);
+        if (!done) continue;
+        for (const std::string* png : {&done->renderPng, &done->referencePng, &done->diffPng})
+            if (!png->empty())
+                fs::copy_file(safePathInside(out, *png, "--resume"),
+                              reportSubfolder(dir, "images") / fs::path(*png).filename(),
+                              fs::copy_options::overwrite_existing);
+        writeCaseFile(dir, *done, suite.sha256, version);
+    }
 }
 
 } // namespace
@@ -61,8 +80,8 @@ void clearPreviousReport(const fs::path& out) {
     sigprocmask(SIG_SETMASK, &old, nullptr);
 }
 
-std::vector<fs::path> runShardProcesses(const ChildCommand& command, int jobs,
-                                        const fs::path& out) {
+std::vector<fs::path> runShardProcesses(const ChildCommand& command, int jobs, const fs::path& out,
+                                        const Suite& suite, const std::string& version) {
     std::vector<pid_t> pids;
     std::vector<fs::path> dirs;
     for (int i = 0; i < jobs; ++i) {
@@ -71,6 +90,11 @@ std::vector<fs::path> runShardProcesses(const ChildCommand& command, int jobs,
         fs::remove_all(dir, ec); // of an interrupted run
         dirs.push_back(dir);
     }
+    if (command.resume)
+        for (int i = 0; i < jobs; ++i) {
+            fs::create_directory(dirs[static_cast<std::size_t>(i)]);
+            seedShardFolder(out, dirs[static_cast<std::size_t>(i)], suite, {i, jobs}, version);
+        }
     auto removeDirs = [&] {
         std::error_code ec;
         for (const fs::path& d : dirs)
@@ -123,6 +147,7 @@ std::string superviseWorker(const ChildCommand& command, const Suite& suite, con
         r.reference = k->referenceLabel();
         r.scene = k->scene.string();
         r.note = k->note;
+        r.overrides = k->overrides;
         r.error = fmt::format("the case crashed its process ({}); the other cases ran in a new "
                               "process",
                               process::signalName(e.signal));
@@ -137,8 +162,7 @@ std::string workerDeviceLine(const gpu::ContextInfo& info, const fs::path& out) 
     const std::string line = fmt::format("EGL device {}: {} ({}); chosen by {}", info.deviceIndex,
                                          info.renderer, info.version, info.deviceChoice);
     std::cout << line << "\n";
-    fs::create_directories(out / "cases");
-    std::ofstream(out / "cases" / ".device") << line;
+    writeTextFileAtomically(reportSubfolder(out, "cases") / ".device", line);
     return line;
 }
 

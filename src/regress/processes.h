@@ -24,6 +24,7 @@ struct ChildCommand {
     std::string suite; // the suite file as given
     bool update = false;
     int device = -1; // -1: not passed
+    bool resume = false;
 };
 
 // The forwarding handler (base/process.h) with the report lock file (lockFileForSignals)
@@ -38,9 +39,13 @@ void clearPreviousReport(const std::filesystem::path& out);
 // allowed GPU mod their count (VEIL_GPU_SLOT, gpu/device_choice.h). Returns the shard
 // folders, each holding a finished results.json; a shard that ended without one is a
 // veil::Error naming how it ended (the folders are removed). A signal meanwhile removes them
-// and ends the process.
+// and ends the process. With command.resume, each shard folder starts with the case files
+// (and images) of its cases that OUT holds from the same suite and `version`, and the children
+// run with --resume.
 std::vector<std::filesystem::path> runShardProcesses(const ChildCommand& command, int jobs,
-                                                     const std::filesystem::path& out);
+                                                     const std::filesystem::path& out,
+                                                     const Suite& suite,
+                                                     const std::string& version);
 
 // The shard's cases in a worker process (`--worker VERSION`), started again after a case that
 // crashed it: that case's file says so and `onCase` gets it. Returns the device line the

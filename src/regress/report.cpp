@@ -2,6 +2,7 @@
 
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "io/provenance.h"
 #include "regress/report_folder.h"
 #include "regress/report_html.h"
 #include "scene/json_text.h"
@@ -27,6 +28,7 @@ nlohmann::json toJson(const Report& r) {
             {"shard", r.shard},
             {"suite_sha256", r.suiteSha256},
             {"veil_version", r.veilVersion},
+            {"veil_commit", io::gitCommit()},
             {"device", r.device},
             {"cases", cases},
             {"passed", static_cast<int>(r.cases.size()) - r.failed()},

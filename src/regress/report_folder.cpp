@@ -80,14 +80,31 @@ ReportLock::ReportLock(const fs::path& dir) : file_(dir / ".veil-regress.lock") 
     // (SIGKILL, a node's time limit), so a killed run never leaves a stale lock, and it holds
     // across the nodes of a shared file system that supports POSIX locks (NFSv4, Lustre).
     for (int attempt = 0; attempt < 5; ++attempt) {
-        const int fd = ::open(file_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+        // Never through a symbolic link, and only a regular file of its own (not a hard link
+        // to a file elsewhere, a FIFO or a device): the pid written below would land there.
+        const int fd =
+            ::open(file_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK, 0644);
+        VEIL_CHECK(fd >= 0 || errno != ELOOP,
+                   "lock file '{}' is a symbolic link: refusing to write through it (remove it "
+                   "if no veil regress uses the folder)",
+                   file_.string());
         VEIL_CHECK(fd >= 0, "cannot create the lock file '{}': {}", file_.string(),
                    std::strerror(errno));
+        struct stat own {};
+        if (::fstat(fd, &own) != 0 || !S_ISREG(own.st_mode) || own.st_nlink != 1) {
+            ::close(fd);
+            throw Error(fmt::format("lock file '{}' is not a regular file of its own (a hard "
+                                    "link, folder, FIFO or device): refusing to write it (remove "
+                                    "it if no veil regress uses the folder)",
+                                    file_.string()));
+        }
         struct flock lk {};
         lk.l_type = F_WRLCK;
         lk.l_whence = SEEK_SET;
         if (::fcntl(fd, F_SETLK, &lk) != 0) {
-            const std::string text = readSmallFile(file_);
+            char buf[128] = {};
+            const ssize_t got = ::pread(fd, buf, sizeof buf - 1, 0);
+            const std::string text(buf, got > 0 ? static_cast<std::size_t>(got) : 0);
             ::close(fd);
             throw Error(fmt::format("report folder '{}' is in use by another veil regress ({}, "
                                     "lock file '{}'): wait for it to end or choose another -o",
@@ -101,7 +118,7 @@ ReportLock::ReportLock(const fs::path& dir) : file_(dir / ".veil-regress.lock") 
         // then lock the new one.
         struct stat held {
         }, now{};
-        if (::fstat(fd, &held) != 0 || ::stat(file_.c_str(), &now) != 0 ||
+        if (::fstat(fd, &held) != 0 || ::lstat(file_.c_str(), &now) != 0 ||
             held.st_ino != now.st_ino || held.st_dev != now.st_dev) {
             ::close(fd);
             continue;
@@ -131,6 +148,25 @@ ReportLock::~ReportLock() {
 
 const char* lockFileForSignals() { return g_lockFile; }
 
+fs::path reportSubfolder(const fs::path& dir, const std::string& name) {
+    const fs::path sub = dir / name;
+    struct stat st {};
+    if (::lstat(sub.c_str(), &st) == 0) {
+        VEIL_CHECK(!S_ISLNK(st.st_mode),
+                   "'{}' is a symbolic link: refusing to write the report through it (remove it)",
+                   sub.string());
+        VEIL_CHECK(S_ISDIR(st.st_mode), "'{}' exists and is not a folder (remove it)",
+                   sub.string());
+        return sub;
+    }
+    fs::create_directories(dir); // the report folder itself (-o) may be new
+    VEIL_CHECK(::mkdir(sub.c_str(), 0777) == 0 || errno == EEXIST, "cannot create '{}': {}",
+               sub.string(), std::strerror(errno));
+    VEIL_CHECK(::lstat(sub.c_str(), &st) == 0 && S_ISDIR(st.st_mode),
+               "'{}' is not a folder after creating it", sub.string());
+    return sub;
+}
+
 void clearReport(const fs::path& dir) {
     std::error_code ec;
     fs::remove(dir / "results.json", ec);
@@ -145,8 +181,7 @@ void writeCaseFile(const fs::path& dir, const CaseResult& c, const std::string& 
     nlohmann::json j = c.toJson();
     j["suite_sha256"] = suiteSha256;
     j["veil_version"] = version;
-    fs::create_directories(dir / "cases");
-    writeTextFileAtomically(dir / "cases" / (c.name + ".json"),
+    writeTextFileAtomically(reportSubfolder(dir, "cases") / (c.name + ".json"),
                             j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
@@ -170,8 +205,7 @@ std::optional<CaseResult> readCaseFile(const fs::path& dir, const std::string& n
 }
 
 void markRunning(const fs::path& dir, const std::string& name) {
-    fs::create_directories(dir / "cases");
-    writeTextFileAtomically(dir / "cases" / ".running", name + "\n");
+    writeTextFileAtomically(reportSubfolder(dir, "cases") / ".running", name + "\n");
 }
 
 std::string runningCase(const fs::path& dir) {

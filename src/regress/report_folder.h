@@ -47,6 +47,10 @@ private:
 // The lock file held now ("" when none), as a C string a signal handler may unlink.
 const char* lockFileForSignals();
 
+// `dir / name` as a real folder of `dir`, created when missing: a symbolic link there (which
+// could lead the report's writes out of `dir`) or a file is a veil::Error naming it.
+std::filesystem::path reportSubfolder(const std::filesystem::path& dir, const std::string& name);
+
 // Removes the files of a previous report from `dir` (results.json first, then results.xml,
 // index.html, cases/, images/); other files are left alone.
 void clearReport(const std::filesystem::path& dir);

@@ -132,6 +132,12 @@ void card(std::ostringstream& h, const CaseResult& c) {
     h << "<p>" << c.width << "x" << c.height
       << (c.seeds > 1 ? fmt::format(", mean of {} seeds", c.seeds) : "") << ", scene <code>"
       << escapeMarkup(c.scene) << "</code></p>\n";
+    if (!c.overrides.empty()) {
+        h << "<p class=\"overrides\">overrides";
+        for (const std::string& o : c.overrides)
+            h << " <code>" << escapeMarkup(o) << "</code>";
+        h << "</p>\n";
+    }
     if (!c.note.empty()) h << "<p><small>" << escapeMarkup(c.note) << "</small></p>\n";
     if (!c.error.empty()) h << "<p class=\"bad\">" << escapeMarkup(c.error) << "</p>\n";
     if (!c.metrics.empty()) {

@@ -122,7 +122,13 @@ CaseResult runCase(const RegressCase& k, const gpu::ContextInfo& info, const Run
     r.reference = k.referenceLabel();
     r.scene = k.scene.string();
     r.note = k.note;
+    r.overrides = k.overrides;
     r.seeds = k.seeds;
+    // Every image of the case records what made it (with io::provenanceAttributes()).
+    const std::vector<std::pair<std::string, std::string>> header{
+        {"veil:case", k.name},
+        {"veil:scene", k.scene.string()},
+        {"veil:overrides", nlohmann::json(k.overrides).dump()}};
     try {
         const scene::Scene s = scene::loadScene(k.scene, k.overrides);
         scene::Camera camera;
@@ -147,7 +153,7 @@ CaseResult runCase(const RegressCase& k, const gpu::ContextInfo& info, const Run
                                           metrics::rmse(image, old), metrics::maxAbs(image, old))
                             : fmt::format("was {}x{}", old.width, old.height);
                 }
-                io::writeImage(k.referenceFile, image);
+                io::writeImage(k.referenceFile, image, true, header);
                 r.updated = k.referenceFile.string() + " (" + change + ")";
             }
             ImageF ref = io::readImage(k.referenceFile);
@@ -197,14 +203,16 @@ CaseResult runCase(const RegressCase& k, const gpu::ContextInfo& info, const Run
             const double largest = metrics::maxAbs(image, reference);
             r.heatScale = std::isfinite(largest) ? std::max(largest, 1e-6) : 1.0;
         }
-        fs::create_directories(out / "images");
+        reportSubfolder(out, "images");
         r.renderPng = "images/" + k.name + "-render.png";
         r.referencePng = "images/" + k.name + "-reference.png";
         r.diffPng = "images/" + k.name + "-diff.png";
-        io::writeImage(out / r.renderPng, metrics::toneMapSrgb(image, s.render.exposure, op));
-        io::writeImage(out / r.referencePng,
-                       metrics::toneMapSrgb(reference, s.render.exposure, op));
-        io::writeImage(out / r.diffPng, metrics::heatMap(image, reference, r.heatScale));
+        io::writeImage(out / r.renderPng, metrics::toneMapSrgb(image, s.render.exposure, op), true,
+                       header);
+        io::writeImage(out / r.referencePng, metrics::toneMapSrgb(reference, s.render.exposure, op),
+                       true, header);
+        io::writeImage(out / r.diffPng, metrics::heatMap(image, reference, r.heatScale), true,
+                       header);
     } catch (const std::exception& e) {
         r.passed = false;
         r.error = e.what();
@@ -327,13 +335,14 @@ Report mergeReports(const Suite& suite, const std::vector<fs::path>& dirs, const
             missing.name = k.name;
             missing.reference = k.referenceLabel();
             missing.scene = k.scene.string();
+            missing.overrides = k.overrides;
             missing.error = "no merged shard ran this case";
             r.cases.push_back(missing);
         }
     }
     // Now the writes: the previous report goes first, so `out` never shows a mix.
     clearReport(out);
-    if (!copies.empty()) fs::create_directories(out / "images");
+    if (!copies.empty()) reportSubfolder(out, "images");
     for (const ImageCopy& c : copies) {
         std::error_code ec;
         fs::copy_file(c.from, c.to, fs::copy_options::overwrite_existing, ec);

@@ -1,5 +1,6 @@
 #include "regress/suite.h"
 
+#include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/sha256.h"
 #include "base/text.h"
@@ -11,6 +12,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -174,6 +176,14 @@ RegressCase parseCase(const Where& w, const fs::path& dir, const nlohmann::json&
     if (lowerExtension(ref) == ".exr") {
         k.reference = ReferenceKind::File;
         k.referenceFile = (dir / ref).lexically_normal();
+        // --update writes the file (and the folders it needs) inside the suite's folder only.
+        if (update) try {
+                safePathInside(dir, ref, "reference");
+            } catch (const Error& e) {
+                w.fail(ptr("reference"), std::string(e.what()) +
+                                             ": --update writes references only inside the "
+                                             "suite's folder");
+            }
         if (!update && !fs::is_regular_file(k.referenceFile))
             w.fail(ptr("reference"), fmt::format("reference image '{}' does not exist (veil "
                                                  "regress --update writes it)",
@@ -281,6 +291,24 @@ std::string RegressCase::referenceLabel() const {
 
 Suite loadSuite(const fs::path& file, bool update) {
     const Where w{file.string()};
+    std::error_code ec;
+    const fs::file_status st = fs::status(file, ec);
+    if (fs::is_directory(st)) {
+        std::vector<std::string> json;
+        for (const auto& e : fs::directory_iterator(file, ec))
+            if (e.path().extension() == ".json") json.push_back(e.path().filename().string());
+        std::sort(json.begin(), json.end());
+        if (json.size() > 4) json.resize(4), json.push_back("...");
+        throw Error(fmt::format(
+            "suite '{}' is a folder: give a suite file (JSON with \"cases\", "
+            "docs/regression.md){}",
+            file.string(),
+            json.empty() ? std::string("; the folder holds no .json file")
+                         : fmt::format("; JSON files there: {}", fmt::join(json, ", "))));
+    }
+    VEIL_CHECK(!fs::exists(st) || fs::is_regular_file(st),
+               "cannot read suite file '{}': not a regular file (a device, FIFO or socket)",
+               file.string());
     std::ifstream in(file, std::ios::binary);
     VEIL_CHECK(in, "cannot open suite file '{}'", file.string());
     std::stringstream ss;
@@ -318,6 +346,43 @@ Suite loadSuite(const fs::path& file, bool update) {
     return suite;
 }
 
+std::vector<fs::path> prepareReferenceFolders(const Suite& suite) {
+    std::vector<fs::path> missing;
+    for (const RegressCase& k : suite.cases) {
+        if (k.reference != ReferenceKind::File) continue;
+        const std::string where = fmt::format("{}: {}/reference", suite.file.string(), k.where);
+        // Every part of the folder that exists must be a folder; the rest is created.
+        for (fs::path d = k.referenceFile.parent_path(); !d.empty(); d = d.parent_path()) {
+            std::error_code ec;
+            const fs::file_status st = fs::status(d, ec);
+            if (fs::exists(st)) {
+                VEIL_CHECK(fs::is_directory(st),
+                           "{}: cannot write reference '{}': '{}' exists and is not a folder",
+                           where, k.referenceFile.string(), d.string());
+                break;
+            }
+            if (std::find(missing.begin(), missing.end(), d) == missing.end()) missing.push_back(d);
+            if (d == d.parent_path()) break;
+        }
+        std::error_code ec;
+        const fs::file_status st = fs::status(k.referenceFile, ec);
+        VEIL_CHECK(!fs::exists(st) || fs::is_regular_file(st),
+                   "{}: cannot write reference '{}': it exists and is not a regular file", where,
+                   k.referenceFile.string());
+    }
+    // Parents before children.
+    std::sort(missing.begin(), missing.end());
+    for (const fs::path& d : missing) {
+        std::error_code ec;
+        fs::create_directory(d, ec);
+        VEIL_CHECK(!ec, "cannot create the reference folder '{}': {}", d.string(), ec.message());
+    }
+    for (const RegressCase& k : suite.cases)
+        if (k.reference == ReferenceKind::File)
+            checkOutputPath(k.referenceFile, "reference", {k.scene});
+    return missing;
+}
+
 nlohmann::json CaseResult::toJson() const {
     nlohmann::json m = nlohmann::json::array();
     for (const MetricResult& r : metrics) {
@@ -334,6 +399,7 @@ nlohmann::json CaseResult::toJson() const {
             {"reference", reference},
             {"scene", scene},
             {"note", note},
+            {"overrides", overrides},
             {"width", width},
             {"height", height},
             {"seeds", seeds},
@@ -354,6 +420,7 @@ CaseResult CaseResult::fromJson(const nlohmann::json& j) {
     r.reference = j.at("reference");
     r.scene = j.at("scene");
     r.note = j.at("note");
+    if (j.contains("overrides")) r.overrides = j.at("overrides").get<std::vector<std::string>>();
     r.width = j.at("width");
     r.height = j.at("height");
     r.seeds = j.at("seeds");

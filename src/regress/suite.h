@@ -53,6 +53,12 @@ struct Suite {
 // allowed (they are about to be written).
 Suite loadSuite(const std::filesystem::path& file, bool update);
 
+// For --update, before anything renders: every stored reference's path is checked (its
+// existing folders are folders, the file is absent or a regular file, the folder writable) and
+// the missing folders are created (inside the suite's folder: loadSuite with `update` refused
+// any other). Returns the folders created. Errors name the suite file and the case.
+std::vector<std::filesystem::path> prepareReferenceFolders(const Suite& suite);
+
 // One metric of one case.
 struct MetricResult {
     std::string name;
@@ -64,6 +70,10 @@ struct MetricResult {
 struct CaseResult {
     std::string name;
     std::string technique, reference, scene, note;
+    // The effective overrides the scene was loaded with (RegressCase::overrides: the case's
+    // own, then those from technique, camera, width, height, frame), in the case card, its
+    // JSON and its image headers (veil:overrides).
+    std::vector<std::string> overrides;
     int width = 0, height = 0, seeds = 1;
     bool passed = false;
     std::string error; // the case could not be rendered or compared
