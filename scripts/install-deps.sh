@@ -39,7 +39,7 @@ for arg in "$@"; do
   case $arg in
     --test) test=1 ;;
     --list) list=1 ;;
-    -h | --help) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h | --help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
     *) echo "install-deps: unknown option '$arg' (--test, --list)" >&2; exit 2 ;;
   esac
 done
