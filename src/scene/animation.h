@@ -51,7 +51,7 @@ struct FileSequence {
     Outside before = Outside::Hold, after = Outside::Hold;
     bool holdMissing = false; // else a missing file in the range is an error
 
-    int count() const { return (last - first) / step + 1; }
+    long long count() const { return ((long long)last - first) / step + 1; }
     // first/last from the files found (ascending, not empty), step their spacing's greatest
     // common divisor (1 for a single file).
     void spanFound(const std::vector<int>& found);

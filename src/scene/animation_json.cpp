@@ -197,6 +197,16 @@ bool parseVolumeSequence(const Obj& o, VolumeRef& v, std::optional<FileSequence>
     s.before = outsideOf(values.before);
     s.after = outsideOf(values.after);
     s.holdMissing = values.missing == "hold";
+    // Scene frames (file frame - frame_offset) stay within the frame limit, so frame ranges
+    // and `veil info` count them without overflow.
+    const long long sceneFirst = (long long)s.first - s.frameOffset,
+                    sceneLast = (long long)s.last - s.frameOffset;
+    if (sceneFirst < -kFrameLimit || sceneLast > kFrameLimit)
+        fail(o.ctx(), o.ptr("frame_offset"),
+             fmt::format("file frames {}-{} with frame_offset {} are scene frames {}-{}, outside "
+                         "the {}..{} a scene's frames may span",
+                         s.first, s.last, s.frameOffset, sceneFirst, sceneLast, -kFrameLimit,
+                         kFrameLimit));
     v.path = p;
     sequence = s;
     return true;

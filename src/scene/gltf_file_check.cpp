@@ -356,13 +356,13 @@ bool startsWithGlbMagic(const std::filesystem::path& path) {
     return in.gcount() == 4 && std::string_view(magic, 4) == "glTF";
 }
 
-void checkGltfFile(const std::filesystem::path& path) {
+namespace {
+
+// The JSON of a .gltf file or of a GLB's first chunk, and the BIN chunk's length.
+json gltfJson(const std::filesystem::path& path, std::optional<std::uint64_t>& binChunk) {
     const std::string file = path.string();
     const std::string bytes = readAll(path, file);
-    if (bytes.size() < 4 || bytes.compare(0, 4, "glTF") != 0) {
-        checkDocument(parseJsonText(bytes, file), path, std::nullopt, file);
-        return;
-    }
+    if (bytes.size() < 4 || bytes.compare(0, 4, "glTF") != 0) return parseJsonText(bytes, file);
     // GLB (glTF 2.0 §4.4): a 12-byte header (magic, version, length), then chunks of
     // (length, type, data); the first is JSON, an optional second one BIN.
     const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
@@ -377,7 +377,6 @@ void checkGltfFile(const std::filesystem::path& path) {
                "mesh file '{}': GLB header says {} bytes but the file has {}", file, total,
                bytes.size());
     std::optional<std::string_view> jsonChunk;
-    std::optional<std::uint64_t> binChunk;
     std::uint64_t at = 12;
     for (int chunk = 0; at + 8 <= total; ++chunk) {
         const std::uint64_t length = readLe32(p + at);
@@ -395,7 +394,60 @@ void checkGltfFile(const std::filesystem::path& path) {
         at += 8 + length;
     }
     VEIL_CHECK(jsonChunk.has_value(), "mesh file '{}': GLB without a JSON chunk", file);
-    checkDocument(parseJsonText(*jsonChunk, file), path, binChunk, file);
+    return parseJsonText(*jsonChunk, file);
+}
+
+// The number at `v` when it is one.
+std::optional<double> number(const json& v) {
+    if (!v.is_number()) return std::nullopt;
+    return v.get<double>();
+}
+
+} // namespace
+
+void checkGltfFile(const std::filesystem::path& path) {
+    std::optional<std::uint64_t> binChunk;
+    const json doc = gltfJson(path, binChunk);
+    checkDocument(doc, path, binChunk, path.string());
+}
+
+std::vector<std::string> gltfCollapsingNodes(const std::filesystem::path& path) {
+    std::optional<std::uint64_t> binChunk;
+    const json doc = gltfJson(path, binChunk);
+    std::vector<std::string> out;
+    const auto nodes = doc.find("nodes");
+    if (nodes == doc.end() || !nodes->is_array()) return out;
+    for (std::size_t i = 0; i < nodes->size(); ++i) {
+        const json& node = (*nodes)[i];
+        if (!node.is_object()) continue;
+        std::string why;
+        if (const auto scale = node.find("scale"); scale != node.end() && scale->is_array())
+            for (const json& c : *scale)
+                if (number(c) == 0.0) why = "scale " + scale->dump();
+        if (const auto m = node.find("matrix");
+            m != node.end() && m->is_array() && m->size() == 16) {
+            double a[9];
+            bool numbers = true;
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 3; ++c) {
+                    const std::optional<double> v = number((*m)[std::size_t(c * 4 + r)]);
+                    numbers = numbers && v.has_value();
+                    a[r * 3 + c] = v.value_or(0.0);
+                }
+            const double det = a[0] * (a[4] * a[8] - a[5] * a[7]) -
+                               a[1] * (a[3] * a[8] - a[5] * a[6]) +
+                               a[2] * (a[3] * a[7] - a[4] * a[6]);
+            if (numbers && det == 0.0) why = "a matrix of determinant 0";
+        }
+        if (why.empty()) continue;
+        const auto name = node.find("name");
+        out.push_back(fmt::format("nodes[{}]{} ({})", i,
+                                  name != node.end() && name->is_string()
+                                      ? " '" + name->get<std::string>() + "'"
+                                      : std::string(),
+                                  why));
+    }
+    return out;
 }
 
 } // namespace veil::scene

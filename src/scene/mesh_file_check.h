@@ -7,6 +7,8 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 namespace veil::scene {
 
@@ -30,5 +32,10 @@ bool startsWithGlbMagic(const std::filesystem::path& path);
 // elements. Throws veil::Error naming the file, the entity (e.g. "accessors[1]") and both
 // sizes. Reads the file once; the JSON is parsed with the scene's bounded parser.
 void checkGltfFile(const std::filesystem::path& path);
+
+// The nodes of a glTF or GLB file whose transform collapses what they hold (a scale with a
+// zero component, a matrix of determinant 0), each as "nodes[2] 'name' (scale [0,0,0])", for
+// the message of a mesh that has no extent.
+std::vector<std::string> gltfCollapsingNodes(const std::filesystem::path& path);
 
 } // namespace veil::scene

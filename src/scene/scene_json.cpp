@@ -463,9 +463,16 @@ VolumeRef parseVolume(const Context& ctx, const json& j, const std::string& ptr,
     if (const json* t = o.get("transform"))
         v.transform = parseTransform(ctx, *t, o.ptr("transform"));
     readValues(o, volumeValueDecls(), v);
-    for (const char* key : {"emission_grid", "temperature_grid"})
+    for (const char* key : {"emission_grid", "temperature_grid"}) {
         if (o.get(key) && v.path.empty())
             fail(ctx, o.ptr(key), "a procedural volume has no file to read a grid from");
+        // "" would silently mean no emission: leave the key out for that.
+        if (const json* g = o.get(key); g && g->is_string() && g->get<std::string>().empty())
+            fail(ctx, o.ptr(key),
+                 fmt::format("{} must name a grid of the volume's file (leave the key out for "
+                             "none)",
+                             key));
+    }
     if (!v.emissionGrid.empty() && !v.temperatureGrid.empty())
         fail(ctx, o.ptr("temperature_grid"), "give either emission_grid or temperature_grid");
     return v;

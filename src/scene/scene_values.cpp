@@ -182,7 +182,7 @@ const std::vector<ValueDecl<RenderSettings>>& renderValueDecls() {
             .integer("fog_scattered_light_samples", &R::fogScatteredLightSamples, 1, 1 << 16,
                      "paths traced per texel of the scattered-light cache")
             .edited(ValueGroup::FogMarcher)
-            .real("fog_scattered_light_cell", &R::fogScatteredLightCell, kNonNegative, 0.25, 64.0,
+            .real("fog_scattered_light_cell", &R::fogScatteredLightCell, {0.25, 64.0}, 0.25, 64.0,
                   "voxels per texel of the scattered-light cache (at most 128 texels per axis)")
             .edited(ValueGroup::FogMarcher)
             .choice("fog_scattered_light_bake", &R::fogScatteredLightBake, {"auto", "gpu", "cpu"},
@@ -234,13 +234,13 @@ const std::vector<ValueDecl<VolumeRef>>& volumeValueDecls() {
                   "the emitted radiance per unit length (instead of the density)")
             .text("temperature_grid", &V::temperatureGrid,
                   "scalar grid of the volume's file rendered as blackbody emission")
-            .real("temperature_scale", &V::temperatureScale, kNonNegative, 0.0, 10000.0,
+            .real("temperature_scale", &V::temperatureScale, {0.0, 1e5}, 0.0, 10000.0,
                   "kelvin per unit of temperature_grid (T = scale x value + offset)", "[CIE15]")
             .edited(ValueGroup::Volume)
             .real("temperature_offset", &V::temperatureOffset, {-1e5, 1e5}, -1000.0, 5000.0,
                   "kelvin added to temperature_scale x value")
             .edited(ValueGroup::Volume)
-            .real("temperature_intensity", &V::temperatureIntensity, kNonNegative, 0.0, 10.0,
+            .real("temperature_intensity", &V::temperatureIntensity, {0.0, 1e3}, 0.0, 10.0,
                   "blackbody emission per unit length = intensity x density_scale x density x "
                   "Planck radiance (kW m^-2 sr^-1, CIE 1931 to linear sRGB); 1 = physical")
             .edited(ValueGroup::Volume)

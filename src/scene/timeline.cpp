@@ -14,8 +14,23 @@
 
 namespace veil::scene {
 
-std::vector<int> FrameRange::frames() const {
+std::string frameCountProblem(const FrameRange& r, const std::string& what) {
+    if (r.count() <= kMaxRangeFrames) return {};
+    const std::string step = r.step == 1 ? std::string() : fmt::format(":{}", r.step);
+    return fmt::format("{}: {} frames, over the {} one run renders (split the range into "
+                       "several runs, e.g. --frames {}-{}{} first)",
+                       what, r.count(), kMaxRangeFrames, r.first,
+                       (long long)r.first + (kMaxRangeFrames - 1) * r.step, step);
+}
+
+std::vector<int> FrameRange::frames(const std::string& what) const {
+    if (const std::string problem = frameCountProblem(
+            *this, fmt::format("{} {}-{}{}", what, first, last,
+                               step == 1 ? std::string() : fmt::format(":{}", step)));
+        !problem.empty())
+        throw Error(problem);
     std::vector<int> out;
+    out.reserve(std::size_t(std::max(count(), 0LL)));
     for (long long f = first; f <= last; f += step)
         out.push_back(int(f));
     return out;
@@ -67,6 +82,9 @@ FrameRange parseFrameRange(const std::string& text, const std::string& what) {
     VEIL_CHECK(parseInt(body.substr(0, dash), r.first) && parseInt(body.substr(dash + 1), r.last),
                "{}", problem);
     VEIL_CHECK(r.last >= r.first, "{} '{}': the last frame is before the first", what, text);
+    if (const std::string problem = frameCountProblem(r, fmt::format("{} '{}'", what, text));
+        !problem.empty())
+        throw Error(problem);
     return r;
 }
 
@@ -155,7 +173,47 @@ std::vector<SequenceFrame> volumeFrames(const AnimatedScene& s, int frame) {
     return out;
 }
 
+std::string cameraProblemAtFrame(const Camera& c, const CameraAnimation& a, int frame) {
+    if (!a.animated()) return {};
+    if (!a.fov.empty()) {
+        // Catmull-Rom may overshoot the keys (cameraAtFrame clamps; the image would be black).
+        const double v = evaluate(a.fov, a.interpolation, frame).x;
+        if (c.type == CameraType::Perspective && !(v > 0.0 && v < 180.0))
+            return fmt::format("at frame {} its fov keys give fov_y {:.4g} degrees, outside "
+                               "(0, 180) (Catmull-Rom overshoots keys near the limits: use "
+                               "\"interpolation\": \"linear\" or keys further from them)",
+                               frame, v);
+        if (c.type == CameraType::Orthographic && !(v > 0.0))
+            return fmt::format("at frame {} its keys give ortho_height {:.4g}, not positive "
+                               "(Catmull-Rom overshoots keys near 0: use \"interpolation\": "
+                               "\"linear\")",
+                               frame, v);
+    }
+    const Camera at = cameraAtFrame(c, a, frame);
+    const glm::dvec3 dir = glm::dvec3(at.target) - glm::dvec3(at.position);
+    const double len = glm::length(dir);
+    if (!(len > 0.0) || !std::isfinite(len))
+        return fmt::format("at frame {} its position ({:.4g} {:.4g} {:.4g}) equals its target",
+                           frame, at.position.x, at.position.y, at.position.z);
+    const glm::dvec3 up(at.up);
+    if (glm::length(glm::cross(dir / len, up / glm::length(up))) < 1e-6)
+        return fmt::format("at frame {} its up ({:.3g} {:.3g} {:.3g}) is parallel to the view "
+                           "direction",
+                           frame, at.up.x, at.up.y, at.up.z);
+    return {};
+}
+
+void checkCamerasAtFrame(const AnimatedScene& s, int frame) {
+    for (std::size_t i = 0; i < s.scene.cameras.size() && i < s.timeline.cameras.size(); ++i)
+        if (const std::string problem =
+                cameraProblemAtFrame(s.scene.cameras[i], s.timeline.cameras[i], frame);
+            !problem.empty())
+            throw Error(fmt::format("camera '{}': {} (no image can be rendered from it)",
+                                    s.scene.cameras[i].name, problem));
+}
+
 Scene sceneAtFrame(const AnimatedScene& s, int frame, std::vector<std::string>* notes) {
+    checkCamerasAtFrame(s, frame);
     const std::vector<SequenceFrame> files = volumeFrames(s, frame);
     Scene out = s.scene;
     out.volumes.clear();

@@ -2,6 +2,7 @@
 
 #include "base/error.h"
 #include "base/text.h"
+#include "scene/mesh_file_check.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -12,6 +13,10 @@
 namespace veil::voxelize {
 
 namespace fs = std::filesystem;
+
+namespace {
+constexpr double kMinMeshVoxel = 2e-5; // OpenVDB: scale determinant >= 3e-15, voxel >= 1.44e-5
+} // namespace
 
 bool isMeshFile(const std::string& path) {
     const std::string ext = lowerExtension(path);
@@ -25,13 +30,28 @@ scene::Scene sceneForMesh(const fs::path& mesh) {
     // The camera is required by the scene format; the orthographic grid does not use it.
     const nlohmann::json doc = {{"cameras", {{{"name", "mesh"}, {"position", {0, 0, 1}}}}},
                                 {"objects", {{{"mesh", fs::absolute(mesh).string()}}}}};
+    scene::Scene scene;
     try {
-        return scene::parseScene(doc, fs::absolute(mesh).parent_path());
+        scene = scene::parseScene(doc, fs::absolute(mesh).parent_path());
     } catch (const Error& e) {
         const std::string what = e.what();
         if (what.find(mesh.filename().string()) != std::string::npos) throw;
         throw Error(fmt::format("mesh '{}': {}", mesh.string(), what));
     }
+    // A mesh collapsed to one point (a glTF node scaled by 0) has no grid to fit.
+    glm::vec3 lo, hi;
+    scene.bounds(lo, hi);
+    if (glm::all(glm::equal(lo, hi))) {
+        std::string nodes;
+        const std::string ext = lowerExtension(mesh.string());
+        if (ext == ".gltf" || ext == ".glb")
+            for (const std::string& n : scene::gltfCollapsingNodes(mesh))
+                nodes += (nodes.empty() ? "; collapsed by " : ", ") + n;
+        throw Error(fmt::format("mesh '{}': every vertex lies at ({:g} {:g} {:g}), so it has no "
+                                "extent to voxelize{}",
+                                mesh.string(), lo.x, lo.y, lo.z, nodes));
+    }
+    return scene;
 }
 
 SliceMap fitGrid(const scene::Scene& scene, const Triangles& tris, const GridRequest& request,
@@ -59,6 +79,11 @@ SliceMap fitGrid(const scene::Scene& scene, const Triangles& tris, const GridReq
         // many as the bounds need along the others; --slices overrides the z count.
         const glm::dvec3 e = glm::dvec3(hi - lo), c = 0.5 * glm::dvec3(lo + hi);
         const double voxel = std::max({e.x, e.y, e.z, 1e-9}) * 1.06 / request.res;
+        // OpenVDB refuses scale maps of determinant below 3e-15 (voxels under 1.4e-5).
+        VEIL_CHECK(voxel >= kMinMeshVoxel,
+                   "the mesh spans {:.3g} x {:.3g} x {:.3g}: at --res {} its voxels ({:.3g}) are "
+                   "below the {:g} that OpenVDB stores (scale the mesh up or lower --res)",
+                   e.x, e.y, e.z, request.res, voxel, kMinMeshVoxel);
         glm::ivec3 dims;
         for (int i = 0; i < 3; ++i)
             dims[i] =
