@@ -12,8 +12,8 @@
 // position of the box's first index (the grid's own index-to-world transform), so ParaView
 // shows the volume where OpenVDB puts it. Transforms that are not axis-aligned scales and
 // translations cannot be ImageData and are refused.
-#include "app/shared_options.h"
 #include "app/commands.h"
+#include "app/shared_options.h"
 
 #include "app/cli_checks.h"
 #include "app/shared_options.h"

@@ -4,12 +4,13 @@
 #include "grid/vdb_info.h"
 
 #include "base/error.h"
+#include "base/suggest.h"
 #include "base/text.h"
+#include "fog/gpu_volume.h"
+#include "grid/density_grid.h"
+#include "grid/vdb_file.h"
 #include "scene/scene.h"
 #include "scene/timeline.h"
-#include "grid/density_grid.h"
-#include "fog/gpu_volume.h"
-#include "grid/vdb_file.h"
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Count.h>
@@ -17,6 +18,9 @@
 #include <iostream>
 #include <memory>
 #include <numeric>
+#include <set>
+
+#include <fmt/ranges.h>
 
 namespace veil::app {
 
@@ -36,37 +40,44 @@ const char* lightTypeName(scene::LightType t) {
     return "?";
 }
 
-std::string frameList(const std::vector<int>& frames) {
+// The first 40 frames, then the count of all (`total`: frames.size() when not given).
+std::string frameList(const std::vector<int>& frames, long long total = -1) {
+    if (total < 0) total = (long long)frames.size();
     std::string out;
     for (std::size_t i = 0; i < frames.size() && i < 40; ++i)
         out += (i ? " " : "") + std::to_string(frames[i]);
-    if (frames.size() > 40) out += fmt::format(" ... ({} in all)", frames.size());
+    if (total > 40) out += fmt::format(" ... ({} in all)", total);
     return out;
 }
 
 // A file sequence: its range, the files found and missing, per frame the grids (names, active
-// voxels of `grid`), and the union of `grid`'s world bounds over the frames.
-void printSequence(const scene::FileSequence& s, const std::string& grid, const char* indent) {
+// voxels of `grid`), and the union of `grid`'s world bounds over the frames. With `required`,
+// a grid that no file of the range holds is an error (before anything is printed).
+void printSequence(const scene::FileSequence& s, const std::string& grid, const char* indent,
+                   bool required = false) {
     const std::vector<int> found = scene::existingFrames(s.pattern);
-    const std::vector<int> missing = scene::missingFrames(s);
-    std::cout << fmt::format("{}sequence   {}\n{}  range    {}-{} step {} ({} frames{}), {} "
-                             "files found{}\n",
-                             indent, s.pattern.written, indent, s.first, s.last, s.step, s.count(),
-                             s.framesGiven ? ", as given" : ", from the files", found.size(),
-                             found.empty() ? std::string()
-                                           : fmt::format(" ({}-{})", found.front(), found.back()));
-    std::cout << indent << "  missing  " << (missing.empty() ? "none" : frameList(missing)) << "\n";
-    openvdb::BBoxd bounds;
-    bool any = false;
-    for (int f : found) { // the files that exist, in the range and on its steps
-        if (f < s.first || f > s.last || (f - s.first) % s.step != 0) continue;
-        const fs::path file = s.pattern.fileFor(f);
+    const std::vector<int> missing = scene::missingFrames(s, 40);
+    struct Row {
+        int frame;
         std::string names, voxels = "-";
+    };
+    std::vector<Row> rows;
+    long long inRange = 0;
+    openvdb::BBoxd bounds;
+    bool any = false, holds = false;
+    std::set<std::string> allNames;
+    for (int f : found) { // the files that exist, in the range and on its steps
+        if (f < s.first || f > s.last || ((long long)f - s.first) % s.step != 0) continue;
+        ++inRange;
+        const fs::path file = s.pattern.fileFor(f);
+        Row row{f, {}};
         try {
             for (const volume::GridSummary& g : volume::listGrids(file)) {
-                names += (names.empty() ? "" : ", ") + g.name;
-                if (g.name == grid && voxels == "-") {
-                    voxels = fmt::format("{}", g.activeVoxels);
+                row.names += (row.names.empty() ? "" : ", ") + g.name;
+                allNames.insert(g.name);
+                if (g.name == grid && row.voxels == "-") {
+                    holds = true;
+                    row.voxels = fmt::format("{}", g.activeVoxels);
                     if (g.activeVoxels > 0) {
                         if (!any) bounds = g.worldBounds;
                         bounds.expand(g.worldBounds);
@@ -75,11 +86,30 @@ void printSequence(const scene::FileSequence& s, const std::string& grid, const 
                 }
             }
         } catch (const Error& e) {
-            names = std::string("unreadable: ") + e.what();
+            row.names = std::string("unreadable: ") + e.what();
         }
-        std::cout << fmt::format("{}  frame {:<5} {} ('{}': {} active voxels)\n", indent, f, names,
-                                 grid, voxels);
+        rows.push_back(std::move(row));
     }
+    if (required && !holds) {
+        const std::vector<std::string> names(allNames.begin(), allNames.end());
+        throw Error(fmt::format("--grid '{}': no file of the sequence '{}' holds a grid of that "
+                                "name{} (grids: {})",
+                                grid, s.pattern.written, didYouMean(grid, names),
+                                names.empty() ? std::string("none readable")
+                                              : fmt::format("{}", fmt::join(names, ", "))));
+    }
+    const long long missingCount = s.count() - inRange;
+    std::cout << fmt::format("{}sequence   {}\n{}  range    {}-{} step {} ({} frames{}), {} "
+                             "files found{}\n",
+                             indent, s.pattern.written, indent, s.first, s.last, s.step, s.count(),
+                             s.framesGiven ? ", as given" : ", from the files", found.size(),
+                             found.empty() ? std::string()
+                                           : fmt::format(" ({}-{})", found.front(), found.back()));
+    std::cout << indent << "  missing  "
+              << (missing.empty() ? "none" : frameList(missing, missingCount)) << "\n";
+    for (const Row& row : rows)
+        std::cout << fmt::format("{}  frame {:<5} {} ('{}': {} active voxels)\n", indent, row.frame,
+                                 row.names, grid, row.voxels);
     if (any)
         std::cout << fmt::format("{}  bounds   ({:.4g} {:.4g} {:.4g})..({:.4g} {:.4g} {:.4g}) "
                                  "world, union of '{}' over the frames\n",
@@ -214,7 +244,7 @@ void addInfoCommand(CLI::App& app) {
             const std::vector<int> found = scene::existingFrames(s.pattern);
             VEIL_CHECK(!found.empty(), "no file matches the sequence '{}'", *file);
             s.spanFound(found);
-            printSequence(s, grid->empty() ? "density" : *grid, "");
+            printSequence(s, grid->empty() ? "density" : *grid, "", !grid->empty());
         } else if (lowerExtension(*file) == ".vdb")
             printVdb(path, *grid);
         else {

@@ -1,14 +1,15 @@
 // veil: render, view and voxelize volumetric and transparent scenes, compare images, run image
 // regression suites. main() adds the subcommands (commands.h), parses the arguments and turns
 // errors into messages and exit statuses (2 for usage errors).
-#include "app/shared_options.h"
 #include "app/commands.h"
+#include "app/shared_options.h"
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/suggest.h"
 #include "base/text.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -51,6 +52,7 @@ std::string suggestOption(const CLI::App& app, const CLI::App& command, int argc
     for (int i = 2; i < argc; ++i) {
         std::string word = argv[i];
         if (word.size() < 2 || word[0] != '-' || word == "--") continue;
+        if (std::isdigit(static_cast<unsigned char>(word[1]))) continue; // a value: -5, -5--1
         word = word.substr(0, word.find('='));
         if (std::find(names.begin(), names.end(), word) != names.end()) continue;
         if (const std::string near = veil::nearestWord(word, names); !near.empty())

@@ -66,14 +66,34 @@ struct RenderArgs {
     std::optional<int> frame;      // one frame of an animated scene
     bool resume = false;
     std::string integrator = "raster"; // raster (the GPU frame) or a CPU integrator by name
+    double timeLimit = kDefaultIntegratorTimeLimit; // --integrator pathtraced: refuse longer work
 };
 
-// --frames / --frame: the options that go with one still frame are refused.
+// --frames / --frame: the options that go with one still frame are refused (usage errors).
 void renderFrames(const RenderArgs& a) {
-    VEIL_CHECK(a.compareTo.empty() && a.dump.empty() && a.aovs.empty() && a.grid.empty() &&
-                   a.oit != "all" && lowerExtension(a.scene) != ".vdb",
-               "--frames/--frame render a scene file's frames; --compare-to, --dump, --aov, "
-               "--grid, --oit all and .vdb inputs are for one still frame");
+    if (a.frame && !a.frames.empty()) usageError("give --frames or --frame, not both");
+    std::vector<std::string> still;
+    if (!a.compareTo.empty()) still.push_back("--compare-to");
+    if (!a.dump.empty()) still.push_back("--dump");
+    if (!a.aovs.empty()) still.push_back("--aov");
+    if (!a.grid.empty()) still.push_back("--grid");
+    if (a.oit == "all") still.push_back("--oit all");
+    if (a.shadows == "all") still.push_back("--shadows all");
+    if (a.integrator != "raster") still.push_back("--integrator " + a.integrator);
+    if (!still.empty())
+        usageError(fmt::format(
+            "--frames/--frame render the GPU frame of each frame of a scene; {} {} for one "
+            "still frame{}",
+            fmt::join(still, ", "), still.size() == 1 ? "is" : "are",
+            a.integrator != "raster"
+                ? fmt::format(" (render a frame with --integrator {} --set time.frame=N)",
+                              a.integrator)
+                : std::string()));
+    if (lowerExtension(a.scene) == ".vdb")
+        usageError(fmt::format("--frames/--frame render a scene file's frames, not the .vdb '{}' "
+                               "(for a file sequence of .vdb files, write a scene whose volume "
+                               "path is the pattern; docs/sequences.md)",
+                               a.scene));
     runRenderFrames({a.scene, a.output, a.report, a.camera, a.oit, a.shadows, a.width, a.height,
                      a.device, a.glDebug, a.half, a.progress, a.resume, a.overrides, a.frames,
                      a.frame});
@@ -153,6 +173,16 @@ void checkArguments(const RenderArgs& args) {
                    "technique with reference)");
     if (!args.grid.empty() && lowerExtension(args.scene) != ".vdb")
         usageError(fmt::format("--grid is for a .vdb input, not '{}'", args.scene));
+    if (args.oit == "all" && args.shadows == "all")
+        usageError("--oit all and --shadows all: one sheet at a time");
+    if (args.integrator != "raster" &&
+        (!args.compareTo.empty() || !args.dump.empty() || !args.aovs.empty() ||
+         !args.report.empty() || args.half || args.oit == "all" || args.shadows == "all"))
+        usageError(fmt::format(
+            "--integrator {} writes the integrator's image (and a Monte Carlo one's standard "
+            "error) only (no --compare-to, --dump, --aov, --half, --report, --oit all or "
+            "--shadows all)",
+            args.integrator));
 
     std::vector<fs::path> inputs{args.scene};
     if (compare::parseCompareTarget(args.compareTo).kind == compare::CompareTarget::Kind::File)
@@ -164,8 +194,7 @@ void checkArguments(const RenderArgs& args) {
     if (!args.compareTo.empty())
         checkOutputPath(errorImagePath(args.output), "error image", inputs);
     if (!args.dump.empty()) {
-        VEIL_CHECK(args.oit != "all" && args.shadows != "all",
-                   "--dump needs one technique, not all");
+        if (args.shadows == "all") usageError("--dump needs one technique, not --shadows all");
         capture::checkDumpDirectory(args.dump);
     }
 }
@@ -191,7 +220,7 @@ scene::Scene loadRenderScene(const RenderArgs& args, std::string& vdbNote) {
 void checkTechniques(const RenderArgs& args, const scene::Scene& scene, const std::string& oit,
                      const compare::CompareTarget& target) {
     const bool all = oit == "all", allShadows = args.shadows == "all";
-    VEIL_CHECK(!all || !allShadows, "--oit all and --shadows all: one sheet at a time");
+    if (all && allShadows) usageError("--oit all and --shadows all: one sheet at a time");
     if (!all) {
         checkKnown(oit, args.oit.empty() ? scene.render.oitWhere + "/type" : "--oit");
         if (oit == scene.render.oit)
@@ -201,9 +230,9 @@ void checkTechniques(const RenderArgs& args, const scene::Scene& scene, const st
     shadows::Registry::instance().resolve(scene.render.shadows, scene.render.shadowProperties,
                                           scene.render.shadowsWhere);
     if (!args.compareTo.empty()) {
-        VEIL_CHECK(!all && !allShadows,
-                   "--compare-to cannot be combined with --oit all or --shadows all (which "
-                   "compare every technique with reference)");
+        if (all || allShadows)
+            usageError("--compare-to cannot be combined with --oit all or --shadows all (which "
+                       "compare every technique with reference)");
         if (target.kind == compare::CompareTarget::Kind::Technique)
             checkKnown(args.compareTo, "--compare-to");
         if (target.kind == compare::CompareTarget::Kind::Shadows)
@@ -213,12 +242,6 @@ void checkTechniques(const RenderArgs& args, const scene::Scene& scene, const st
             compare::pathTracedSettings(scene); // bad properties fail here
     }
     if (args.integrator != "raster") {
-        VEIL_CHECK(args.compareTo.empty() && args.dump.empty() && args.aovs.empty() &&
-                       args.report.empty() && !args.half && !all,
-                   "--integrator {} writes the integrator's image (and a Monte Carlo one's "
-                   "standard error) only (no --compare-to, --dump, --aov, --half, --report or "
-                   "--oit all)",
-                   args.integrator);
         VEIL_CHECK(!scene.volumes.empty(),
                    "--integrator {}: scene '{}' has no volumes (the CPU integrators render "
                    "volumes only)",
@@ -263,7 +286,7 @@ void runRender(const RenderArgs& args) {
     checkTechniques(args, scene, oitName, target);
     if (args.integrator != "raster") {
         renderWithIntegrator(scene, args.integrator, args.camera, args.width, args.height,
-                             args.output, args.progress);
+                             args.output, args.progress, args.timeLimit);
         return;
     }
     const bool all = oitName == "all", allShadows = args.shadows == "all";
@@ -416,6 +439,11 @@ void addRenderCommand(CLI::App& app) {
                     "<output stem>-stderr.exr with the per-pixel standard error; fog-march, "
                     "the fog marcher's CPU reference")
         ->check(CLI::IsMember(integrators));
+    cmd->add_option("--time-limit", args->timeLimit,
+                    "--integrator pathtraced: refuse a render estimated (from timed samples "
+                    "before it starts, then from each pass) to take longer than this many "
+                    "seconds (0 = no limit; default 3600)")
+        ->check(finiteRange(0.0, 1e9));
     cmd->add_option("--set", args->overrides,
                     "Override a scene value: key=value, e.g. render.exposure=2 or "
                     "lights.0.intensity=5 (repeatable)");
@@ -432,7 +460,8 @@ void addRenderCommand(CLI::App& app) {
                 try {
                     scene::parseFrameRange(text);
                 } catch (const Error& e) {
-                    return e.what();
+                    const std::string m = e.what(); // CLI11 names the option itself
+                    return m.rfind("--frames ", 0) == 0 ? m.substr(9) : m;
                 }
                 return {};
             },
@@ -443,7 +472,7 @@ void addRenderCommand(CLI::App& app) {
         if (!args->frames.empty() || args->frame)
             renderFrames(*args);
         else {
-            VEIL_CHECK(!args->resume, "--resume goes with --frames");
+            if (args->resume) usageError("--resume goes with --frames (skip complete frames)");
             runRender(*args);
         }
     });

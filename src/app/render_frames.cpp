@@ -2,6 +2,9 @@
 // src/sequence renders the range and encodes the video.
 #include "app/render_frames.h"
 
+#include "app/cli_checks.h"
+#include "app/shared_options.h"
+
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/process.h"
@@ -27,33 +30,64 @@ namespace veil::app {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// --frames A-B[:S]: a malformed or too long range is a usage error.
+scene::FrameRange usageFrameRange(const std::string& text) {
+    try {
+        return scene::parseFrameRange(text);
+    } catch (const Error& e) {
+        usageError(e.what());
+    }
+}
+
+} // namespace
+
 void runRenderFrames(const RenderFramesArgs& args) {
-    VEIL_CHECK(args.frames.empty() || !args.frame, "give --frames or --frame, not both");
+    if (!args.frames.empty() && args.frame) usageError("give --frames or --frame, not both");
     const std::string ext = lowerExtension(args.output);
-    VEIL_CHECK(ext == ".png" || ext == ".exr" || ext == ".mp4",
-               "output '{}' must end in .png, .exr or .mp4", args.output);
-    VEIL_CHECK(args.report.empty() || lowerExtension(args.report) == ".json",
-               "report '{}' must end in .json", args.report);
-    VEIL_CHECK(ext == ".exr" || !args.half, "--half needs an .exr output, not '{}'", args.output);
+    if (ext != ".png" && ext != ".exr" && ext != ".mp4")
+        usageError(fmt::format("output '{}' must end in .png, .exr or .mp4", args.output));
+    if (!args.report.empty() && lowerExtension(args.report) != ".json")
+        usageError(fmt::format("report '{}' must end in .json", args.report));
+    if (ext != ".exr" && args.half)
+        usageError(fmt::format("--half needs an .exr output, not '{}'", args.output));
+    const std::optional<scene::FrameRange> asked =
+        args.frame            ? std::optional(scene::FrameRange{*args.frame, *args.frame, 1})
+        : args.frames.empty() ? std::nullopt
+                              : std::optional(usageFrameRange(args.frames));
     std::optional<fs::path> ffmpeg;
     if (ext == ".mp4") {
+        if (args.resume) usageError("--resume is for numbered images, not a video");
+        if (asked && asked->step != 1) usageError("a video needs consecutive frames (no :STEP)");
         ffmpeg = sequence::findFfmpeg();
         VEIL_CHECK(ffmpeg.has_value(),
                    "output '{}': writing video needs ffmpeg, which is not installed (Debian "
                    "package ffmpeg); write numbered images instead, e.g. -o frames.####.png",
                    args.output);
-        VEIL_CHECK(!args.resume, "--resume is for numbered images, not a video");
-        VEIL_CHECK(args.frames.empty() || scene::parseFrameRange(args.frames).step == 1,
-                   "a video needs consecutive frames (no :STEP)");
+    } else if (asked && asked->count() > 1) {
+        outputForFrame(args.output, asked->first, false, "output"); // a range needs a pattern
     }
     std::vector<fs::path> inputs{args.scene};
     if (!args.report.empty()) checkOutputPath(args.report, "report", inputs);
 
     const scene::AnimatedScene scene = scene::loadAnimatedScene(args.scene, args.overrides);
-    const scene::FrameRange range = args.frame ? scene::FrameRange{*args.frame, *args.frame, 1}
-                                    : args.frames.empty() ? scene::sceneFrameRange(scene.timeline)
-                                                          : scene::parseFrameRange(args.frames);
-    const std::vector<int> frames = range.frames();
+    const scene::FrameRange range = asked ? *asked : scene::sceneFrameRange(scene.timeline);
+    const std::vector<int> frames = range.frames(
+        asked ? "--frames"
+              : fmt::format("the frames of '{}' (time.frame_range or its keys)", args.scene));
+    // A camera key that makes a frame unrenderable fails before the first frame is written.
+    for (int f : frames)
+        try {
+            scene::checkCamerasAtFrame(scene, f);
+        } catch (const Error& e) {
+            throw Error(fmt::format("{}: {}", args.scene, e.what()));
+        }
+    if (!scene.timeline.animated() && frames.size() > 1)
+        std::fprintf(stderr,
+                     "veil: warning: '%s' has no animation (no sequence, camera or light keys): "
+                     "its %zu frames are identical\n",
+                     args.scene.c_str(), frames.size());
 
     sequence::RangeJob job;
     job.scenePath = fs::absolute(args.scene);
@@ -73,7 +107,7 @@ void runRenderFrames(const RenderFramesArgs& args) {
     } else {
         // Every output path is checked before anything renders.
         for (int f : frames)
-            checkOutputPath(sequence::outputFor(job.output, f, frames.size() == 1), "output",
+            checkOutputPath(outputForFrame(job.output, f, frames.size() == 1, "output"), "output",
                             inputs);
     }
     const bool showProgress = progressWanted(args.progress);
@@ -116,7 +150,8 @@ void runRenderFrames(const RenderFramesArgs& args) {
                               scene.timeline.time.fps, args.output);
         fs::remove_all(videoFolder);
     }
-    std::cout << fmt::format("wrote {} frames{} ({}-{}:{}) to {} in {:.2f} s ({})\n", rendered,
+    std::cout << fmt::format("wrote {} frame{}{} ({}-{}:{}) to {} in {:.2f} s ({})\n", rendered,
+                             rendered == 1 ? "" : "s",
                              skipped ? fmt::format(", skipped {} complete", skipped) : "",
                              range.first, range.last, range.step, args.output, result.wallSeconds,
                              context.info().renderer);

@@ -5,7 +5,6 @@
 #include "base/error.h"
 #include "scene/animation.h"
 #include "scene/timeline.h"
-#include "sequence/range_render.h"
 
 namespace veil::app {
 
@@ -72,7 +71,7 @@ std::vector<int> FrameOptions::list() const {
     if (frame) return {*frame};
     if (frames.empty()) return {};
     try {
-        return scene::parseFrameRange(frames).frames();
+        return scene::parseFrameRange(frames).frames("--frames");
     } catch (const Error& e) {
         usageError(e.what());
     }
@@ -107,11 +106,21 @@ void checkFrameInputs(const std::string& input, const std::vector<int>& frames) 
 fs::path outputForFrame(const std::string& output, std::optional<int> frame, bool single,
                         const char* what) {
     if (!frame) return output;
+    std::optional<scene::FilePattern> pattern;
     try {
-        return sequence::outputFor(output, *frame, single);
+        pattern = scene::parseFilePattern(output);
     } catch (const Error& e) {
         usageError(fmt::format("{} {}", what, e.what()));
     }
+    if (pattern) return pattern->fileFor(*frame);
+    if (!single) {
+        const fs::path p(output);
+        const std::string stem = p.stem().string(), ext = p.extension().string();
+        usageError(fmt::format("{} '{}' has no frame pattern for a range of frames (write it as "
+                               "{}.####{}, {}.%04d{}, {}.$F4{} or {}.#{})",
+                               what, output, stem, ext, stem, ext, stem, ext, stem, ext));
+    }
+    return output;
 }
 
 } // namespace veil::app

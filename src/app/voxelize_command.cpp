@@ -11,8 +11,8 @@
 // and each frame's file is voxelized. Outputs take the frame number (-o grid.####.vdb, --vti
 // grid.####.vti); every frame's input is checked before the first is voxelized; one GL context
 // serves every frame; each file is written atomically.
-#include "app/shared_options.h"
 #include "app/commands.h"
+#include "app/shared_options.h"
 
 #include "app/cli_checks.h"
 #include "app/shared_options.h"
@@ -182,7 +182,11 @@ void runVoxelize(const VoxelizeArgs& args) {
     const std::vector<int> frames = args.frames.list();
     std::vector<VoxelizeFrame> jobs;
     if (frames.empty()) {
-        jobs.push_back({args.scene, args.output, args.vti, args.overrides});
+        // A mesh name with a frame pattern (m.####.obj) and no such file is a sequence.
+        const std::string input = isMeshFile(args.scene)
+                                      ? inputForFrame(args.scene, std::nullopt, "input").string()
+                                      : args.scene;
+        jobs.push_back({input, args.output, args.vti, args.overrides});
     } else {
         // A scene file is taken at each frame; a mesh input is a file sequence.
         std::error_code ec;
@@ -210,8 +214,21 @@ void runVoxelize(const VoxelizeArgs& args) {
         if (!job.vti.empty()) checkOutputPath(job.vti, "--vti", {job.input, job.output});
     }
     std::optional<gpu::HeadlessContext> context; // made when the first frame needs it
-    for (const VoxelizeFrame& job : jobs)
-        voxelizeFrame(args, job, loadFrameScene(args, job), method, context);
+    for (std::size_t i = 0; i < jobs.size(); ++i) {
+        if (frames.empty()) {
+            voxelizeFrame(args, jobs[i], loadFrameScene(args, jobs[i]), method, context);
+            continue;
+        }
+        try { // an error names its frame
+            voxelizeFrame(args, jobs[i], loadFrameScene(args, jobs[i]), method, context);
+        } catch (const CLI::Error&) {
+            throw;
+        } catch (const std::bad_alloc&) {
+            throw;
+        } catch (const std::exception& e) {
+            throw Error(fmt::format("frame {} ('{}'): {}", frames[i], jobs[i].input, e.what()));
+        }
+    }
 }
 
 } // namespace
