@@ -147,7 +147,7 @@ value veil.ValueError (both ValueErrors, and veil.Errors), with the command
 line's message, and leave the scene unchanged. Returns the scene, so calls
 chain.)doc")
         .def(
-            "to_dict", [](const PyScene& s) { return toPython(s.doc); },
+            "to_dict", [](const PyScene& s) { return py::dict(toPython(s.doc)); },
             "The scene document with every set() applied, as a dict.")
         .def(
             "copy", [](const PyScene& s) { return s; }, "An independent copy.")

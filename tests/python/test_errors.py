@@ -160,6 +160,9 @@ def test_help_shows_types():
     for f in (veil.Scene.set, veil.Scene.load, veil.Scene.__init__):
         assert "handle" not in f.__doc__ and ": object" not in f.__doc__, f
     assert "value: str | int | float | bool | list | dict | None" in veil.Scene.set.__doc__
+    assert "-> veil.Scene" in veil.Scene.set.__doc__ and "-> dict" in veil.Scene.to_dict.__doc__
+    for f in (veil.Scene.set, veil.Scene.load, veil.Scene.copy, veil.Suite.run):
+        assert "_veil" not in f.__doc__, f.__doc__
     render = inspect.signature(veil.Renderer.render)
     assert "Optional[int]" in str(render.parameters["width"].annotation)
 
