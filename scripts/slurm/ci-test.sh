@@ -21,7 +21,7 @@ root=$(cd "$here/../.." && pwd)
 veil=$(realpath "${1:?usage: $0 VEIL_BINARY [SUITE]}")
 [[ $(id -u) == 0 ]] || { echo "ci-test: run as root (it starts slurmctld, slurmd, munged)" >&2; exit 1; }
 for p in slurmctld slurmd munged sbatch scancel scontrol; do
-  command -v $p >/dev/null || { echo "ci-test: $p missing (scripts/install-deps.sh installs Slurm and munge)" >&2; exit 1; }
+  command -v $p >/dev/null || { echo "ci-test: $p missing (scripts/install-deps.sh --test installs Slurm and munge)" >&2; exit 1; }
 done
 py=/usr/bin/python3
 t=$(mktemp -d /tmp/veil-slurm.XXXXXX)
