@@ -145,8 +145,6 @@ TEST(CompareCliTest, DevicesAndFifosAreRefusedNotRead) {
         expectOneErrorLine(r, "not a regular file");
     }
     expectOneErrorLine(compare(shellQuote(dir()) + " " + shellQuote(a)), "is a folder");
-    // The library call every reader goes through (veil.read_image too).
-    EXPECT_NE(errorOf([&] { io::readImage(fifo); }).find("not a regular file"), std::string::npos);
     fs::remove(fifo);
 }
 
