@@ -53,8 +53,21 @@ vec3 referenceMediaTransmittance(int i, vec3 P) {
     if (!(t0 < t1)) return vec3(1.0);
     int steps = int(shadows.params[1].y);
     float dt = (t1 - t0) / float(steps);
+    // The same midpoint sum, kReferenceUnroll samples per loop iteration: Mesa's llvmpipe ends
+    // an invocation's loops after 65535 iterations in all (reference.cpp), and the fog marcher
+    // calls this once per step of its own loop, so the unrolled body keeps fog_steps x
+    // (media_steps / kReferenceUnroll + kReferenceUnroll) within that budget at the defaults.
+    const int kReferenceUnroll = 8;
     float tau = 0.0;
-    for (int s = 0; s < steps; ++s) tau += volumeExtinction(P + L * (t0 + (float(s) + 0.5) * dt));
+    int s = 0;
+    for (; s + kReferenceUnroll <= steps; s += kReferenceUnroll) {
+        vec3 Q = P + L * (t0 + (float(s) + 0.5) * dt), D = L * dt;
+        tau += volumeExtinction(Q) + volumeExtinction(Q + D) + volumeExtinction(Q + 2.0 * D) +
+               volumeExtinction(Q + 3.0 * D) + volumeExtinction(Q + 4.0 * D) +
+               volumeExtinction(Q + 5.0 * D) + volumeExtinction(Q + 6.0 * D) +
+               volumeExtinction(Q + 7.0 * D);
+    }
+    for (; s < steps; ++s) tau += volumeExtinction(P + L * (t0 + (float(s) + 0.5) * dt));
     return vec3(exp(-tau * dt));
 }
 

@@ -75,16 +75,21 @@ public:
     // (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS, one counter per invocation): the march then stops
     // short and lights the receiver, silently. Measured there on the fog slab (one light): the
     // surfaces' march is exact at 8192 steps and stops short at 12288, i.e. up to 8 iterations
-    // per step (their programs loop over all four volume slots); the fog marcher's programs
-    // declare only the scene's grid volumes, and fog.json's 160 x 256 steps are exact: one per
-    // step. A frame over the limit less 1024 (the lists, PCF, the marcher's own loop) is refused.
-    // Other drivers have no such limit.
+    // per step (their programs loop over all four volume slots). The march takes
+    // kMarchUnroll midpoint samples per iteration of its loop (visibility.glsl), and the fog
+    // marcher's programs declare only the scene's grid volumes, so a fog sample costs
+    // media_steps / kMarchUnroll iterations plus kFogPerStep for the remainder loop (up to 7),
+    // the volumes' bounds (up to 4) and the marcher's own loops per light and octave. A frame
+    // over the limit less 1024 (the lists, PCF, the marcher's own loop) is refused. Other
+    // drivers have no such limit.
     void checkReceiverWork(const gpu::ContextInfo& context, int fogSteps, int lights,
                            const std::string& where) const override {
         if (!context.softwareRenderer) return;
         constexpr long long kLimit = 65535, kBudget = kLimit - 1024;
+        constexpr long long kMarchUnroll = 8, kFogPerStep = 16;
         const long long surface = 8LL * mediaSteps_ * lights;
-        const long long fog = static_cast<long long>(fogSteps) * lights * (mediaSteps_ + 1);
+        const long long fog = static_cast<long long>(fogSteps) * lights *
+                              ((mediaSteps_ + kMarchUnroll - 1) / kMarchUnroll + kFogPerStep);
         VEIL_CHECK(surface <= kBudget && fog <= kBudget,
                    "{}: reference shadows march media_steps = {} toward {} light(s): about {} "
                    "loop iterations per surface and {} per fog pixel ({} fog steps), over the "
