@@ -219,8 +219,14 @@ makes pytest parameters of them).)doc")
         .def(py::init([](const PathArg& path, const BoolArg& update) {
                  const fs::path file = inputFile(path, "Suite(path)");
                  const bool u = toBool(update, "update");
-                 return PySuite{
-                     classified(ErrorKind::Value, [&] { return regress::loadSuite(file, u); })};
+                 // With update (VEIL_UPDATE_REFERENCES=1 in veil.testing), as `veil regress
+                 // --update`: missing reference folders inside the suite's folder are made
+                 // and every reference path checked before anything renders.
+                 return PySuite{classified(ErrorKind::Value, [&] {
+                     regress::Suite suite = regress::loadSuite(file, u);
+                     if (u) regress::prepareReferenceFolders(suite);
+                     return suite;
+                 })};
              }),
              py::arg("path"), py::arg("update") = false)
         .def_property_readonly("name", [](const PySuite& s) { return s.suite.name; })

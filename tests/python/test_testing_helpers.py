@@ -81,9 +81,9 @@ def test_failures_show_the_callers_line(tmp_path):
 
 
 def test_update_references_of_a_regress_suite(tmp_path, monkeypatch):
-    # A new suite whose stored reference does not exist yet: VEIL_UPDATE_REFERENCES=1 reads it
-    # (the reference may be missing) and writes the render as the reference; without it the
-    # suite then passes against that file.
+    # A new suite whose stored reference and its folders do not exist yet:
+    # VEIL_UPDATE_REFERENCES=1 reads it (the reference may be missing), makes the folders
+    # and writes the render as the reference; without it the suite then passes against it.
     import json
 
     import pytest
@@ -95,15 +95,15 @@ def test_update_references_of_a_regress_suite(tmp_path, monkeypatch):
                          "oit-smoke-glass.json")
     suite = {"name": "new", "cases": [{
         "name": "golden", "scene": os.path.abspath(scene), "technique": "blend",
-        "reference": "golden.exr", "width": 24, "height": 16, "metrics": {"maxabs": 0.0}}]}
+        "reference": "refs/new/golden.exr", "width": 24, "height": 16, "metrics": {"maxabs": 0.0}}]}
     (tmp_path / "suite.json").write_text(json.dumps(suite))
-    with pytest.raises(veil.Error, match="golden.exr"):
+    with pytest.raises(veil.Error, match="refs/new/golden.exr"):
         regress_cases(tmp_path / "suite.json")
     monkeypatch.setenv("VEIL_UPDATE_REFERENCES", "1")
     renderer = veil.Renderer()
     (case,) = regress_cases(tmp_path / "suite.json")
     run_regress_case(case.values[0], renderer, tmp_path / "out1")
-    assert (tmp_path / "golden.exr").is_file()
+    assert (tmp_path / "refs" / "new" / "golden.exr").is_file()  # the folders made
     monkeypatch.delenv("VEIL_UPDATE_REFERENCES")
     (case,) = regress_cases(tmp_path / "suite.json")
     result = run_regress_case(case.values[0], renderer, tmp_path / "out2")
