@@ -4,8 +4,9 @@
 // render thread uploads and renders the current one. Reported per frame (median, mean):
 //   read_ms, convert_ms  on a worker, overlapping earlier frames;
 //   wait_ms              the render thread waiting for the workers;
-//   setup_ms             frame::Renderer creation: the upload of the converted grids, light
-//                        volumes, programs (from the driver's cache after the first frame);
+//   setup_ms             the frame's renderer (sequence/range_render.h RangeRenderer: built
+//                        for the first frame, then its volumes' data replaced) with the
+//                        upload of the converted grids;
 //   render_ms            render() to glFinish;
 // end to end: frames / wall seconds of the whole loop. Then, on the distinct frames alone:
 // the upload of a frame's conversion (GpuVolume, glFinish), and the CPU conversion cost per
@@ -13,13 +14,14 @@
 // no VTK), like veil-bench. bench/run.py runs it for the sequence-playback set.
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "fog/gpu_volume.h"
 #include "frame/renderer.h"
 #include "gpu/context.h"
+#include "grid/density_grid.h"
+#include "grid/grid_preload.h"
 #include "scene/timeline.h"
 #include "sequence/prefetch.h"
-#include "grid/density_grid.h"
-#include "fog/gpu_volume.h"
-#include "grid/grid_preload.h"
+#include "sequence/range_render.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -91,7 +93,9 @@ int run(const Args& a) {
     std::map<std::string, std::vector<double>> t;
     std::vector<double> activeVoxels;
     const auto start = Clock::now();
+    int built = 0, reused = 0;
     {
+        sequence::RangeRenderer renderers(context.info(), options, max3D);
         sequence::FramePrefetcher prefetcher(
             scene, frames, std::size_t(scene.timeline.time.prefetchBudgetMiB) << 20, a.threads,
             max3D);
@@ -104,8 +108,7 @@ int run(const Args& a) {
             t["convert_ms"].push_back(p.convertMs);
             activeVoxels.push_back(double(p.activeVoxels));
             mark = Clock::now();
-            const volume::PreloadedGridScope preloaded(p.grids);
-            frame::Renderer renderer(p.scene, context.info(), options);
+            frame::Renderer& renderer = renderers.next(p);
             glFinish();
             t["setup_ms"].push_back(msSince(mark));
             mark = Clock::now();
@@ -117,6 +120,8 @@ int run(const Args& a) {
                 gpu += pass.milliseconds;
             t["gpu_passes_ms"].push_back(gpu);
         }
+        built = renderers.built();
+        reused = renderers.reused();
     }
     const double wallS = std::chrono::duration<double>(Clock::now() - start).count();
 
@@ -162,6 +167,8 @@ int run(const Args& a) {
     out["renderer"] = info.renderer;
     out["gl_version"] = info.version;
     out["timer"] = info.softwareRenderer ? "glFinish + CPU clock" : "GL_TIME_ELAPSED";
+    out["renderers_built"] = built;
+    out["frames_reusing_the_renderer"] = reused;
     out["wall_s"] = wallS;
     out["end_to_end_fps"] = double(frames.size()) / wallS;
     out["active_voxels"] = stats(activeVoxels);

@@ -162,14 +162,20 @@ FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
         gpu::ProgramDesc::compute("volume/fog_march.comp", marchDefines(), lightVisibility));
     lightProgram_ = programs_.add(
         gpu::ProgramDesc::compute("volume/light_transmittance.comp", {slotsDefine()}));
+    for (auto& e : volumes_)
+        fitLightVolume(e);
+    emptyVao_ = gpu::VertexArray();
+}
+
+void FogPass::fitLightVolume(Entry& e) {
     // Light transmittance volumes: about 2 voxels per texel, at most 128 per axis.
-    for (auto& e : volumes_) {
-        glm::vec3 lo, hi;
-        e.gpu->worldBounds(lo, hi);
-        const glm::vec3 extent = hi - lo;
-        const glm::ivec3 dims =
-            glm::clamp(glm::ivec3(glm::ceil(extent / (2.0f * e.gpu->voxelSize()))), glm::ivec3(4),
-                       glm::ivec3(128));
+    glm::vec3 lo, hi;
+    e.gpu->worldBounds(lo, hi);
+    const glm::vec3 extent = hi - lo;
+    const glm::ivec3 dims = glm::clamp(glm::ivec3(glm::ceil(extent / (2.0f * e.gpu->voxelSize()))),
+                                       glm::ivec3(4), glm::ivec3(128));
+    if (!e.light || e.light.width() != dims.x || e.light.height() != dims.y ||
+        e.light.depth() != dims.z) {
         e.light = gpu::Texture(GL_TEXTURE_3D);
         e.light.storage3D(1, GL_R32F, dims.x, dims.y, dims.z)
             .parameter(GL_TEXTURE_MIN_FILTER, GL_LINEAR)
@@ -177,9 +183,22 @@ FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
             .parameter(GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE)
             .parameter(GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE)
             .parameter(GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
-        e.lightToWorld = glm::translate(glm::mat4(1.0f), lo) * glm::scale(glm::mat4(1.0f), extent);
     }
-    emptyVao_ = gpu::VertexArray();
+    e.lightToWorld = glm::translate(glm::mat4(1.0f), lo) * glm::scale(glm::mat4(1.0f), extent);
+}
+
+void FogPass::replaceVolume(std::size_t i, const GridConversion& converted) {
+    VEIL_CHECK(i < volumes_.size(), "fog: no grid volume {} to replace ({} volumes)", i,
+               volumes_.size());
+    Entry& e = volumes_[i];
+    VEIL_CHECK(converted.channelComponents == e.gpu->channelComponents() &&
+                   converted.neighbourhood.mean.empty() == !e.gpu->neighbourhood(),
+               "fog: volume '{}' replaced by a conversion of another kind (emission channel "
+               "or neighbourhood differ)",
+               e.ref->name);
+    e.gpu = std::make_unique<GpuVolume>(converted, e.ref->transform);
+    fitLightVolume(e);
+    invalidateLightVolumes();
 }
 
 FogPass::~FogPass() = default;

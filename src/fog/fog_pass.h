@@ -36,6 +36,7 @@ namespace veil::volume {
 
 class GpuVolume;
 class ScatteredLightCache;
+struct GridConversion;
 
 class FogPass {
 public:
@@ -105,6 +106,13 @@ public:
     // on `program` (for other passes that sample the density: shadow techniques).
     void bindVolumes(const gpu::Program& program) const { setVolumeUniforms(program); }
     bool hasGridVolumes() const { return !volumes_.empty(); }
+    std::size_t gridVolumeCount() const { return volumes_.size(); }
+    // Frame ranges (frame::Renderer::replaceVolumes): grid volume `i` (scene order) takes the
+    // data of `converted`, made as this pass converts it (the same options, and the emission
+    // channel where the volume has one). Programs stay; its light transmittance volume is fitted
+    // to the new bounds (reallocated only when its size changes) and recomputed at the next
+    // frame. Throws veil::Error when the conversion is of another kind.
+    void replaceVolume(std::size_t i, const GridConversion& converted);
     // Widens [lo, hi] to the world bounds of every grid volume (the shadow views must hold the
     // media they attenuate and the fog samples they shade; global fog has no bounds).
     void extendBounds(glm::vec3& lo, glm::vec3& hi) const;
@@ -157,6 +165,7 @@ private:
         glm::mat4 lightToWorld{1.0f};
     };
     std::vector<Entry> volumes_;
+    void fitLightVolume(Entry& e);
     std::vector<std::string> marchDefines() const; // slots, and emission where a volume has it
     static int emissionMode(const Entry& e);
     float globalDensity_ = 0.0f;

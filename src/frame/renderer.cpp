@@ -4,6 +4,7 @@
 #include "base/log.h"
 
 #include <algorithm>
+#include <limits>
 
 namespace veil::frame {
 
@@ -153,6 +154,29 @@ void Renderer::resize(int width, int height) {
 void Renderer::sceneValuesChanged() {
     invalidateFogLightVolumes();
     invalidateShadowMaps(); // the lights' views and the media of the shadow maps
+}
+
+void Renderer::replaceVolumes(const std::vector<const volume::GridConversion*>& converted,
+                              const std::string& camera) {
+    VEIL_CHECK(stages_.fog && stages_.fog->fog().gridVolumeCount() == converted.size(),
+               "frame: {} volume conversions for a frame with {} grid volumes", converted.size(),
+               stages_.fog ? stages_.fog->fog().gridVolumeCount() : 0);
+    refiner_.cancel();
+    volume::FogPass& fog = stages_.fog->fog();
+    for (std::size_t i = 0; i < converted.size(); ++i)
+        fog.replaceVolume(i, *converted[i]);
+    // The light views hold the volumes (frame_setup.cpp buildStages).
+    glm::vec3 lo, hi;
+    scene_.bounds(lo, hi);
+    if (scene_.objects.empty()) {
+        lo = glm::vec3(std::numeric_limits<float>::max());
+        hi = glm::vec3(std::numeric_limits<float>::lowest());
+    }
+    fog.extendBounds(lo, hi);
+    if (lo.x > hi.x) lo = hi = glm::vec3(0.0f);
+    stages_.shadows->setBounds(lo, hi);
+    camera_ = scene_.camera(camera.empty() ? scene_.render.camera : camera);
+    sceneValuesChanged();
 }
 
 void Renderer::createTargets() {

@@ -38,6 +38,10 @@
 #include <string>
 #include <vector>
 
+namespace veil::volume {
+struct GridConversion;
+}
+
 namespace veil::frame {
 
 class Renderer {
@@ -145,6 +149,17 @@ public:
     // The scene's volume or light values changed in place (density scale, albedo, a light
     // moved): the fog's light transmittance volumes are recomputed at the next frame.
     void sceneValuesChanged();
+
+    // Frame ranges (sequence/range_render.h): the scene this renderer was built on now holds
+    // another frame, changed in place (other volume files, camera and light values; the same
+    // objects, lights, volumes and settings). Grid volume i (scene order, homogeneous fog
+    // skipped) takes the data of `converted[i]`, made as the fog pass would make it; the camera
+    // becomes the scene's `camera` (empty: render.camera); the shadow views follow the new
+    // bounds; light transmittance volumes and shadow maps are recomputed. Programs, targets and
+    // the other stages stay. Throws veil::Error when the counts differ or a conversion does not
+    // fit its volume.
+    void replaceVolumes(const std::vector<const volume::GridConversion*>& converted,
+                        const std::string& camera);
 
     // The stages in frame order, by name ("shadows", "depth", "ao", "opaque", "fog",
     // "transparency", "tonemap"; docs/architecture.md "Adding a stage" shows how to write one).

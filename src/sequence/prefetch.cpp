@@ -2,6 +2,7 @@
 #include "sequence/prefetch.h"
 
 #include "base/error.h"
+#include "frame/renderer.h"
 #include "grid/density_grid.h"
 #include "grid/vdb_file.h"
 #include "scene/timeline.h"
@@ -75,6 +76,53 @@ void convertAhead(PreparedFrame& p, int max3D, const std::vector<volume::Preload
         used += g->converted->stats.gpuBytes;
         if (!isStatic) p.bytes += g->converted->bytes(); // static ones are held once
     }
+}
+
+// Whether a renderer built on `current` can take the frame `next` by replacing its volumes'
+// data (Renderer::replaceVolumes): the same volumes (names, grids, emission; file volumes
+// only), lights and cameras, no baked scattered-light cache (it holds the grids it baked).
+bool sameStructure(const scene::Scene& current, const scene::Scene& next) {
+    if (current.volumes.size() != next.volumes.size() ||
+        current.lights.size() != next.lights.size() ||
+        current.cameras.size() != next.cameras.size() || next.render.fogScatteredLight)
+        return false;
+    for (std::size_t i = 0; i < next.volumes.size(); ++i) {
+        const scene::VolumeRef& a = current.volumes[i];
+        const scene::VolumeRef& b = next.volumes[i];
+        if (a.name != b.name || a.procedural != b.procedural || a.grid != b.grid ||
+            a.temperatureGrid != b.temperatureGrid || a.emissionGrid != b.emissionGrid)
+            return false;
+        if (!b.procedural.empty() && b.procedural != "homogeneous") return false;
+    }
+    return true;
+}
+
+// The conversion of every grid volume of the prepared frame, made ahead for `max3D` (with its
+// temperature channel where the volume has one), in scene order; false when one is missing.
+bool conversionsOf(const PreparedFrame& p, int max3D,
+                   std::vector<const volume::GridConversion*>& out) {
+    out.clear();
+    for (const scene::VolumeRef& v : p.scene.volumes) {
+        if (v.procedural == "homogeneous") continue;
+        const auto g = std::find_if(p.grids.begin(), p.grids.end(), [&](const auto& x) {
+            return x.path == v.path && x.grid == v.grid && x.converted && x.max3D == max3D &&
+                   x.channel == v.temperatureGrid;
+        });
+        if (g == p.grids.end() || !v.emissionGrid.empty()) return false;
+        out.push_back(g->converted.get());
+    }
+    return !out.empty();
+}
+
+// The next frame's values into the scene the renderer references, element by element (the
+// fog pass keeps pointers to the volume entries).
+void advanceScene(scene::Scene& current, const scene::Scene& next) {
+    for (std::size_t i = 0; i < next.volumes.size(); ++i)
+        current.volumes[i] = next.volumes[i];
+    for (std::size_t i = 0; i < next.lights.size(); ++i)
+        current.lights[i] = next.lights[i];
+    for (std::size_t i = 0; i < next.cameras.size(); ++i)
+        current.cameras[i] = next.cameras[i];
 }
 
 double msSince(std::chrono::steady_clock::time_point t) {
@@ -228,6 +276,29 @@ PreparedFrame FramePrefetcher::take() {
     lock.unlock();
     space_.notify_all();
     return p;
+}
+
+RangeRenderer::RangeRenderer(const gpu::ContextInfo& context, frame::RendererOptions options,
+                             int max3D)
+    : context_(context), options_(std::move(options)), max3D_(max3D) {}
+
+RangeRenderer::~RangeRenderer() = default;
+
+frame::Renderer& RangeRenderer::next(PreparedFrame& p) {
+    if (renderer_ && sameStructure(current_, p.scene) && conversionsOf(p, max3D_, conversions_)) {
+        advanceScene(current_, p.scene);
+        renderer_->replaceVolumes(conversions_, options_.camera);
+        ++reused_;
+    } else {
+        renderer_.reset();
+        current_ = std::move(p.scene);
+        // The frame's grids come from the read-ahead (grid/grid_preload.h).
+        const volume::PreloadedGridScope preloaded(p.grids);
+        renderer_ = std::make_unique<frame::Renderer>(current_, context_, options_);
+        ++built_;
+    }
+    p.grids.clear(); // uploaded
+    return *renderer_;
 }
 
 } // namespace veil::sequence

@@ -6,6 +6,8 @@
 // while the grids read and not yet taken use more than the memory budget.
 #pragma once
 
+#include "frame/frame_setup.h"
+#include "gpu/context.h"
 #include "grid/grid_preload.h"
 #include "scene/timeline.h"
 
@@ -16,6 +18,13 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+namespace veil::frame {
+class Renderer;
+}
+namespace veil::volume {
+struct GridConversion;
+}
 
 namespace veil::sequence {
 
@@ -100,6 +109,34 @@ private:
     std::size_t claimed_ = 0, next_ = 0, heldBytes_ = 0, peakBytes_ = 0;
     bool stop_ = false;
     std::vector<std::thread> workers_;
+};
+
+// One renderer for a range's frames: the first frame builds it; a later frame with the same
+// structure (the same volumes, lights and cameras; every grid volume converted ahead for this
+// GPU, with its temperature channel) only replaces the volumes' data, the camera and the
+// lights (frame::Renderer::replaceVolumes), keeping programs, targets, shadow resources and
+// the other stages; another structure builds a new renderer. The image equals a renderer
+// built for the frame alone.
+class RangeRenderer {
+public:
+    RangeRenderer(const gpu::ContextInfo& context, frame::RendererOptions options, int max3D);
+    ~RangeRenderer();
+    RangeRenderer(const RangeRenderer&) = delete;
+    RangeRenderer& operator=(const RangeRenderer&) = delete;
+
+    // The renderer for frame `p` (its scene and grids are taken; p.grids is emptied).
+    frame::Renderer& next(PreparedFrame& p);
+    int built() const { return built_; }   // renderers built so far
+    int reused() const { return reused_; } // frames that replaced volumes only
+
+private:
+    gpu::ContextInfo context_;
+    frame::RendererOptions options_;
+    int max3D_;
+    scene::Scene current_; // the scene the renderer references, updated in place
+    std::unique_ptr<frame::Renderer> renderer_;
+    std::vector<const volume::GridConversion*> conversions_;
+    int built_ = 0, reused_ = 0;
 };
 
 } // namespace veil::sequence

@@ -4,14 +4,15 @@
 #include "base/error.h"
 #include "capture/frame_output.h"
 #include "frame/renderer.h"
+#include "grid/grid_preload.h"
 #include "io/image_io.h"
 #include "scene/timeline.h"
 #include "sequence/prefetch.h"
-#include "grid/grid_preload.h"
 
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <memory>
 
 namespace veil::sequence {
 
@@ -80,8 +81,9 @@ nlohmann::json RangeResult::json() const {
             {"wall_s", wallSeconds},
             {"peak_read_ahead_bytes", peakReadAheadBytes},
             {"times", "read_ms, convert_ms on a worker thread, overlapping earlier frames; "
-                      "wait_ms: the render thread waiting for them; setup_ms: renderer "
-                      "creation with the grids' upload; render_ms: render() to glFinish"}};
+                      "wait_ms: the render thread waiting for them; setup_ms: the renderer "
+                      "built (first frame, or a frame of another structure) or its volumes "
+                      "replaced, with the grids' upload; render_ms: render() to glFinish"}};
 }
 
 RangeResult renderRange(const scene::AnimatedScene& scene, const RangeJob& job,
@@ -122,6 +124,7 @@ RangeResult renderRange(const scene::AnimatedScene& scene, const RangeJob& job,
         scene, todo, std::size_t(scene.timeline.time.prefetchBudgetMiB) << 20, job.threads, max3D);
     const auto renderStart = Clock::now();
     int rendered = 0;
+    RangeRenderer frames(context, job.options, max3D);
     for (std::size_t i = 0; i < todo.size(); ++i) {
         if (job.stop && job.stop->load()) {
             result.interrupted = true;
@@ -140,20 +143,18 @@ RangeResult renderRange(const scene::AnimatedScene& scene, const RangeJob& job,
         t.output = outputFor(job.output, p.frame, single);
 
         mark = Clock::now();
-        // The frame's grids come from the read-ahead (grid/grid_preload.h).
-        const volume::PreloadedGridScope preloaded(p.grids);
-        frame::Renderer renderer(p.scene, context, job.options);
+        frame::Renderer* renderer = &frames.next(p);
         t.setupMs = msSince(mark);
         mark = Clock::now();
-        renderer.render();
+        renderer->render();
         glFinish();
         t.renderMs = msSince(mark);
-        for (const auto& pass : renderer.passTimes())
+        for (const auto& pass : renderer->passTimes())
             t.gpuMs += pass.milliseconds;
 
         mark = Clock::now();
         capture::writeFrame(
-            t.output, renderer,
+            t.output, *renderer,
             {job.scenePath, context.renderer, job.half, {{"veil:frame", std::to_string(p.frame)}}});
         t.writeMs = msSince(mark);
         result.frames.push_back(std::move(t));

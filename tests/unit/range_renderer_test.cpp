@@ -1,0 +1,108 @@
+// One renderer for a frame range (sequence/prefetch.h RangeRenderer): frames that keep the
+// scene's structure replace only the volumes' data, camera and lights, and each image equals a
+// renderer built for that frame alone, bit for bit, with a temperature emission channel, a
+// shadow-casting light and a turntable camera; a frame of another structure (the volume gone)
+// builds a new renderer.
+#include "../gl/gl_fixture.h" // a GL context: veil_gl_tests does not link the prefetch workers
+#include "frame/renderer.h"
+#include "scene/timeline.h"
+#include "sequence/prefetch.h"
+#include "support/test_support.h"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cstring>
+
+namespace veil::test {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+class RangeRendererTest : public GlTest {};
+
+// The fire frames 1-4 glowing (temperature emission), a shadow-casting key, a turntable;
+// 48x40 and few steps: cheap on llvmpipe.
+scene::AnimatedScene fireRange(const std::string& after, const std::string& name) {
+    nlohmann::json volume = {
+        {"name", "fire"},
+        {"path", (dataDir() / "vdb-embergen-fire-seq" / "embergen_fire_a_#.vdb").string()},
+        {"grid", "flames"},
+        {"density_scale", 6.0},
+        {"temperature_grid", "temperature"},
+        {"temperature_scale", 1100},
+        {"temperature_offset", 900},
+        {"after", after}};
+    if (after == "blank") volume["frames"] = {1, 2};
+    const nlohmann::json doc = {
+        {"render", {{"width", 48}, {"height", 40}, {"fog_steps", 40}, {"shadows", "opaque"}}},
+        {"cameras",
+         {{{"position", {0, -62, -98}},
+           {"target", {0, 0, -112}},
+           {"up", {0, 0, 1}},
+           {"turntable", {{"frames", 8}, {"start_frame", 1}}}}}},
+        {"lights", {{{"type", "directional"}, {"direction", {-0.4, 0.5, -0.75}}}}},
+        {"volumes", {volume}}};
+    const fs::path file = writeTextFile(outputSubdir("range_renderer") / name, doc.dump());
+    return scene::loadAnimatedScene(file, {});
+}
+
+bool samePixels(const gpu::ImageF& a, const gpu::ImageF& b) {
+    return a.width == b.width && a.height == b.height && a.pixels.size() == b.pixels.size() &&
+           std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;
+}
+
+gpu::ImageF alone(const gpu::ContextInfo& context, const scene::AnimatedScene& scene, int frame) {
+    const scene::Scene s = scene::sceneAtFrame(scene, frame);
+    frame::Renderer r(s, context);
+    r.render();
+    return r.readHdr();
+}
+
+} // namespace
+
+TEST_F(RangeRendererTest, FramesReplacingVolumesEqualRenderersBuiltAlone) {
+    const scene::AnimatedScene scene = fireRange("loop", "loop.json");
+    GLint max3D = 0;
+    glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3D);
+    const std::vector<int> frames = {1, 2, 3, 4, 5};
+    sequence::FramePrefetcher prefetcher(scene, frames, std::size_t(1) << 30, 2, max3D);
+    sequence::RangeRenderer range(info(), {}, max3D);
+    std::vector<gpu::ImageF> images;
+    for (int f : frames) {
+        sequence::PreparedFrame p = prefetcher.take();
+        ASSERT_TRUE(p.error.empty()) << p.error;
+        frame::Renderer& r = range.next(p);
+        r.render();
+        images.push_back(r.readHdr());
+        const gpu::ImageF expected = alone(info(), scene, f);
+        EXPECT_TRUE(samePixels(images.back(), expected)) << "frame " << f;
+    }
+    EXPECT_EQ(range.built(), 1);
+    EXPECT_EQ(range.reused(), 4);
+    EXPECT_FALSE(samePixels(images[0], images[1])); // the fire and the camera moved
+    VEIL_EXPECT_NO_GL_ERROR();
+}
+
+TEST_F(RangeRendererTest, FrameOfAnotherStructureBuildsANewRenderer) {
+    // Frames 1-2 of the files, then no volume at all.
+    const scene::AnimatedScene scene = fireRange("blank", "blank.json");
+    GLint max3D = 0;
+    glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3D);
+    const std::vector<int> frames = {1, 2, 3};
+    sequence::FramePrefetcher prefetcher(scene, frames, std::size_t(1) << 30, 1, max3D);
+    sequence::RangeRenderer range(info(), {}, max3D);
+    for (int f : frames) {
+        sequence::PreparedFrame p = prefetcher.take();
+        ASSERT_TRUE(p.error.empty()) << p.error;
+        frame::Renderer& r = range.next(p);
+        r.render();
+        EXPECT_TRUE(samePixels(r.readHdr(), alone(info(), scene, f))) << "frame " << f;
+    }
+    EXPECT_EQ(range.built(), 2);
+    EXPECT_EQ(range.reused(), 1);
+}
+
+} // namespace veil::test
