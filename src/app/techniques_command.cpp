@@ -1,10 +1,13 @@
 // `veil techniques [NAME]`: every registered technique with its declared properties
 // (key, type, default, range, doc, paper citation) and whether this GL driver has it.
+#include "app/cli_checks.h"
 #include "app/commands.h"
 
 #include "base/error.h"
+#include "base/suggest.h"
 #include "catalog/techniques.h"
 #include "gpu/context.h"
+#include "integrators/registry.h"
 
 #include <fmt/ranges.h>
 
@@ -37,6 +40,19 @@ std::string valueText(const nlohmann::json& v) {
     return v.is_string() ? v.get<std::string>() : v.dump();
 }
 
+void printProperties(const PropertySchema& properties) {
+    if (properties.empty()) std::cout << "  no properties\n";
+    for (const PropertyDecl& d : properties.all()) {
+        std::cout << fmt::format("  {:<24} {:<6} default {}", d.key, propertyTypeName(d.type),
+                                 valueText(d.defaultValue));
+        if (const std::string range = d.rangeText(); !range.empty())
+            std::cout << "  range " << range;
+        std::cout << "\n      " << d.doc;
+        if (!d.citation.empty()) std::cout << "  " << d.citation;
+        std::cout << "\n";
+    }
+}
+
 void run(const TechniquesArgs& args) {
     const std::vector<catalog::Technique> all = catalog::techniques();
     std::vector<const catalog::Technique*> chosen;
@@ -45,8 +61,19 @@ void run(const TechniquesArgs& args) {
         if (args.name.empty() || t.name == args.name) chosen.push_back(&t);
         names.push_back(t.kind + " " + t.name);
     }
-    VEIL_CHECK(!chosen.empty(), "unknown technique '{}' (known: {})", args.name,
-               fmt::join(names, ", "));
+    // The CPU integrators of --integrator (render.pathtraced.* for the path tracer).
+    const auto& integrators = volume::IntegratorRegistry::instance();
+    std::vector<const volume::IntegratorInfo*> chosenIntegrators;
+    for (const std::string& n : integrators.names()) {
+        if (args.name.empty() || n == args.name) chosenIntegrators.push_back(&integrators.get(n));
+        names.push_back("integrator " + n);
+    }
+    std::vector<std::string> plain;
+    for (const std::string& n : names)
+        plain.push_back(n.substr(n.find(' ') + 1));
+    if (chosen.empty() && chosenIntegrators.empty())
+        usageError(fmt::format("unknown technique '{}'{} (known: {})", args.name,
+                               didYouMean(args.name, plain), fmt::join(names, ", ")));
 
     // Availability needs a context; without one the list is still printed.
     std::optional<gpu::ContextInfo> info;
@@ -61,6 +88,21 @@ void run(const TechniquesArgs& args) {
         nlohmann::json out = nlohmann::json::array();
         for (const auto* t : chosen)
             out.push_back(catalog::techniqueJson(*t, info));
+        for (const auto* i : chosenIntegrators) {
+            nlohmann::json properties = nlohmann::json::array();
+            for (const PropertyDecl& d : i->properties.all())
+                properties.push_back({{"key", d.key},
+                                      {"type", propertyTypeName(d.type)},
+                                      {"default", d.defaultValue},
+                                      {"range", d.rangeText()},
+                                      {"doc", d.doc},
+                                      {"citation", d.citation}});
+            out.push_back({{"kind", "integrator"},
+                           {"name", i->name},
+                           {"description", i->description},
+                           {"available", "yes (CPU)"},
+                           {"properties", properties}});
+        }
         std::cout << out.dump(2) << "\n";
         return;
     }
@@ -70,20 +112,17 @@ void run(const TechniquesArgs& args) {
                   << t->kind << " " << t->name
                   << "  (available: " << catalog::availability(*t, info) << ")\n  "
                   << t->description << "\n";
-        if (t->properties->empty()) std::cout << "  no properties\n";
-        for (const PropertyDecl& d : t->properties->all()) {
-            std::cout << fmt::format("  {:<24} {:<6} default {}", d.key, propertyTypeName(d.type),
-                                     valueText(d.defaultValue));
-            if (const std::string range = d.rangeText(); !range.empty())
-                std::cout << "  range " << range;
-            std::cout << "\n      " << d.doc;
-            if (!d.citation.empty()) std::cout << "  " << d.citation;
-            std::cout << "\n";
-        }
+        printProperties(*t->properties);
+    }
+    for (const auto* i : chosenIntegrators) {
+        std::cout << "\nintegrator " << i->name << "  (available: yes, CPU; --integrator "
+                  << i->name << ")\n  " << i->description << "\n";
+        printProperties(i->properties);
     }
     std::cout << "\nSet them in a scene as \"render\": {\"oit\": {\"type\": NAME, KEY: VALUE}} "
                  "(or \"shadows\": {...}) or with --set render.oit.KEY=VALUE "
-                 "(render.shadows.KEY=VALUE).\n";
+                 "(render.shadows.KEY=VALUE); the path tracer's as \"render\": {\"pathtraced\": "
+                 "{KEY: VALUE}} or --set render.pathtraced.KEY=VALUE.\n";
 }
 
 } // namespace

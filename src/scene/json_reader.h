@@ -5,6 +5,7 @@
 #pragma once
 
 #include "base/error.h"
+#include "base/suggest.h"
 #include "scene/json_text.h"
 
 #include <nlohmann/json.hpp>
@@ -128,7 +129,8 @@ public:
         for (const auto& item : j_.items()) {
             if (std::find(known_.begin(), known_.end(), item.key()) == known_.end())
                 fail(ctx_, child(ptr_, item.key()),
-                     fmt::format("unknown key (known: {})", joined(known_)));
+                     fmt::format("unknown key{} (known: {})", didYouMean(item.key(), known_),
+                                 joined(known_)));
         }
     }
 

@@ -53,7 +53,7 @@ TEST(PropertiesCliTest, TechniquesListsEveryTechniqueWithItsProperties) {
          {"overestimation", "bias", "5e-06", "[Munstermann18 sec. 3.2]", "available: yes"})
         EXPECT_NE(text.output.find(s), std::string::npos) << s << "\n" << text.output;
     const CommandResult bad = runCommand(veilExe() + " techniques nope");
-    EXPECT_EQ(bad.exitCode, 1) << bad.output;
+    EXPECT_EQ(bad.exitCode, 2) << bad.output;
     EXPECT_NE(bad.output.find("unknown technique 'nope'"), std::string::npos) << bad.output;
     const CommandResult shadow = runCommand(veilExe() + " techniques opaque");
     ASSERT_EQ(shadow.exitCode, 0) << shadow.output;
