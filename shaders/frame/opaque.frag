@@ -3,6 +3,9 @@
 // The shaded surface is the one the depth buffer keeps: screen-space shadow techniques
 // (`volume`) may answer from the pixel (veil:light_visibility).
 #define VEIL_RECEIVER_AT_DEPTH 1
+// The receiver-plane shadow slope from this fragment's screen-space derivatives
+// (shadows/common/receiver_derivatives.glsl), taken before the discard below.
+#define VEIL_RECEIVER_DERIVATIVES 1
 // With VEIL_AO (render.ao on) the ambient term is multiplied by the frame's AO buffer, and a
 // depth pre-pass runs this program first with depthPrepass set (depth only, no shading).
 #include "../common/camera.glsl"
@@ -17,6 +20,7 @@ uniform bool depthPrepass;
 #endif
 
 void main() {
+    shadowReceiverDerivatives(vWorldPos);
     // A binary-coverage material [McGuire17 sec. 6]: only its alpha = 1 interior is opaque.
     if (binaryCoverage && surfaceCoverage() < 1.0) discard;
     vec3 V = viewVector(vWorldPos);

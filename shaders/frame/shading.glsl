@@ -2,6 +2,8 @@
 // active shadow technique's visibility ("veil:light_visibility"), plus the ambient term.
 #include "../common/lights.glsl"
 #include "veil:light_visibility"
+// shadowReceiverDerivatives() for the fragment-shader receivers (opaque.frag, transparent.frag).
+#include "../shadows/common/receiver_derivatives.glsl"
 
 // The ambient term alone (constant irradiance times the diffuse albedo).
 vec3 ambientReflection(SurfaceMaterial m, float diffuseWeight) {

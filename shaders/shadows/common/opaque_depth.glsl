@@ -12,30 +12,75 @@ bool shadowLocate(int light, vec3 P, out int view, out vec2 uv, out float depth)
     return shadowViewCoordinates(view, P, uv, depth);
 }
 
-// Receiver-plane depth slope [Isidoro06]: the normalized depth of the plane through P with
-// normal N, per texel of offset in view v's map (x, y), from two points of the plane a
-// thousandth of the view's depth range away. Filter taps at offset o compare against
+// Receiver-plane depth slope [Isidoro06]: the normalized depth of the plane through P, per
+// texel of offset in view v's map (x, y). Filter taps at offset o compare against
 // depth + dot(slope, o) instead of P's own depth, so a flat receiver tilted toward the light
-// does not meet itself in its neighbours' texels. Capped at 8 texel widths of depth per texel
+// does not meet itself in its neighbours' texels. With two directions a, b in the plane, their
+// map offsets d_a, d_b (texels) and depth changes z_a, z_b give the slope g by solving
+// g . d_a = z_a, g . d_b = z_b (a 2x2 system). Capped at 8 texel widths of depth per texel
 // (the slope of a plane 83 degrees from the light's axis, with texels as wide as the view's
-// depth range / size); zero where the plane is seen edge-on by the light.
-vec2 shadowReceiverSlope(int v, vec3 P, vec3 N, vec2 uv, float depth) {
+// depth range / size). shadows.mapSize.w picks the directions (the technique's
+// receiver_slope): 0 = the screen-space derivatives of P where the receiver has them
+// (fragment shaders, receiver_derivatives.glsl), else the geometric directions; 1 = geometric
+// everywhere; 2 = no slope (comparisons of its cost).
+
+vec2 shadowSlopeSolve(vec2 d1, vec2 d2, float z1, float z2, float det) {
+    vec2 g = vec2(z1 * d2.y - z2 * d1.y, z2 * d1.x - z1 * d2.x) / det;
+    float cap = 8.0 * shadows.mapSize.y;
+    return clamp(g, vec2(-cap), vec2(cap));
+}
+
+// Geometric directions: two tangents of the plane with normal N, a thousandth of the view's
+// depth range long, projected into the map (two more projections and depths per light).
+// Zero where the plane is seen edge-on by the light.
+vec2 shadowReceiverSlopeGeometric(int v, vec3 P, vec3 N, vec2 uv, float depth) {
     vec3 a = abs(N.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
     vec3 t1 = normalize(cross(N, a)), t2 = cross(N, t1);
     float h = 1e-3 * shadowViewDepthScale(v);
-    vec2 uv1, uv2;
-    float z1, z2;
     vec4 c1 = shadows.views[v].worldToTexture * vec4(P + t1 * h, 1.0);
     vec4 c2 = shadows.views[v].worldToTexture * vec4(P + t2 * h, 1.0);
     if (c1.w <= 0.0 || c2.w <= 0.0) return vec2(0.0);
     vec2 d1 = (c1.xy / c1.w - uv) * shadows.mapSize.x, d2 = (c2.xy / c2.w - uv) * shadows.mapSize.x;
     float det = d1.x * d2.y - d1.y * d2.x;
     if (abs(det) < 1e-8) return vec2(0.0);
-    z1 = shadowViewDepth(v, P + t1 * h) - depth;
-    z2 = shadowViewDepth(v, P + t2 * h) - depth;
-    vec2 g = vec2(z1 * d2.y - z2 * d1.y, z2 * d1.x - z1 * d2.x) / det;
-    float cap = 8.0 * shadows.mapSize.y;
-    return clamp(g, vec2(-cap), vec2(cap));
+    float z1 = shadowViewDepth(v, P + t1 * h) - depth;
+    float z2 = shadowViewDepth(v, P + t2 * h) - depth;
+    return shadowSlopeSolve(d1, d2, z1, z2, det);
+}
+
+#include "receiver_derivatives.glsl"
+
+// Screen-space directions: the pixel steps dP/dx, dP/dy of the fragment (the plane of its
+// triangle), carried into the map by the derivative of the view's projection at P (exact for
+// a directional light's orthographic view), so d(uv, z)/dx and /dy of the shadow
+// coordinates cost a few multiply-adds per light and need no derivative inside the lights'
+// divergent branches. False where the two map offsets are within 1e-3 radians of parallel
+// (the pixel's footprint seen edge-on by the light or the camera): the caller takes the
+// geometric slope there.
+bool shadowReceiverSlopeDerivatives(int v, vec3 P, vec2 uv, out vec2 slope) {
+    slope = vec2(0.0);
+    float w = (shadows.views[v].worldToTexture * vec4(P, 1.0)).w;
+    vec4 cx = shadows.views[v].worldToTexture * vec4(shadowReceiverDPdx, 0.0);
+    vec4 cy = shadows.views[v].worldToTexture * vec4(shadowReceiverDPdy, 0.0);
+    float s = shadows.mapSize.x / w;
+    vec2 d1 = (cx.xy - uv * cx.w) * s, d2 = (cy.xy - uv * cy.w) * s;
+    float det = d1.x * d2.y - d1.y * d2.x;
+    if (!(det * det > 1e-6 * dot(d1, d1) * dot(d2, d2))) return false;
+    float zs = -1.0 / shadowViewDepthScale(v);
+    float z1 = (shadows.views[v].worldToView * vec4(shadowReceiverDPdx, 0.0)).z * zs;
+    float z2 = (shadows.views[v].worldToView * vec4(shadowReceiverDPdy, 0.0)).z * zs;
+    slope = shadowSlopeSolve(d1, d2, z1, z2, det);
+    return true;
+}
+
+vec2 shadowReceiverSlope(int v, vec3 P, vec3 N, vec2 uv, float depth) {
+    int mode = int(shadows.mapSize.w);
+    if (mode == 2) return vec2(0.0);
+#ifdef VEIL_RECEIVER_DERIVATIVES
+    vec2 slope;
+    if (mode == 0 && shadowReceiverSlopeDerivatives(v, P, uv, slope)) return slope;
+#endif
+    return shadowReceiverSlopeGeometric(v, P, N, uv, depth);
 }
 
 // Surfaces: slope-scaled receiver bias (grows where the light grazes the surface), PCF.

@@ -17,7 +17,7 @@ layout(std140, binding = VEIL_UBO_SHADOWS) uniform ShadowsBlock {
     // Per scene light: x = first view (layer) or -1 when the light casts no shadow, y = number of
     // views (1 or 6); z, w unused.
     ivec4 lights[VEIL_MAX_LIGHTS];
-    vec4 mapSize; // x = texels per side, y = 1 / x, z = number of views
+    vec4 mapSize; // x = texels per side, y = 1 / x, z = number of views, w = receiver slope mode
     vec4 params[4]; // technique-defined (see the technique's visibility.glsl)
 } shadows;
 

@@ -4,7 +4,8 @@
 // this is the baseline the other shadow techniques are measured against.
 //
 // Properties: size (texels per view side, 2048), max_lights (4), bias (world-space depth bias
-// along the light axis, slope-scaled for surfaces, 0.01), pcf_radius (taps (2r+1)^2, 1).
+// along the light axis, slope-scaled for surfaces, 0.01), pcf_radius (taps (2r+1)^2, 1),
+// receiver_slope (where the receiver plane's slope comes from: derivatives).
 #pragma once
 
 #include "shadows/technique.h"
@@ -13,8 +14,12 @@ namespace veil::shadows {
 
 void registerOpaque(Registry& registry);
 
-// The receiver-side properties every technique's opaque map reads (bias, pcf_radius), for
-// the schemas of techniques that include the opaque map.
+// The receiver-side properties every technique's opaque map reads (bias, pcf_radius,
+// receiver_slope), for the schemas of techniques that include the opaque map.
 PropertySchema& addOpaqueMapProperties(PropertySchema& schema);
+
+// receiver_slope as the shadows block's mapSize.w (shaders/shadows/common/opaque_depth.glsl):
+// 0 derivatives, 1 geometric, 2 none; 0 for a technique without the property.
+float receiverSlopeMode(const Properties& properties);
 
 } // namespace veil::shadows
