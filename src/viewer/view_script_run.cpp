@@ -150,6 +150,15 @@ bool ScriptRunner::beforeFrame(const ScriptTarget& t) {
     }
     if (next_ >= actions_.size()) return false;
     this_ = &actions_[next_++];
+    // frame, play and step on a scene without a timeline would do nothing: said, not ignored.
+    const std::string& kind = this_->kind;
+    const bool moves = kind == "step" || (kind == "play" && this_->value.get<bool>()) ||
+                       (kind == "frame" && this_->value.get<int>() != t.timeline.range().first);
+    if (moves && !t.timeline.animated())
+        throw Error(fmt::format("{}: action {} ({}): the scene has no timeline (no file "
+                                "sequence, camera or light keys, turntable or time.frame_range "
+                                "of more than one frame) to {}",
+                                path_, this_->index, kind, kind == "play" ? "play" : "move along"));
     if (applyTimeAction(*this_, t.timeline))
         wait_ = 0;
     else if (!isOutput(this_->kind))

@@ -254,4 +254,19 @@ TEST(CliClassesTest, TechniquesListThePathTracerAndSetKeysGetASuggestion) {
                 {"/render/exposur: unknown key (did you mean 'exposure'?)"}, 1);
 }
 
+// Mutation: the timeline check removed from ScriptRunner::beforeFrame() -> the script exits 0
+// with the one frame the scene has.
+TEST(CliClassesTest, ViewerTimeActionsOnAStaticSceneAreRefused) {
+    if (runCommand("command -v xvfb-run").exitCode != 0) GTEST_SKIP() << "no xvfb-run";
+    const fs::path d = freshDir("view");
+    const std::string s = q(writeTextFile(d / "s.json", kScene));
+    const fs::path script =
+        writeTextFile(d / "script.json", R"([{"frame": 3}, {"screenshot": "shot.png"}])");
+    const CommandResult r = runCommand("xvfb-run -a -s '-screen 0 640x480x24' " + veilExe() +
+                                       " view " + s + " --script " + q(script));
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("action 0 (frame): the scene has no timeline"), std::string::npos)
+        << r.output;
+}
+
 } // namespace veil::test
