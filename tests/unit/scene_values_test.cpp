@@ -57,7 +57,8 @@ TEST(SceneValuesTest, UnknownKeyListsTheAcceptedKeysInOrder) {
     json doc = document();
     doc["render"]["fog_stepz"] = 3;
     EXPECT_NE(parseError(doc).find(
-                  "/render/fog_stepz: unknown key (known: width, height, camera, oit, shadows, ao, "
+                  "/render/fog_stepz: unknown key (did you mean 'fog_steps'?) (known: width, "
+                  "height, camera, oit, shadows, ao, "
                   "pathtraced, "
                   "seed, ambient, background, exposure, oit_rasterizer, tonemap, shadow_map_size, "
                   "shadow_bias, pcf_radius, fog_steps, fog_resolution, fog_jitter, fog_octaves, "
