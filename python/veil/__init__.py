@@ -209,8 +209,9 @@ class Renderer(_veil._Renderer):
 
 
 def techniques(renderer: _Optional["Renderer"] = None) -> list:
-    """Every registered technique: a list of dicts with kind ("oit" or "shadows"), name,
-    description, available ("yes"/"no" on this GL driver) and properties (key, type,
+    """Every registered technique: a list of dicts with kind ("oit", "shadows" or "integrator":
+    the CPU integrators of `veil render --integrator`), name, description, available
+    ("yes"/"no" on this GL driver, "yes (CPU)" for an integrator) and properties (key, type,
     default, range, doc, citation), as `veil techniques --json` prints them."""
     if renderer is not None:
         if not isinstance(renderer, Renderer):

@@ -7,7 +7,6 @@
 #include "base/suggest.h"
 #include "catalog/techniques.h"
 #include "gpu/context.h"
-#include "integrators/registry.h"
 
 #include <fmt/ranges.h>
 
@@ -61,17 +60,10 @@ void run(const TechniquesArgs& args) {
         if (args.name.empty() || t.name == args.name) chosen.push_back(&t);
         names.push_back(t.kind + " " + t.name);
     }
-    // The CPU integrators of --integrator (render.pathtraced.* for the path tracer).
-    const auto& integrators = volume::IntegratorRegistry::instance();
-    std::vector<const volume::IntegratorInfo*> chosenIntegrators;
-    for (const std::string& n : integrators.names()) {
-        if (args.name.empty() || n == args.name) chosenIntegrators.push_back(&integrators.get(n));
-        names.push_back("integrator " + n);
-    }
     std::vector<std::string> plain;
     for (const std::string& n : names)
         plain.push_back(n.substr(n.find(' ') + 1));
-    if (chosen.empty() && chosenIntegrators.empty())
+    if (chosen.empty())
         usageError(fmt::format("unknown technique '{}'{} (known: {})", args.name,
                                didYouMean(args.name, plain), fmt::join(names, ", ")));
 
@@ -88,36 +80,18 @@ void run(const TechniquesArgs& args) {
         nlohmann::json out = nlohmann::json::array();
         for (const auto* t : chosen)
             out.push_back(catalog::techniqueJson(*t, info));
-        for (const auto* i : chosenIntegrators) {
-            nlohmann::json properties = nlohmann::json::array();
-            for (const PropertyDecl& d : i->properties.all())
-                properties.push_back({{"key", d.key},
-                                      {"type", propertyTypeName(d.type)},
-                                      {"default", d.defaultValue},
-                                      {"range", d.rangeText()},
-                                      {"doc", d.doc},
-                                      {"citation", d.citation}});
-            out.push_back({{"kind", "integrator"},
-                           {"name", i->name},
-                           {"description", i->description},
-                           {"available", "yes (CPU)"},
-                           {"properties", properties}});
-        }
         std::cout << out.dump(2) << "\n";
         return;
     }
     std::cout << "GL driver: " << (info ? info->renderer : "none (" + noContext + ")") << "\n";
     for (const auto* t : chosen) {
-        std::cout << "\n"
-                  << t->kind << " " << t->name
-                  << "  (available: " << catalog::availability(*t, info) << ")\n  "
-                  << t->description << "\n";
+        std::cout << "\n" << t->kind << " " << t->name << "  (available: ";
+        if (t->cpu)
+            std::cout << "yes, CPU; --integrator " << t->name;
+        else
+            std::cout << catalog::availability(*t, info);
+        std::cout << ")\n  " << t->description << "\n";
         printProperties(*t->properties);
-    }
-    for (const auto* i : chosenIntegrators) {
-        std::cout << "\nintegrator " << i->name << "  (available: yes, CPU; --integrator "
-                  << i->name << ")\n  " << i->description << "\n";
-        printProperties(i->properties);
     }
     std::cout << "\nSet them in a scene as \"render\": {\"oit\": {\"type\": NAME, KEY: VALUE}} "
                  "(or \"shadows\": {...}) or with --set render.oit.KEY=VALUE "

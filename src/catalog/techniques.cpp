@@ -1,6 +1,7 @@
 // The technique catalogue (techniques.h).
 #include "catalog/techniques.h"
 
+#include "integrators/registry.h"
 #include "oit/technique.h"
 #include "shadows/technique.h"
 
@@ -20,10 +21,16 @@ std::vector<Technique> techniques() {
     std::vector<Technique> all;
     collect(oit::Registry::instance(), "oit", all);
     collect(shadows::Registry::instance(), "shadows", all);
+    const auto& integrators = volume::IntegratorRegistry::instance();
+    for (const std::string& name : integrators.names()) {
+        const volume::IntegratorInfo& i = integrators.get(name);
+        all.push_back({"integrator", i.name, i.description, nullptr, &i.properties, true});
+    }
     return all;
 }
 
 std::string availability(const Technique& t, const std::optional<gpu::ContextInfo>& info) {
+    if (t.cpu) return "yes (CPU)";
     if (!info) return "unknown (no GL context)";
     if (!t.isAvailable || t.isAvailable(*info)) return "yes";
     return "no";

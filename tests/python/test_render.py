@@ -170,7 +170,7 @@ def test_techniques_equal_the_command(renderer, veil_exe):
     reference = next(t for t in listed if t["name"] == "reference" and t["kind"] == "oit")
     assert reference["available"] == "yes"
     kinds = {t["kind"] for t in listed}
-    assert kinds == {"oit", "shadows"}
+    assert kinds == {"oit", "shadows", "integrator"}
 
 
 def test_voxelize_sphere_against_point_in_sphere(renderer, tmp_path):
