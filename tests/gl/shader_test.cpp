@@ -3,8 +3,8 @@
 #include "gl_fixture.h"
 
 #include "base/error.h"
-#include "gpu/shader.h"
 #include "frame/stages/compute_raster.h"
+#include "gpu/shader.h"
 #include "oit/phenomenological/phenomenological.h"
 #include "oit/reference/reference.h"
 #include "oit/technique.h"
@@ -179,6 +179,11 @@ ProjectPrograms projectPrograms(const gpu::ContextInfo& info, gpu::ProgramManage
                            "frame/ao/blur.comp"})
         P.push_back(ProgramDesc::compute(ao)); // the frame's AO pass (render.ao)
     P.push_back(ProgramDesc::compute("volume/light_transmittance.comp"));
+    // The scattered-light cache's GPU bake (src/fog/scattered_light_bake.cpp), with and without
+    // the emission channel.
+    P.push_back(ProgramDesc::compute("volume/cache_bake.comp", {"VEIL_VOLUME_SLOTS 1"}));
+    P.push_back(ProgramDesc::compute("volume/cache_bake.comp",
+                                     {"VEIL_VOLUME_SLOTS 2", "VEIL_VOLUME_EMISSION 1"}));
 
     // OIT: one technique object per registered name (and the phenomenological options that
     // add passes), the frame's programs built from what the object says.
@@ -230,10 +235,10 @@ ProjectPrograms projectPrograms(const gpu::ContextInfo& info, gpu::ProgramManage
         // them to the manager), as frame::Renderer builds them.
         if (t.computeRaster)
             frame::ComputeRaster(manager, *technique,
-                               {{"veil:raster_setup", "frame/raster_setup.glsl"},
-                                {"veil:raster_surface", "frame/raster_surface.glsl"},
-                                {"veil:raster_layout", "frame/raster_layout.glsl"},
-                                visibility[0]});
+                                 {{"veil:raster_setup", "frame/raster_setup.glsl"},
+                                  {"veil:raster_surface", "frame/raster_surface.glsl"},
+                                  {"veil:raster_layout", "frame/raster_layout.glsl"},
+                                  visibility[0]});
     }
     // The technique template (src/oit/_template), not registered by default.
     {
