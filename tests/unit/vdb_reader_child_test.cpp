@@ -59,7 +59,8 @@ TEST(VdbReaderChildTest, CrashOfTheReaderNamesTheFileAndTheNextReadWorks) {
         EXPECT_FALSE(volume::readVdbFile(fireFrame(3))->empty());
     });
     EXPECT_NE(msg.find(victim.string()), std::string::npos) << msg;
-    EXPECT_NE(msg.find("the OpenVDB reader crashed on it (signal 11"), std::string::npos) << msg;
+    // SIGSEGV (11); under AddressSanitizer its handler turns the fault into an abort (6).
+    EXPECT_NE(msg.find("the OpenVDB reader crashed on it (signal "), std::string::npos) << msg;
     EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
     EXPECT_EQ(volume::readerStartsForTesting() - before, 2); // the first, and one after the crash
 }

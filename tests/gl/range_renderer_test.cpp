@@ -3,8 +3,8 @@
 // renderer built for that frame alone, bit for bit, with a temperature emission channel, a
 // shadow-casting light and a turntable camera; a frame of another structure (the volume gone)
 // builds a new renderer.
-#include "../gl/gl_fixture.h" // a GL context: veil_gl_tests does not link the prefetch workers
 #include "frame/renderer.h"
+#include "gl_fixture.h"
 #include "scene/timeline.h"
 #include "sequence/prefetch.h"
 #include "support/test_support.h"
