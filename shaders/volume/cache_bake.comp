@@ -17,7 +17,7 @@
 #include "volume_common.glsl"
 #include "cache_bake.h"
 #ifdef VEIL_VOLUME_EMISSION
-#include "cache_emission.glsl"
+#include "volume_emission.glsl"
 #endif
 
 layout(local_size_x = VEIL_CACHE_BAKE_GROUP) in;
@@ -88,7 +88,7 @@ float localAt(vec3 p, out float sig[VEIL_VOLUME_SLOTS], out vec3 emitted) {
             sig[i] = volumes[i].densityScale * d;
             sigma += sig[i];
 #ifdef VEIL_VOLUME_EMISSION
-            emitted += cacheEmitted(i, d, uvw);
+            emitted += volumeEmitted(i, d, uvw);
 #else
             emitted += d * volumes[i].emission;
 #endif
