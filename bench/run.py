@@ -15,6 +15,7 @@ import argparse
 import datetime
 import fnmatch
 import json
+import math
 import os
 import platform
 import re
@@ -264,6 +265,37 @@ def clock_warmup(tool, seconds):
             return
 
 
+def generated_scene(tool, group, tmp):
+    """A group with "generate" renders a sequence that veil-seqgen writes first (real .vdb
+    files of about `voxels` active voxels per frame, into the run's temporary folder): the
+    group's scene (a template beside which the frames are expected as cloud_#.vdb) is copied
+    there with the volume scaled so the cloud's ball has a radius of 1 whatever its voxel count.
+    Returns (scene path, generation record); the scene is None when generation failed."""
+    g = group["generate"]
+    folder = os.path.join(tmp, re.sub(r"[^a-z0-9]+", "-", group["name"].lower()).strip("-"))
+    os.makedirs(folder, exist_ok=True)
+    cmd = [tool, "--voxels", str(g["voxels"]), "--frames", g["frames"],
+           "-o", os.path.join(folder, "cloud_#.vdb")]
+    rc, err, wall = run_process(cmd, g.get("timeout_s", 600))
+    record = {"command": [os.path.basename(tool)] + cmd[1:-2], "wall_s": round(wall, 2)}
+    if rc != 0:
+        record["error"] = f"exit {rc}: {err.strip()}"
+        return None, record
+    with open(os.path.join(ROOT, group["scene"])) as f:
+        scene = json.load(f)
+    # veil-seqgen's ball: N = 4/3 pi r^3 x 1.04 voxels of size 1 about the origin.
+    n = float(str(g["voxels"]).rstrip("KkMm")) * {"k": 1e3, "m": 1e6}.get(
+        str(g["voxels"])[-1].lower(), 1.0)
+    radius = (n / (4.0 / 3.0 * math.pi * 1.04)) ** (1.0 / 3.0)
+    for v in scene["volumes"]:
+        v["transform"] = {"scale": 1.0 / radius}
+    path = os.path.join(folder, os.path.basename(group["scene"]))
+    with open(path, "w") as f:
+        json.dump(scene, f, indent=1)
+    record["radius_voxels"] = round(radius, 1)
+    return path, record
+
+
 def run_set(path, s, tools, args):
     started = datetime.datetime.now(datetime.timezone.utc)
     warm = s.get("clock_warmup_s", 20) if args.clock_warmup is None else args.clock_warmup
@@ -293,8 +325,19 @@ def run_set(path, s, tools, args):
                     machine.setdefault("renderer", info["renderer"])
                     machine.setdefault("timer", "GL_TIME_ELAPSED")
             else:
-                records = []
-                for case in expand_cases(group):
+                records, cases = [], expand_cases(group)
+                generated = None
+                if "generate" in group:
+                    scene_path, generated = generated_scene(tools["veil-seqgen"], group, tmp)
+                    log(f"  generated {group['generate']['voxels']} voxels x "
+                        f"{group['generate']['frames']}: {generated['wall_s']} s"
+                        + (f" FAILED {generated['error'][:300]}" if "error" in generated else ""))
+                    for case in cases:
+                        case["scene"] = scene_path
+                for case in cases:
+                    if "generate" in group and case["scene"] is None:
+                        records.append({"name": case["name"], "error": "generation failed"})
+                        continue
                     rec, raw = bench_case(tools[tool_name], case, metric, tmp)
                     if raw:
                         machine.setdefault("renderer", raw.get("renderer"))
@@ -313,10 +356,13 @@ def run_set(path, s, tools, args):
             for r in records:
                 if base_ms and r.get("metric_ms") is not None:
                     r["ratio"] = r["metric_ms"] / base_ms
-            result["groups"].append({
+            entry = {
                 "name": group["name"], "tool": tool_name,
                 "metric": metric, "baseline": base_name,
-                "description": group.get("description", ""), "cases": records})
+                "description": group.get("description", ""), "cases": records}
+            if tool_name not in ("python", "veil-voxbench") and generated:
+                entry["generated"] = generated
+            result["groups"].append(entry)
     if "driver" not in machine and machine.get("gl_version"):
         m = re.search(r"NVIDIA ([0-9.]+)|Mesa ([0-9.]+\S*)", machine["gl_version"])
         if m:
@@ -353,6 +399,10 @@ def dry_run(sets):
             base = group.get("baseline")
             if base and tool in ("veil-bench", "veil-seqbench") and base not in names:
                 log(f"{path}: group {group['name']}: baseline {base!r} is not a case")
+                bad += 1
+            if "generate" in group and (tool != "veil-seqbench" or not {"voxels", "frames"}
+                                        <= set(group["generate"])):
+                log(f"{path}: group {group['name']}: generate needs veil-seqbench, voxels, frames")
                 bad += 1
             for c in cases:
                 if not os.path.exists(os.path.join(ROOT, c.get("scene", ""))):
@@ -392,6 +442,8 @@ def main():
     os.makedirs(out_dir, exist_ok=True)
     needed = {g.get("tool", "veil-bench") for _, s in sets for g in s["groups"]} | {"veil-bench"}
     needed.discard("python")  # a script run by python_interpreter(), not a program
+    if any("generate" in g for _, s in sets for g in s["groups"]):
+        needed.add("veil-seqgen")
     tools = {t: find_tool(t, args.bin) for t in sorted(needed)}
     os.environ.setdefault("VEIL_SHADER_DIR", os.path.join(ROOT, "shaders"))
     failed = 0
