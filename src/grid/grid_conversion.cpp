@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <optional>
 
 namespace veil::volume {
 
@@ -216,6 +217,57 @@ openvdb::FloatGrid::Ptr coarsen(const openvdb::FloatGrid& grid) {
     return out;
 }
 
+// Copies the values of `grid` over the index box [lo, lo + size) into `dst`, an array of
+// `dims` texels (x fastest) of `stride` floats each, at texel (x, y, z) of the box:
+// dst[((z * dims.y + y) * dims.x + x) * stride]. Leaf by leaf: a leaf's voxels from its
+// buffer, a leaf-sized block without a leaf filled with its tile's (or the background) value,
+// tiles being unions of such blocks. Every value equals accessor.getValue() of its voxel.
+template <typename Accessor>
+void copyBox(Accessor& acc, const openvdb::Coord& lo, const glm::ivec3& size, float* dst,
+             const glm::ivec3& dims, std::size_t stride) {
+    using Leaf = openvdb::FloatTree::LeafNodeType;
+    const openvdb::Coord hi = lo + openvdb::Coord(size.x - 1, size.y - 1, size.z - 1);
+    const int align = ~(kLeaf - 1); // floor to a multiple of 8, negative coordinates too
+    for (int bz = lo.z() & align; bz <= hi.z(); bz += kLeaf)
+        for (int by = lo.y() & align; by <= hi.y(); by += kLeaf)
+            for (int bx = lo.x() & align; bx <= hi.x(); bx += kLeaf) {
+                const openvdb::Coord block(bx, by, bz);
+                const openvdb::Coord from = openvdb::Coord::maxComponent(block, lo);
+                const openvdb::Coord to =
+                    openvdb::Coord::minComponent(block + openvdb::Coord(kLeaf - 1), hi);
+                const Leaf* leaf = acc.probeConstLeaf(block);
+                const float tile = leaf ? 0.0f : acc.getValue(block);
+                for (int z = from.z(); z <= to.z(); ++z)
+                    for (int y = from.y(); y <= to.y(); ++y) {
+                        float* row =
+                            dst + ((std::size_t(z - lo.z()) * dims.y + (y - lo.y())) * dims.x +
+                                   (from.x() - lo.x())) *
+                                      stride;
+                        if (!leaf) {
+                            for (int x = from.x(); x <= to.x(); ++x, row += stride)
+                                *row = tile;
+                            continue;
+                        }
+                        const openvdb::Index at = Leaf::coordToOffset(openvdb::Coord(0, y, z));
+                        for (int x = from.x(); x <= to.x(); ++x, row += stride)
+                            *row = leaf->getValue(at + (openvdb::Index(x & (kLeaf - 1)) << 6));
+                    }
+            }
+}
+
+// copyBox() over a whole dense box, in parallel over slabs of leaf-aligned z.
+void copyDense(const openvdb::FloatGrid& grid, const openvdb::Coord& lo, const glm::ivec3& size,
+               float* dst, std::size_t stride) {
+    const int first = lo.z() & ~(kLeaf - 1), last = lo.z() + size.z - 1;
+    tbb::parallel_for(0, (last - first) / kLeaf + 1, [&](int slab) {
+        auto acc = grid.getConstAccessor();
+        const int z0 = std::max(lo.z(), first + slab * kLeaf);
+        const int z1 = std::min(last, first + slab * kLeaf + kLeaf - 1);
+        copyBox(acc, openvdb::Coord(lo.x(), lo.y(), z0), glm::ivec3(size.x, size.y, z1 - z0 + 1),
+                dst + std::size_t(z0 - lo.z()) * size.y * size.x * stride, size, stride);
+    });
+}
+
 void convertDense(const openvdb::FloatGrid& grid, GridConversion& out) {
     const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
     out.stats.dense = true;
@@ -223,16 +275,7 @@ void convertDense(const openvdb::FloatGrid& grid, GridConversion& out) {
     const openvdb::Coord d = hi - lo + openvdb::Coord(1);
     out.dataSize = glm::ivec3(d.x(), d.y(), d.z());
     out.values.assign(std::size_t(d.x()) * d.y() * d.z(), 0.0f);
-    tbb::parallel_for(tbb::blocked_range<int>(lo.z(), hi.z() + 1),
-                      [&](const tbb::blocked_range<int>& zs) {
-                          auto acc = grid.getConstAccessor();
-                          for (int z = zs.begin(); z != zs.end(); ++z) {
-                              std::size_t i = std::size_t(z - lo.z()) * d.y() * d.x();
-                              for (int y = lo.y(); y <= hi.y(); ++y)
-                                  for (int x = lo.x(); x <= hi.x(); ++x)
-                                      out.values[i++] = acc.getValue({x, y, z});
-                          }
-                      });
+    copyDense(grid, lo, out.dataSize, out.values.data(), 1);
     out.indexMin = glm::vec3(lo.x(), lo.y(), lo.z());
     out.indexMax = glm::vec3(hi.x(), hi.y(), hi.z());
     out.stats.gpuBytes = out.values.size() * 2;
@@ -266,14 +309,9 @@ void convertBricks(const openvdb::FloatGrid& grid, const std::vector<openvdb::Co
                 const int bi = static_cast<int>(b);
                 const glm::ivec3 slot(bi % per.x, (bi / per.x) % per.y, bi / (per.x * per.y));
                 const glm::ivec3 base = slot * kBrick;
-                for (int z = 0; z < kBrick; ++z)
-                    for (int y = 0; y < kBrick; ++y) {
-                        float* row =
-                            &out.values[(std::size_t(base.z + z) * atlas.y + base.y + y) * atlas.x +
-                                        base.x];
-                        for (int x = 0; x < kBrick; ++x)
-                            row[x] = acc.getValue(o + openvdb::Coord(x - 1, y - 1, z - 1));
-                    }
+                copyBox(acc, o - openvdb::Coord(1), glm::ivec3(kBrick),
+                        &out.values[(std::size_t(base.z) * atlas.y + base.y) * atlas.x + base.x],
+                        atlas, 1);
                 const openvdb::Coord d = o - lo;
                 const glm::ivec3 l(d.x() / kLeaf, d.y() / kLeaf, d.z() / kLeaf);
                 out.table[(std::size_t(l.z) * leaves.y + l.y) * leaves.x + l.x] =
@@ -286,6 +324,34 @@ void convertBricks(const openvdb::FloatGrid& grid, const std::vector<openvdb::Co
     // are filtered correctly.
     out.indexMax = glm::vec3(hi.x() + kLeaf, hi.y() + kLeaf, hi.z() + kLeaf);
     out.stats.gpuBytes = out.values.size() * 2 + out.table.size() * 4;
+}
+
+// The whole-voxel offset from the conversion's index space to `grid`'s when both grids have
+// the same voxels (voxel size and axes equal, origins a whole number of voxels apart, to 1e-9
+// of a voxel): the channel's value at a texel is then the value of one voxel of `grid`, copied
+// (as exact as resampling at that voxel's centre, which through the conversion's float
+// index-to-world matrix may land off it by rounding). nullopt otherwise (resampled).
+std::optional<openvdb::Coord> voxelOffset(const GridConversion& c, const openvdb::FloatGrid& grid) {
+    if (!c.transform || !c.transform->isLinear() || !grid.transform().isLinear())
+        return std::nullopt;
+    auto map = [&](double x, double y, double z) {
+        return grid.worldToIndex(c.transform->indexToWorld(openvdb::Vec3d(x, y, z)));
+    };
+    const openvdb::Vec3d o = map(0, 0, 0);
+    const openvdb::Vec3d whole(std::round(o.x()), std::round(o.y()), std::round(o.z()));
+    auto near = [](const openvdb::Vec3d& a, const openvdb::Vec3d& b) {
+        const openvdb::Vec3d d = a - b;
+        return std::max({std::abs(d.x()), std::abs(d.y()), std::abs(d.z())}) <= 1e-9;
+    };
+    if (!near(o, whole) ||
+        std::abs(whole.x()) + std::abs(whole.y()) + std::abs(whole.z()) > double(kMaxIndexCoord))
+        return std::nullopt;
+    for (int axis = 0; axis < 3; ++axis) {
+        openvdb::Vec3d unit(0.0);
+        unit[axis] = 1.0;
+        if (!near(map(unit.x(), unit.y(), unit.z()) - o, unit)) return std::nullopt;
+    }
+    return openvdb::Coord(int(whole.x()), int(whole.y()), int(whole.z()));
 }
 
 GridConversion convert(const openvdb::FloatGrid& grid, const GpuVolumeOptions& options, int max3D) {
@@ -317,6 +383,7 @@ GridConversion convert(const openvdb::FloatGrid& grid, const GpuVolumeOptions& o
     }
     out.stats.activeVoxels = g->activeVoxelCount();
     out.indexToWorld = affineIndexToWorld(*g);
+    out.transform = g->constTransformPtr();
     if (plan.dense)
         convertDense(*g, out);
     else
@@ -344,8 +411,12 @@ void addChannel(GridConversion& c, const std::vector<openvdb::FloatGrid::Ptr>& g
     const std::size_t components = grids.size() == 1 ? 1 : 4;
     c.channelComponents = int(components);
     c.channel.assign(c.values.size() * components, 0.0f);
+    std::vector<std::optional<openvdb::Coord>> offsets;
+    for (const auto& g : grids)
+        offsets.push_back(voxelOffset(c, *g));
     // Index coordinate of the conversion -> world (the grid's own transform, before the scene
-    // entry's) -> index coordinate of each grid.
+    // entry's) -> index coordinate of each grid: for the grids whose voxels are not the
+    // conversion's.
     const glm::dmat4 toWorld(c.indexToWorld);
     using Accessors = std::vector<openvdb::FloatGrid::ConstAccessor>;
     auto accessors = [&grids] {
@@ -354,22 +425,29 @@ void addChannel(GridConversion& c, const std::vector<openvdb::FloatGrid::Ptr>& g
             a.push_back(g->getConstAccessor());
         return a;
     };
-    auto fill = [&](Accessors& acc, const glm::ivec3& texel, const glm::dvec3& index) {
+    auto sample = [&](Accessors& acc, std::size_t k, const glm::ivec3& texel,
+                      const glm::dvec3& index) {
         const glm::dvec3 w = glm::dvec3(toWorld * glm::dvec4(index, 1.0));
-        const std::size_t at =
-            ((std::size_t(texel.z) * n.y + texel.y) * n.x + texel.x) * components;
-        for (std::size_t k = 0; k < grids.size(); ++k)
-            c.channel[at + k] = openvdb::tools::BoxSampler::sample(
+        c.channel[((std::size_t(texel.z) * n.y + texel.y) * n.x + texel.x) * components + k] =
+            openvdb::tools::BoxSampler::sample(
                 acc[k], grids[k]->worldToIndex(openvdb::Vec3d(w.x, w.y, w.z)));
     };
     if (c.stats.dense) {
-        tbb::parallel_for(0, n.z, [&](int z) {
-            Accessors acc = accessors();
-            for (int y = 0; y < n.y; ++y)
-                for (int x = 0; x < n.x; ++x)
-                    fill(acc, {x, y, z}, glm::dvec3(c.indexMin) + glm::dvec3(x, y, z));
-        });
+        const openvdb::Coord lo(int(c.indexMin.x), int(c.indexMin.y), int(c.indexMin.z));
+        for (std::size_t k = 0; k < grids.size(); ++k) {
+            if (offsets[k]) {
+                copyDense(*grids[k], lo + *offsets[k], n, c.channel.data() + k, components);
+                continue;
+            }
+            tbb::parallel_for(0, n.z, [&](int z) {
+                Accessors acc = accessors();
+                for (int y = 0; y < n.y; ++y)
+                    for (int x = 0; x < n.x; ++x)
+                        sample(acc, k, {x, y, z}, glm::dvec3(c.indexMin) + glm::dvec3(x, y, z));
+            });
+        }
     } else {
+        // The bricks the density conversion made (its indirection table), nothing else.
         const glm::ivec3 t = c.tableSize, per = c.bricksPerAxis;
         tbb::parallel_for(0, t.z, [&](int lz) {
             Accessors acc = accessors();
@@ -381,11 +459,25 @@ void addChannel(GridConversion& c, const std::vector<openvdb::FloatGrid::Ptr>& g
                     const glm::ivec3 base =
                         glm::ivec3(bi % per.x, (bi / per.x) % per.y, bi / (per.x * per.y)) * kBrick;
                     const glm::ivec3 origin = (c.leafOrigin + glm::ivec3(lx, ly, lz)) * kLeaf;
-                    for (int z = 0; z < kBrick; ++z)
-                        for (int y = 0; y < kBrick; ++y)
-                            for (int x = 0; x < kBrick; ++x)
-                                fill(acc, base + glm::ivec3(x, y, z),
-                                     glm::dvec3(origin + glm::ivec3(x - 1, y - 1, z - 1)));
+                    for (std::size_t k = 0; k < grids.size(); ++k) {
+                        if (offsets[k]) {
+                            const openvdb::Coord lo =
+                                openvdb::Coord(origin.x - 1, origin.y - 1, origin.z - 1) +
+                                *offsets[k];
+                            copyBox(
+                                acc[k], lo, glm::ivec3(kBrick),
+                                &c.channel[((std::size_t(base.z) * n.y + base.y) * n.x + base.x) *
+                                               components +
+                                           k],
+                                n, components);
+                            continue;
+                        }
+                        for (int z = 0; z < kBrick; ++z)
+                            for (int y = 0; y < kBrick; ++y)
+                                for (int x = 0; x < kBrick; ++x)
+                                    sample(acc, k, base + glm::ivec3(x, y, z),
+                                           glm::dvec3(origin + glm::ivec3(x - 1, y - 1, z - 1)));
+                    }
                 }
         });
     }

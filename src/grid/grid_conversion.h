@@ -31,6 +31,8 @@ struct GridConversion {
     std::vector<std::uint32_t> table; // brick index + 1 per leaf, 0 = empty
     glm::vec3 indexMin{0.0f}, indexMax{0.0f};
     glm::ivec3 leafOrigin{0}, bricksPerAxis{0};
+    // indexToWorld in double: the grid's (or its coarsened copy's) transform (addChannel()).
+    openvdb::math::Transform::ConstPtr transform;
     // A second texture in the same layout (addChannel()): channelComponents (1, or 4: RGB and
     // an unused 0) floats per texel, or empty.
     std::vector<float> channel;
@@ -53,11 +55,14 @@ struct GridConversion {
 GridConversion convertGrid(const openvdb::FloatGrid& grid, const GpuVolumeOptions& options,
                            int max3D, int threads = 0);
 
-// Fills `converted.channel` with `grids` (one, or three: R, G, B) sampled (trilinear, in world
-// space, so any transform and a coarsened conversion are fine) at the position of every texel
-// of the conversion's layout: the emission channel of a volume (temperature or emission grid)
-// beside its density. Adds its half-float texels (R16F, or RGBA16F for three) to
-// stats.gpuBytes. TBB-parallel like convertGrid().
+// Fills `converted.channel` with `grids` (one, or three: R, G, B) at the position of every texel
+// of the conversion's layout (the bricks of its indirection table, or the dense box): the
+// emission channel of a volume (temperature or emission grid) beside its density. A grid with
+// the conversion's voxels (same voxel size and axes, origin whole voxels apart; the usual case
+// of a simulation's grids, not a coarsened conversion) is copied leaf by leaf, the value of each
+// texel's voxel; any other is sampled (trilinear, in world space) at every texel. Adds its
+// half-float texels (R16F, or RGBA16F for three) to stats.gpuBytes. TBB-parallel like
+// convertGrid().
 void addChannel(GridConversion& converted, const std::vector<openvdb::FloatGrid::Ptr>& grids);
 
 // Bytes the GPU representation of `grid` would take (without building it; a lower bound for
