@@ -9,6 +9,8 @@
 #include <openvdb/tools/LevelSetUtil.h>
 #include <openvdb/tools/MeshToVolume.h>
 
+#include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <mutex>
 
@@ -112,6 +114,29 @@ std::size_t sanitizeDensity(openvdb::FloatGrid& grid) {
 
 namespace {
 
+// The largest half float: the GPU stores emission channels as 16-bit floats (fog/gpu_volume.h),
+// where a larger value is infinite and the marcher's trilinear samples and products NaN.
+constexpr float kMaxEmissionValue = 65504.0f;
+
+// Emission values (of `role`, a temperature or emission grid) beyond the range of what the GPU
+// stores, or NaN/infinite: refused with the file, grid, value and voxel. Inactive values and
+// the background count: the samplers read them beside active voxels.
+void checkEmissionValues(const openvdb::FloatGrid& grid, const fs::path& path,
+                         const std::string& role) {
+    auto check = [&](float v, const openvdb::Coord& at, bool active) {
+        VEIL_CHECK(std::isfinite(v) && std::fabs(v) <= kMaxEmissionValue,
+                   "grid '{}' of '{}' ({}) holds {} at voxel [{} {} {}]{}: emission values must "
+                   "be finite and within +-{} (the GPU stores them as 16-bit floats); rescale "
+                   "the grid and raise {}",
+                   grid.getName(), path.string(), role, v, at.x(), at.y(), at.z(),
+                   active ? "" : " (inactive)", kMaxEmissionValue,
+                   role == "temperature_grid" ? "temperature_scale" : "emission");
+    };
+    check(grid.background(), openvdb::Coord(0), false);
+    for (auto it = grid.cbeginValueAll(); it; ++it)
+        check(*it, it.getCoord(), it.isValueOn());
+}
+
 // A scalar grid of a file; `role` names what it is for in the messages ("density",
 // "temperature_grid", ...). With `colour`, a vec3s grid is accepted too: it is returned there
 // (null returned).
@@ -140,6 +165,7 @@ openvdb::FloatGrid::Ptr loadScalarGrid(const fs::path& path, const std::string& 
                colour ? "scalar float or vec3s" : "scalar float");
     VEIL_CHECK(grid->activeVoxelCount() > 0, "grid '{}' of '{}' is empty (no active voxels)",
                gridName, path.string());
+    if (role != "density") checkEmissionValues(*grid, path, role);
     if (grid->getGridClass() == openvdb::GRID_LEVEL_SET) {
         log::warn("grid '{}' of '{}' is a level set: converted to a fog volume (density 1 "
                   "inside)",
@@ -169,10 +195,23 @@ std::vector<openvdb::FloatGrid::Ptr> loadEmissionChannel(const scene::VolumeRef&
     const std::string& name = temperature ? ref.temperatureGrid : ref.emissionGrid;
     if (openvdb::FloatGrid::Ptr preloaded = findPreloadedGrid(ref.path, name)) return {preloaded};
     if (temperature) return {loadScalarGrid(ref.path, name, "temperature_grid")};
+    // Emitted radiance is the grid's value times `emission`, in float on the GPU.
+    const float scale = std::max({ref.emission.x, ref.emission.y, ref.emission.z});
+    auto checkProduct = [&](float v, const openvdb::Coord& at) {
+        VEIL_CHECK(double(std::fabs(v)) * double(scale) <= double(FLT_MAX),
+                   "grid '{}' of '{}' (emission_grid) holds {} at voxel [{} {} {}], which times "
+                   "emission {} overflows a float",
+                   name, ref.path.string(), v, at.x(), at.y(), at.z(), scale);
+    };
     openvdb::Vec3SGrid::Ptr colour;
-    if (openvdb::FloatGrid::Ptr scalar = loadScalarGrid(ref.path, name, "emission_grid", &colour))
+    if (openvdb::FloatGrid::Ptr scalar = loadScalarGrid(ref.path, name, "emission_grid", &colour)) {
+        if (double(scale) * kMaxEmissionValue > double(FLT_MAX))
+            for (auto it = scalar->cbeginValueAll(); it; ++it)
+                checkProduct(*it, it.getCoord());
         return {scalar};
-    // A colour: its components as three float grids (NaN, infinite and negative values 0).
+    }
+    // A colour: its components as three float grids (negative values 0; values the GPU cannot
+    // store refused as for a scalar grid).
     std::vector<openvdb::FloatGrid::Ptr> rgb;
     for (const char* c : {"x", "y", "z"}) {
         rgb.push_back(openvdb::FloatGrid::create(0.0f));
@@ -185,7 +224,14 @@ std::vector<openvdb::FloatGrid::Ptr> loadEmissionChannel(const scene::VolumeRef&
     for (auto it = colour->cbeginValueOn(); it; ++it) {
         const openvdb::Vec3s v = *it;
         for (int k = 0; k < 3; ++k) {
-            const float c = std::isfinite(v[k]) && v[k] > 0.0f ? v[k] : 0.0f;
+            VEIL_CHECK(std::isfinite(v[k]) && std::fabs(v[k]) <= kMaxEmissionValue,
+                       "grid '{}' of '{}' (emission_grid) holds ({}, {}, {}) at voxel [{} {} "
+                       "{}]: emission values must be finite and within +-{} (the GPU stores "
+                       "them as 16-bit floats); rescale the grid and raise emission",
+                       name, ref.path.string(), v[0], v[1], v[2], it.getCoord().x(),
+                       it.getCoord().y(), it.getCoord().z(), kMaxEmissionValue);
+            checkProduct(v[k], it.getCoord());
+            const float c = v[k] > 0.0f ? v[k] : 0.0f;
             if (it.isVoxelValue()) {
                 acc[k].setValue(it.getCoord(), c);
             } else {

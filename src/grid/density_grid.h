@@ -36,7 +36,10 @@ openvdb::FloatGrid::Ptr loadDensityGrid(const std::filesystem::path& path,
 
 // The emission channel a volume entry names, loaded as loadDensityGrid() loads a density (the
 // same checks; the messages name the key): none (empty), one grid (a temperature_grid or a
-// scalar emission_grid) or three (a vec3s emission_grid's x, y, z: linear RGB).
+// scalar emission_grid) or three (a vec3s emission_grid's x, y, z: linear RGB). Unlike a
+// density, a value that is NaN, infinite or beyond +-65504 (what the GPU's 16-bit float
+// channel holds), or whose product with `emission` overflows a float, is refused (veil::Error
+// naming the file, grid and voxel), not set to 0.
 std::vector<openvdb::FloatGrid::Ptr> loadEmissionChannel(const scene::VolumeRef& ref);
 
 // Procedural density (VolumeRef::procedural other than "homogeneous"): "box", "sphere",

@@ -1,6 +1,7 @@
 // The veil command against hostile input and a hostile machine: every failure is
 // one "veil: error:" line naming the file, exit status 1, no output and no temporary left;
 // a full disk, SIGTERM mid-write and bad output paths included.
+#include "grid/density_grid.h"
 #include "support/test_support.h"
 
 #include <gtest/gtest.h>
@@ -16,6 +17,7 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <limits>
 
 namespace veil::test {
 
@@ -95,6 +97,25 @@ TEST(CliRobustTest, HostileSceneInputIsOneLineNamingTheFile) {
                        {"valid.json", "override 'render.camera=[[[", "nested deeper"});
     EXPECT_EQ(leftovers(dir, {"deep.json", "deep-key.json", "overflow.json", "valid.json"}),
               std::vector<std::string>{});
+}
+
+// Before: a temperature grid holding FLT_MAX rendered (NaN pixels; +inf in the path tracer).
+TEST(CliRobustTest, EmissionGridOutOfRangeIsOneLineNamingFileAndGrid) {
+    const fs::path dir = freshDir("emission");
+    auto density = openvdb::FloatGrid::create(0.0f);
+    density->setName("density");
+    density->getAccessor().setValue({0, 0, 0}, 1.0f);
+    auto temperature = density->deepCopy();
+    temperature->setName("heat");
+    temperature->getAccessor().setValue({1, 0, 0}, std::numeric_limits<float>::max());
+    volume::saveGrids(dir / "hot.vdb", {density, temperature});
+    const fs::path scene = writeTextFile(dir / "hot.json", R"({
+      "render": {"width": 32, "height": 24},
+      "cameras": [{"position": [0, 0, 20], "target": [0, 0, 0]}],
+      "volumes": [{"path": "hot.vdb", "temperature_grid": "heat"}]})");
+    expectOneLineError("render " + quoted(scene) + " -o " + quoted(dir / "out.png"),
+                       {"hot.vdb", "'heat'", "temperature_grid", "16-bit"});
+    EXPECT_EQ(leftovers(dir, {"hot.vdb", "hot.json"}), std::vector<std::string>{});
 }
 
 // Before: on a full file system every writer's file was renamed into place empty and the

@@ -1,11 +1,11 @@
 // Density grids: loading by name from real .vdb files, and every kind of bad input ending in
 // one clear veil::Error (or a sanitized grid with a warning), never a crash.
 #include "base/error.h"
-#include "scene/scene.h"
-#include "support/test_support.h"
-#include "integrators/cpu_reference.h"
 #include "grid/density_grid.h"
 #include "grid/vdb_file.h"
+#include "integrators/cpu_reference.h"
+#include "scene/scene.h"
+#include "support/test_support.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -321,6 +321,72 @@ TEST(VolumeTest, NanAndInfiniteDensitiesAreSanitized) {
     EXPECT_EQ(a.getValue({0, 0, 0}), 1.0f);
     for (int x = 1; x <= 3; ++x)
         EXPECT_EQ(a.getValue({x, 0, 0}), 0.0f) << x;
+}
+
+// Mutation: loadScalarGrid without checkEmissionValues() -> FLT_MAX and the inactive infinity
+// loaded (NaN pixels in the raster and cache paths, +inf in the path tracer), and NaN set to 0.
+TEST(VolumeTest, EmissionValuesTheGpuCannotHoldAreRefused) {
+    openvdb::initialize();
+    auto grid = [](const std::string& name, const openvdb::Coord& at, float value, bool active) {
+        auto g = openvdb::FloatGrid::create(0.0f);
+        g->setName(name);
+        auto acc = g->getAccessor();
+        acc.setValue({0, 0, 0}, 0.5f);
+        if (active)
+            acc.setValue(at, value);
+        else
+            acc.setValueOff(at, value);
+        return g;
+    };
+    scene::VolumeRef ref;
+    ref.name = "fire";
+    ref.grid = "density";
+    struct Case {
+        const char* file;
+        float value;
+        bool active;
+        const char* needle;
+    };
+    const float inf = std::numeric_limits<float>::infinity();
+    for (const Case& c : {Case{"flt-max.vdb", std::numeric_limits<float>::max(), true, "[3 1 2]"},
+                          Case{"inactive-inf.vdb", inf, false, "(inactive)"},
+                          Case{"nan.vdb", std::numeric_limits<float>::quiet_NaN(), true, "nan"},
+                          Case{"over-half.vdb", 70000.0f, true, "70000"}}) {
+        SCOPED_TRACE(c.file);
+        const fs::path p = dir() / c.file;
+        volume::saveGrids(p, {grid("density", {1, 0, 0}, 1.0f, true),
+                              grid("temperature", {3, 1, 2}, c.value, c.active)});
+        ref.path = p;
+        ref.temperatureGrid = "temperature";
+        ref.emissionGrid.clear();
+        const std::string t = errorOf([&] { volume::loadEmissionChannel(ref); });
+        for (const std::string& n : {std::string(c.file), std::string("'temperature'"),
+                                     std::string("temperature_grid"), std::string(c.needle)})
+            EXPECT_NE(t.find(n), std::string::npos) << n << " not in: " << t;
+        ref.temperatureGrid.clear();
+        ref.emissionGrid = "temperature";
+        EXPECT_NE(errorOf([&] { volume::loadEmissionChannel(ref); }).find("emission_grid"),
+                  std::string::npos);
+        EXPECT_NO_THROW(volume::loadDensityGrid(p, "density"));
+    }
+    // In range, but times `emission` past FLT_MAX; a colour grid's component beyond the range.
+    const fs::path p = dir() / "emission-product.vdb";
+    auto colour = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+    colour->setName("colour");
+    colour->getAccessor().setValue({2, 2, 2}, openvdb::Vec3s(1.0f, -1e6f, 0.0f));
+    volume::saveGrids(p, {grid("density", {1, 0, 0}, 1.0f, true),
+                          grid("emission", {4, 0, 0}, 60000.0f, true), colour});
+    ref.path = p;
+    ref.temperatureGrid.clear();
+    ref.emissionGrid = "emission";
+    ref.emission = glm::vec3(1e34f);
+    const std::string e = errorOf([&] { volume::loadEmissionChannel(ref); });
+    EXPECT_NE(e.find("overflows a float"), std::string::npos) << e;
+    ref.emission = glm::vec3(1e3f);
+    EXPECT_EQ(volume::loadEmissionChannel(ref).size(), 1u); // 6e7: fine
+    ref.emissionGrid = "colour";
+    const std::string rgb = errorOf([&] { volume::loadEmissionChannel(ref); });
+    EXPECT_NE(rgb.find("[2 2 2]"), std::string::npos) << rgb;
 }
 
 TEST(VolumeTest, LevelSetIsConvertedToFog) {
