@@ -196,7 +196,7 @@ void FogPass::replaceVolume(std::size_t i, const GridConversion& converted) {
                "fog: volume '{}' replaced by a conversion of another kind (emission channel "
                "or neighbourhood differ)",
                e.ref->name);
-    e.gpu = std::make_unique<GpuVolume>(converted, e.ref->transform);
+    e.gpu->replace(converted, e.ref->transform);
     fitLightVolume(e);
     invalidateLightVolumes();
 }

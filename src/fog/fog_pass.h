@@ -109,7 +109,8 @@ public:
     std::size_t gridVolumeCount() const { return volumes_.size(); }
     // Frame ranges (frame::Renderer::replaceVolumes): grid volume `i` (scene order) takes the
     // data of `converted`, made as this pass converts it (the same options, and the emission
-    // channel where the volume has one). Programs stay; its light transmittance volume is fitted
+    // channel where the volume has one). Programs stay, and the volume's textures where the new
+    // data fits them (GpuVolume::replace()); its light transmittance volume is fitted
     // to the new bounds (reallocated only when its size changes) and recomputed at the next
     // frame. Throws veil::Error when the conversion is of another kind.
     void replaceVolume(std::size_t i, const GridConversion& converted);

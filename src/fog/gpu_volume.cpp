@@ -5,6 +5,7 @@
 #include "base/log.h"
 
 #include <algorithm>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -26,11 +27,32 @@ gpu::Texture makeFilteredTexture3D(const glm::ivec3& size, GLenum internalFormat
 
 namespace {
 
-// R16F (or, with 4 components, RGBA16F) density texture with clamped edges.
-gpu::Texture makeDensityTexture(const glm::ivec3& size, const std::vector<float>& values,
-                                int components = 1) {
-    return makeFilteredTexture3D(size, components == 4 ? GL_RGBA16F : GL_R16F,
-                                 components == 4 ? GL_RGBA : GL_RED, values.data());
+GLenum densityFormat(int components) { return components == 4 ? GL_RGBA16F : GL_R16F; }
+
+// `t` kept when it is a 3D texture of `size` and `internalFormat`; else a new one, filtered
+// (trilinear, clamped edges) or, with `nearest`, not.
+void ensureTexture(gpu::Texture& t, const glm::ivec3& size, GLenum internalFormat,
+                   bool nearest = false) {
+    if (t && t.width() == size.x && t.height() == size.y && t.depth() == size.z &&
+        t.format() == internalFormat)
+        return;
+    t = gpu::Texture(GL_TEXTURE_3D);
+    const GLint filter = nearest ? GL_NEAREST : GL_LINEAR;
+    t.storage3D(1, internalFormat, size.x, size.y, size.z)
+        .parameter(GL_TEXTURE_MIN_FILTER, filter)
+        .parameter(GL_TEXTURE_MAG_FILTER, filter);
+    if (nearest) return;
+    t.parameter(GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE)
+        .parameter(GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE)
+        .parameter(GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+}
+
+// The texels [0, size) of `t` from `pixels`: client memory, or an offset into the bound pixel
+// unpack buffer.
+void write(const gpu::Texture& t, const glm::ivec3& size, GLenum format, GLenum type,
+           const void* pixels) {
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage3D(t.id(), 0, 0, 0, 0, size.x, size.y, size.z, format, type, pixels);
 }
 
 } // namespace
@@ -47,8 +69,74 @@ GpuVolume::GpuVolume(const GridConversion& converted, const glm::mat4& objectToW
     upload(converted, objectToWorld);
 }
 
+GpuVolume::~GpuVolume() {
+    if (uploaded_) glDeleteSync(uploaded_);
+}
+
+glm::ivec3 GpuVolume::allocatedSize(const glm::ivec3& texels, bool atlas, int max3D) {
+    // n units rounded up to a multiple of an eighth of its power of two, at least `least`.
+    auto round = [max3D](int n, int unit, int least) {
+        const int units = (n + unit - 1) / unit;
+        int power = 1;
+        while (power <= units / 2)
+            power *= 2;
+        const int step = std::max(least, power / 8);
+        const int up = (units + step - 1) / step * step * unit;
+        return max3D > 0 ? std::max(n, std::min(up, max3D / unit * unit)) : up;
+    };
+    if (atlas) return {texels.x, texels.y, round(texels.z, 10, 2)};
+    return {round(texels.x, 1, 8), round(texels.y, 1, 8), round(texels.z, 1, 8)};
+}
+
+std::size_t GpuVolume::stage(const void* data, std::size_t bytes) {
+    const std::size_t at = stagingUsed_;
+    if (bytes > 0) std::memcpy(static_cast<char*>(stagingMap_) + at, data, bytes);
+    stagingUsed_ += (bytes + 255) / 256 * 256; // offsets aligned for any texel type
+    return at;
+}
+
+void GpuVolume::replace(const GridConversion& c, const glm::mat4& objectToWorld) {
+    VEIL_CHECK(!c.values.empty(), "density grid conversion holds no data");
+    // The texels go through the staging buffer: glTextureSubImage3D then returns at once and
+    // the GPU copies them in order with the commands before and after (the previous frame's
+    // render), instead of the driver copying (and converting) client memory before returning.
+    auto aligned = [](std::size_t b) { return (b + 255) / 256 * 256; };
+    const std::size_t bytes =
+        aligned(c.values.size() * 4) + aligned(c.channel.size() * 4) + aligned(c.table.size() * 4);
+    if (uploaded_) {
+        // The previous upload has read the buffer (at once after a frame's glFinish).
+        while (glClientWaitSync(uploaded_, GL_SYNC_FLUSH_COMMANDS_BIT, 1000000000) ==
+               GL_TIMEOUT_EXPIRED) {
+        }
+        glDeleteSync(uploaded_);
+        uploaded_ = nullptr;
+    }
+    if (!staging_ || staging_.size() < bytes) {
+        const GLbitfield flags = GL_MAP_WRITE_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+        staging_ = gpu::Buffer(); // the old one is unmapped as it is deleted
+        staging_.setStorage(bytes + bytes / 4, nullptr, flags);
+        stagingMap_ = glMapNamedBufferRange(staging_.id(), 0, GLsizeiptr(staging_.size()), flags);
+        VEIL_CHECK(stagingMap_, "cannot map a {:.1f} MiB volume staging buffer",
+                   double(staging_.size()) / 1048576.0);
+    }
+    stagingUsed_ = 0;
+    const std::size_t values = stage(c.values.data(), c.values.size() * 4);
+    const std::size_t channel = stage(c.channel.data(), c.channel.size() * 4);
+    const std::size_t table = stage(c.table.data(), c.table.size() * 4);
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, staging_.id());
+    upload(c, objectToWorld, reinterpret_cast<const void*>(values),
+           reinterpret_cast<const void*>(channel), reinterpret_cast<const void*>(table));
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    uploaded_ = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+}
+
 void GpuVolume::upload(const GridConversion& c, const glm::mat4& objectToWorld) {
     VEIL_CHECK(!c.values.empty(), "density grid conversion holds no data");
+    upload(c, objectToWorld, c.values.data(), c.channel.data(), c.table.data());
+}
+
+void GpuVolume::upload(const GridConversion& c, const glm::mat4& objectToWorld, const void* values,
+                       const void* channel, const void* table) {
     if (c.stats.coarsened > 0)
         log::warn("grid '{}': {}; coarsened to voxel size x{} ({:.1f} MiB)", c.name,
                   c.coarsenedBecause, 1 << c.stats.coarsened, c.stats.gpuBytes / 1048576.0);
@@ -62,24 +150,36 @@ void GpuVolume::upload(const GridConversion& c, const glm::mat4& objectToWorld) 
     indexMax_ = c.indexMax;
     leafOrigin_ = c.leafOrigin;
     bricksPerAxis_ = c.bricksPerAxis;
-    data_ = makeDensityTexture(c.dataSize, c.values);
-    if (!c.channel.empty()) {
-        channel_ = makeDensityTexture(c.dataSize, c.channel, c.channelComponents);
-        channelComponents_ = c.channelComponents;
+    GLint max3D = 0;
+    glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3D);
+    const glm::ivec3 size = allocatedSize(c.dataSize, !c.stats.dense, max3D);
+    ensureTexture(data_, size, GL_R16F);
+    write(data_, c.dataSize, GL_RED, GL_FLOAT, values);
+    channelComponents_ = c.channel.empty() ? 0 : c.channelComponents;
+    if (channelComponents_ > 0) {
+        ensureTexture(channel_, size, densityFormat(channelComponents_));
+        write(channel_, c.dataSize, channelComponents_ == 4 ? GL_RGBA : GL_RED, GL_FLOAT, channel);
+    } else {
+        channel_ = gpu::Texture(gpu::NoCreate);
     }
+    // GL's default border colour is 0: cells outside the array read 0, so its size is exact.
+    neighbourhood_ = gpu::Texture(gpu::NoCreate);
     if (!c.neighbourhood.mean.empty()) {
-        // GL's default border colour is 0: cells outside the array read 0.
+        GLint unpack = 0;
+        glGetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &unpack);
+        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
         neighbourhood_ = makeFilteredTexture3D(c.neighbourhood.size, GL_R32F, GL_RED,
                                                c.neighbourhood.mean.data(), GL_CLAMP_TO_BORDER);
+        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, GLuint(unpack));
         neighbourhoodOrigin_ = c.neighbourhood.origin;
     }
-    if (c.stats.dense) return;
-    indirection_ = gpu::Texture(GL_TEXTURE_3D);
-    indirection_.storage3D(1, GL_R32UI, c.tableSize.x, c.tableSize.y, c.tableSize.z)
-        .parameter(GL_TEXTURE_MIN_FILTER, GL_NEAREST)
-        .parameter(GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureSubImage3D(indirection_.id(), 0, 0, 0, 0, c.tableSize.x, c.tableSize.y, c.tableSize.z,
-                        GL_RED_INTEGER, GL_UNSIGNED_INT, c.table.data());
+    if (c.stats.dense) {
+        indirection_ = gpu::Texture(gpu::NoCreate);
+        return;
+    }
+    // Entries past the table are never fetched: the marcher tests indexMin/indexMax first.
+    ensureTexture(indirection_, allocatedSize(c.tableSize, false, max3D), GL_R32UI, true);
+    write(indirection_, c.tableSize, GL_RED_INTEGER, GL_UNSIGNED_INT, table);
 }
 
 void GpuVolume::worldBounds(glm::vec3& lo, glm::vec3& hi) const {

@@ -31,6 +31,9 @@ gpu::Texture makeFilteredTexture3D(const glm::ivec3& size, GLenum internalFormat
 
 class GpuVolume {
 public:
+    GpuVolume(const GpuVolume&) = delete;
+    GpuVolume& operator=(const GpuVolume&) = delete;
+    ~GpuVolume();
     // `objectToWorld` is the scene entry's transform, applied after the grid's own
     // index-to-world transform (which must be affine). Before allocating anything the upload is
     // planned: a grid over the budget, over GL_MAX_3D_TEXTURE_SIZE or with an indirection table
@@ -42,6 +45,10 @@ public:
     // Uploads a conversion made earlier (grid_conversion.h, on any thread): the same textures
     // as the constructor above makes from the grid the conversion was made from.
     GpuVolume(const GridConversion& converted, const glm::mat4& objectToWorld);
+    // The next frame of a range: the same as constructing from `converted`, but the data,
+    // channel and indirection textures are kept where their allocated size (the conversion's
+    // rounded up, allocatedSize()) is unchanged, and only their texels are uploaded.
+    void replace(const GridConversion& converted, const glm::mat4& objectToWorld);
 
     const GpuVolumeStats& stats() const { return stats_; }
     const gpu::Texture& data() const { return data_; } // atlas or dense R16F
@@ -66,12 +73,34 @@ public:
     void worldBounds(glm::vec3& lo, glm::vec3& hi) const;
     float voxelSize() const { return voxelSize_; } // world units (largest axis)
 
+    // The size a texture holding `texels` is allocated with, so that the frames of a range,
+    // whose sizes drift, mostly share one allocation: the brick atlas (`atlas`) gets up to 1/8
+    // more layers of bricks in z (at least a multiple of 2 layers; x and y, the atlas's side,
+    // change rarely), a dense box or indirection table up to 1/8 more texels per axis (a
+    // multiple of 8), within `max3D`. A function of the size alone: a frame's textures have one
+    // size however they were reached, and the shaders, which address the data by the texture's
+    // size, sample it identically. The texels past the data are never read. The volume's
+    // GpuVolumeStats::gpuBytes counts the data, not this headroom.
+    static glm::ivec3 allocatedSize(const glm::ivec3& texels, bool atlas, int max3D);
+
 private:
     void upload(const GridConversion& converted, const glm::mat4& objectToWorld);
+    // The textures (kept where their size fits) and uniforms of `converted`, its texels read
+    // from `values`, `channel` and `table` (client memory, or offsets into the bound unpack
+    // buffer).
+    void upload(const GridConversion& converted, const glm::mat4& objectToWorld, const void* values,
+                const void* channel, const void* table);
+    // Copies `bytes` to the staging buffer (a pixel unpack buffer, persistently mapped and grown
+    // when needed) at the next free offset, which it returns.
+    std::size_t stage(const void* data, std::size_t bytes);
 
     GpuVolumeStats stats_;
     gpu::Texture data_{gpu::NoCreate}, indirection_{gpu::NoCreate}, channel_{gpu::NoCreate};
     gpu::Texture neighbourhood_{gpu::NoCreate};
+    gpu::Buffer staging_{gpu::NoCreate};
+    void* stagingMap_ = nullptr;
+    std::size_t stagingUsed_ = 0;
+    GLsync uploaded_ = nullptr; // the last upload's reads from the staging buffer
     glm::ivec3 neighbourhoodOrigin_{0};
     int channelComponents_ = 0;
     glm::mat4 worldToIndex_{1.0f}, indexToWorld_{1.0f};
