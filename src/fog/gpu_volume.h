@@ -19,6 +19,7 @@
 
 #include <string>
 #include <type_traits>
+#include <vector>
 
 namespace veil::volume {
 
@@ -93,6 +94,8 @@ private:
     // Copies `bytes` to the staging buffer (a pixel unpack buffer, persistently mapped and grown
     // when needed) at the next free offset, which it returns.
     std::size_t stage(const void* data, std::size_t bytes);
+    // The same for `texels` as half floats (the 16-bit textures' own format).
+    std::size_t stageHalf(const std::vector<float>& texels);
 
     GpuVolumeStats stats_;
     gpu::Texture data_{gpu::NoCreate}, indirection_{gpu::NoCreate}, channel_{gpu::NoCreate};

@@ -316,4 +316,48 @@ TEST_F(FogVolumeTest, ReplacedFrameKeepsTexturesThatFit) {
     VEIL_EXPECT_NO_GL_ERROR();
 }
 
+// The texels are converted to half floats on the CPU (F16C or Imath, round to nearest even) and
+// uploaded as GL_HALF_FLOAT: bit for bit what the driver makes of the same floats uploaded as
+// GL_FLOAT, ties, half subnormals, the largest half and past it included. Mutation: the
+// conversion truncating (_MM_FROUND_TO_ZERO) -> the ties and most random values differ.
+TEST_F(FogVolumeTest, HalfFloatTexelsEqualTheDriversConversion) {
+    std::vector<float> values = {0.0f,
+                                 1.0f + 1.0f / 2048.0f,
+                                 1.0f + 3.0f / 2048.0f,
+                                 1e-6f,
+                                 6e-8f,
+                                 3e-8f,
+                                 65504.0f,
+                                 65519.0f,
+                                 65520.0f,
+                                 0.1f,
+                                 1.0f / 3.0f,
+                                 2049.0f,
+                                 2051.0f,
+                                 1e-5f,
+                                 6.1e-5f,
+                                 6.09e-5f};
+    std::mt19937 random(7);
+    std::uniform_real_distribution<float> exponent(-20.0f, 15.0f);
+    while (values.size() < 4096)
+        values.push_back(std::exp2(exponent(random)) * (1.0f + float(values.size() % 97) / 97.0f));
+    volume::GridConversion c;
+    c.stats.dense = true;
+    c.dataSize = glm::ivec3(16, 16, 16);
+    c.values = values;
+    c.channel = values;
+    c.channelComponents = 1;
+    c.indexMax = glm::vec3(16.0f);
+    const volume::GpuVolume v(c, glm::mat4(1.0f));
+    const gpu::Texture driver =
+        volume::makeFilteredTexture3D(c.dataSize, GL_R16F, GL_RED, values.data());
+    const std::vector<float> expected = texels(driver, c.dataSize, 1);
+    EXPECT_TRUE(sameBits(texels(v.data(), c.dataSize, 1), expected));
+    EXPECT_TRUE(sameBits(texels(v.channel(), c.dataSize, 1), expected));
+    EXPECT_EQ(expected[1], 1.0f);                  // a tie to the even neighbour
+    EXPECT_EQ(expected[2], 1.0f + 4.0f / 2048.0f); // and up to it
+    EXPECT_TRUE(std::isinf(expected[8]));
+    VEIL_EXPECT_NO_GL_ERROR();
+}
+
 } // namespace veil::test
