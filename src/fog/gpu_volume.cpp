@@ -5,7 +5,9 @@
 #include "base/log.h"
 
 #include <Imath/half.h>
+#if defined(__x86_64__)
 #include <immintrin.h>
+#endif
 
 #include <algorithm>
 #include <cstdint>
@@ -54,6 +56,7 @@ void ensureTexture(gpu::Texture& t, const glm::ivec3& size, GLenum internalForma
 // IEEE half floats of `n` floats, rounded to nearest even, as GL converts GL_FLOAT pixels for a
 // 16-bit float texture (Mesa too): with F16C where the CPU has it (8 at a time), else Imath's
 // conversion. Done here, the upload moves half the bytes and the driver converts nothing.
+#if defined(__x86_64__)
 __attribute__((target("avx,f16c"))) void toHalfF16c(const float* in, std::uint16_t* out,
                                                     std::size_t n) {
     std::size_t i = 0;
@@ -64,9 +67,13 @@ __attribute__((target("avx,f16c"))) void toHalfF16c(const float* in, std::uint16
         out[i] = _cvtss_sh(in[i], _MM_FROUND_TO_NEAREST_INT);
 }
 
+#endif
+
 void toHalf(const std::vector<float>& in, std::uint16_t* out) {
+#if defined(__x86_64__)
     static const bool f16c = __builtin_cpu_supports("avx") && __builtin_cpu_supports("f16c");
     if (f16c) return toHalfF16c(in.data(), out, in.size());
+#endif
     for (std::size_t i = 0; i < in.size(); ++i)
         out[i] = imath_float_to_half(in[i]);
 }
