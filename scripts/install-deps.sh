@@ -4,7 +4,7 @@
 #   scripts/install-deps.sh          what building and rendering need (`make run`, `make install`)
 #   scripts/install-deps.sh --test   that, plus what the tests need (`make test`, CI): pytest,
 #                                    Matplotlib, Xvfb, Chromium, Slurm and munge, the
-#                                    OpenImageIO and OpenVDB command-line tools
+#                                    OpenImageIO and OpenVDB command-line tools, and VTK
 #   scripts/install-deps.sh --list [--test]   prints the package names and installs nothing
 # Packages are installed without their recommendations. No service is started or left
 # enabled: during the install a temporary /usr/sbin/policy-rc.d (exit 101) tells the
@@ -12,6 +12,10 @@
 # newly installed package and is enabled is disabled again (munge, slurmctld, slurmd). A
 # service the machine had before is not touched. CI starts its own Slurm
 # (scripts/slurm/ci-test.sh).
+# VTK (libvtk9-dev) is a test package: Debian 12's depends on a JDK (default-jdk,
+# libvtk9-java) and Open MPI, about 1 GB, and Veil uses it only for .vti files (`veil export`,
+# `veil voxelize --vti`, the 3D textures of --dump), which a build without it refuses with a
+# message saying how to get them. The test suites read .vti files, so --test installs it.
 set -euo pipefail
 
 build_packages=(
@@ -21,7 +25,6 @@ build_packages=(
   libassimp-dev
   libopenvdb-dev libboost-iostreams-dev libtbb-dev
   libopenimageio-dev
-  libvtk9-dev
   libimgui-dev libspdlog-dev
   pybind11-dev python3-dev python3-numpy
   fonts-dejavu-core
@@ -32,6 +35,7 @@ test_packages=(
   chromium
   munge slurmctld slurmd slurm-client
   openimageio-tools libopenvdb-tools
+  libvtk9-dev
 )
 
 test=0 list=0

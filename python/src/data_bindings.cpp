@@ -84,6 +84,7 @@ py::dict exportVti(const PathArg& vdbArg, const PathArg& vtiArg, const GridArg& 
                   printable(input.string(), 500));
     VEIL_PY_CHECK(ErrorKind::Value, lowerExtension(output.string()) == ".vti",
                   "export_vti(vti): '{}' must end in .vti", printable(output.string(), 500));
+    io::requireVti(output);
     const std::string selector = gridSelector(grid);
     const vdb::SampledGrid s = classified(ErrorKind::Value, [&] {
         checkOutputPath(output, "output", {input});

@@ -64,6 +64,7 @@ void runExport(const ExportArgs& args) {
                args.input);
     if (lowerExtension(args.output) != ".vti")
         usageError(fmt::format("output '{}' must end in .vti", args.output));
+    io::requireVti(args.output);
     const std::vector<int> frames = args.frames.list();
     if (frames.empty()) {
         const fs::path input = inputForFrame(args.input, std::nullopt, "input");

@@ -179,6 +179,7 @@ void runVoxelize(const VoxelizeArgs& args) {
         usageError(fmt::format("output '{}' must end in .vdb", args.output));
     if (!args.vti.empty() && lowerExtension(args.vti) != ".vti")
         usageError(fmt::format("--vti '{}' must end in .vti", args.vti));
+    if (!args.vti.empty()) io::requireVti(args.vti);
     const std::vector<int> frames = args.frames.list();
     std::vector<VoxelizeFrame> jobs;
     if (frames.empty()) {

@@ -171,7 +171,12 @@ nlohmann::json writeDump(const frame::Renderer& renderer, const fs::path& dir) {
         e["units"] = unitsOf(name);
         e["width"] = t->width();
         e["height"] = t->height();
-        if (t->target() == GL_TEXTURE_3D) {
+        if (t->target() == GL_TEXTURE_3D && !io::vtiSupported()) {
+            e["dumpable"] = false;
+            e["reason"] = "3D texture: .vti needs VTK, which this veil was built without "
+                          "(scripts/install-deps.sh --test, or sudo apt install libvtk9-dev, "
+                          "then rebuild)";
+        } else if (t->target() == GL_TEXTURE_3D) {
             io::DenseGrid g;
             g.name = name;
             g.dims = {t->width(), t->height(), t->depth()};

@@ -18,6 +18,10 @@
 
 namespace veil::io {
 
+bool vtiSupported() { return true; }
+
+void requireVti(const std::filesystem::path&) {}
+
 void writeVti(const std::filesystem::path& path, const DenseGrid& grid) {
     const std::size_t n = std::size_t(grid.dims[0]) * grid.dims[1] * grid.dims[2];
     VEIL_CHECK(grid.components == 1 || grid.components == 3, "vti '{}': {} components per point",

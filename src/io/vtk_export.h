@@ -1,5 +1,7 @@
 // VTK export for ParaView: dense scalar grids as .vti (vtkXMLImageDataWriter), written to a
-// temporary file renamed into place.
+// temporary file renamed into place. VTK is optional (VEIL_HAVE_VTK, top-level CMakeLists.txt):
+// a build without it compiles vtk_export_stub.cpp, whose functions throw one message saying
+// how to get .vti support.
 #pragma once
 
 #include <array>
@@ -23,6 +25,13 @@ struct DenseGrid {
     // value per entry (ParaView: Information panel, Data Arrays).
     std::vector<std::pair<std::string, std::string>> fieldData;
 };
+
+// Whether this build writes and reads .vti files (it was built with VTK).
+bool vtiSupported();
+// Nothing in a build with VTK; otherwise throws veil::Error: "'PATH': this veil was built
+// without VTK ...", naming how to install it and that veil must be rebuilt. Commands call it
+// before any long work whose result goes to PATH.
+void requireVti(const std::filesystem::path& path);
 
 void writeVti(const std::filesystem::path& path, const DenseGrid& grid);
 // Reads a .vti written by writeVti back (the first point-data array, 1 or 3 components, as
