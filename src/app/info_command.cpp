@@ -10,6 +10,7 @@
 #include "grid/density_grid.h"
 #include "grid/vdb_file.h"
 #include "scene/scene.h"
+#include "scene/scene_document.h"
 #include "scene/timeline.h"
 
 #include <openvdb/openvdb.h>
@@ -227,7 +228,10 @@ void addInfoCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("info", "Print what a scene (.json) or .vdb file holds");
     cmd->add_option("file", *file, "A scene file (.json) or an OpenVDB file (.vdb)")->required();
     cmd->add_option("--grid", *grid, ".vdb: only this grid (name or index)");
-    cmd->callback([file, grid] {
+    auto json = std::make_shared<bool>(false);
+    cmd->add_flag("--json", *json,
+                  "A scene file: print it as plain JSON (comments removed) for json.load or jq");
+    cmd->callback([file, grid, json] {
         const fs::path path(*file);
         // OpenVDB would block on a FIFO and read /dev/zero forever.
         std::error_code ec;
@@ -237,7 +241,12 @@ void addInfoCommand(CLI::App& app) {
             !fs::exists(st) && lowerExtension(*file) == ".vdb" && scene::parseFilePattern(path);
         VEIL_CHECK(sequence || !fs::exists(st) || fs::is_regular_file(st),
                    "cannot read '{}': not a regular file", *file);
-        if (sequence) {
+        if (*json) {
+            VEIL_CHECK(lowerExtension(*file) != ".vdb",
+                       "--json prints a scene file as plain JSON; '{}' is an OpenVDB file", *file);
+            VEIL_CHECK(grid->empty(), "--grid is for .vdb files, not '{}'", *file);
+            std::cout << scene::readSceneDocument(path).dump(2) << "\n";
+        } else if (sequence) {
             // A sequence by its pattern: every file it finds.
             scene::FileSequence s;
             s.pattern = *scene::parseFilePattern(path);
