@@ -1,5 +1,5 @@
 // Small things a first hour with `veil` ran into: a scene file with comments as plain JSON
-// (`veil info --json`).
+// (`veil info --json`) and the shipped default scene's floor warned about once.
 #include "support/test_support.h"
 
 #include <gtest/gtest.h>
@@ -24,6 +24,13 @@ const std::string kCommented = R"({
               {"shape": {"type": "plane", "size": [4, 4]}, "material": "m"}]
 })";
 
+std::size_t count(const std::string& text, const std::string& what) {
+    std::size_t n = 0;
+    for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1))
+        ++n;
+    return n;
+}
+
 } // namespace
 
 TEST(FirstHourCliTest, InfoJsonPrintsTheSceneAsPlainJson) {
@@ -46,6 +53,17 @@ TEST(FirstHourCliTest, InfoJsonPrintsTheSceneAsPlainJson) {
     EXPECT_EQ(vdb.exitCode, 1) << vdb.output;
     EXPECT_NE(vdb.output.find("--json prints a scene file as plain JSON; '"), std::string::npos)
         << vdb.output;
+}
+
+// Shadow volumes extrude an open mesh triangle by triangle and say so, once: the default
+// scene's floor (a plane) was named twice, once per frame the renderer built it for.
+TEST(FirstHourCliTest, DefaultScenesOpenFloorIsNamedOnce) {
+    const fs::path d = freshOutputDir("first_hour", "floor");
+    const CommandResult r = runCommand(
+        veilExe() + " render " + shellQuote(sourceDir() / "datasets/scenes/default.json") +
+        " --width 32 --height 18 --shadows volume -o " + shellQuote(d / "default.png"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(count(r.output, "mesh 'plane' is not a closed 2-manifold"), 1u) << r.output;
 }
 
 } // namespace veil::test

@@ -6,6 +6,9 @@
 #include "shadows/volume/adjacency.h"
 
 #include <algorithm>
+#include <mutex>
+#include <set>
+#include <string>
 
 namespace veil::shadows {
 
@@ -20,6 +23,16 @@ static_assert(sizeof(SourceVertex) == 16);
 struct CasterRange { // draw.glsl's std430 layout
     std::uint32_t firstTriangle, triangles, closed, pad;
 };
+
+// Whether `message` is new to this process: the geometry is built again whenever the
+// technique is given a scene (twice in one `veil render` of the default scene, once per tile
+// of `--shadows all`), and the same mesh's warning is worth one line.
+bool firstTime(const std::string& message) {
+    static std::mutex mutex;
+    static std::set<std::string> seen;
+    std::lock_guard lock(mutex);
+    return seen.insert(message).second;
+}
 
 } // namespace
 
@@ -46,11 +59,14 @@ VolumeGeometry buildVolumeGeometry(const scene::Scene& scene, const std::vector<
         const scene::MeshData& data = scene.meshes[m];
         if (!used[m] || data.billboard) continue;
         adjacency[m] = buildAdjacency(data.positions, data.indices);
-        if (casts[m] && !adjacency[m].closed)
-            log::warn("shadows 'volume': mesh '{}' is not a closed 2-manifold ({}; {} open, "
-                      "{} non-manifold edges): its triangles are extruded one by one",
-                      data.name, adjacency[m].reason, adjacency[m].boundaryEdges,
-                      adjacency[m].nonManifoldEdges);
+        if (casts[m] && !adjacency[m].closed) {
+            const std::string message = fmt::format(
+                "shadows 'volume': mesh '{}' is not a closed 2-manifold ({}; {} open, {} "
+                "non-manifold edges): its triangles are extruded one by one",
+                data.name, adjacency[m].reason, adjacency[m].boundaryEdges,
+                adjacency[m].nonManifoldEdges);
+            if (firstTime(message)) log::warn("{}", message);
+        }
         data.bounds(g.meshLo[m], g.meshHi[m]);
     }
 
