@@ -117,7 +117,9 @@ compare::FrameRender frameRender(const RenderArgs& args, const gpu::ContextInfo&
         request.shadowProperties = shadowProperties;
         request.fogAov = std::find(args.aovs.begin(), args.aovs.end(), "fog") != args.aovs.end();
         if (dump) request.dumpDir = args.dump;
-        ProgressTicker ticker("rendering with " + oit, progressWanted(args.progress));
+        ProgressTicker ticker("rendering with " + oit +
+                                  (shadows.empty() ? "" : ", shadows " + shadows),
+                              progressWanted(args.progress));
         return capture::renderFrame(scene, info, request);
     };
 }

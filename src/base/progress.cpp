@@ -25,6 +25,9 @@ Note& note() {
 ProgressNote::ProgressNote(std::string what) {
     Note& n = note();
     std::lock_guard lock(n.mutex);
+    outerWhat_ = std::move(n.what);
+    outerFraction_ = n.fraction;
+    outerStart_ = n.start;
     n.what = std::move(what);
     n.fraction = -1.0;
     n.start = std::chrono::steady_clock::now();
@@ -33,7 +36,9 @@ ProgressNote::ProgressNote(std::string what) {
 ProgressNote::~ProgressNote() {
     Note& n = note();
     std::lock_guard lock(n.mutex);
-    n.what.clear();
+    n.what = std::move(outerWhat_);
+    n.fraction = outerFraction_;
+    n.start = outerStart_;
 }
 
 void ProgressNote::set(double fraction) {

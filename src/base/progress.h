@@ -19,7 +19,9 @@ bool progressWanted(bool flag);
 
 // The note shown after the running ticker's label while it lives (one at a time, any thread):
 // what is being done and the fraction done (set(); negative: unknown), from which the line
-// estimates the time left. Without a ticker nothing is shown.
+// estimates the time left. Without a ticker nothing is shown. A note made while another
+// lives (a tile of a sweep, then the fog reference inside it) replaces it until it ends, and
+// the other is shown again, with its fraction and start.
 class ProgressNote {
 public:
     explicit ProgressNote(std::string what);
@@ -27,6 +29,11 @@ public:
     ProgressNote(const ProgressNote&) = delete;
     ProgressNote& operator=(const ProgressNote&) = delete;
     void set(double fraction);
+
+private:
+    std::string outerWhat_;
+    double outerFraction_ = -1.0;
+    std::chrono::steady_clock::time_point outerStart_;
 };
 
 // The current note as the ticker shows it (", 40 %, about 5 s left" included), or "" (tests).

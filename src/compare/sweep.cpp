@@ -1,6 +1,7 @@
 // Technique sweeps (sweep.h).
 #include "compare/sweep.h"
 
+#include "base/progress.h"
 #include "oit/technique.h"
 #include "shadows/technique.h"
 
@@ -25,10 +26,11 @@ std::string Sweep::layer(std::size_t i) const {
 namespace {
 
 // Every technique of `registry` but the reference, unless `info` lacks it.
-template <class Registry, class RenderOne>
-void renderAvailable(const Registry& registry, const gpu::ContextInfo& info,
-                     const std::string& prefix,
-                     const std::function<void(const std::string&)>& skipped, RenderOne&& one) {
+template <class Registry>
+std::vector<std::string> available(const Registry& registry, const gpu::ContextInfo& info,
+                                   const std::string& prefix,
+                                   const std::function<void(const std::string&)>& skipped) {
+    std::vector<std::string> names;
     for (const auto& t : registry.all()) {
         if (t.name == "reference") continue;
         if (t.isAvailable && !t.isAvailable(info)) {
@@ -37,29 +39,43 @@ void renderAvailable(const Registry& registry, const gpu::ContextInfo& info,
                                     info.renderer));
             continue;
         }
-        one(t.name);
+        names.push_back(t.name);
     }
+    return names;
 }
 
 } // namespace
+
+std::string sweepTileNote(SweepKind kind, const std::string& technique, std::size_t k,
+                          std::size_t n) {
+    return fmt::format("tile {}/{}: {}{}", k, n, kind == SweepKind::Shadows ? "shadows " : "",
+                       technique);
+}
 
 Sweep runSweep(SweepKind kind, const scene::Scene& scene, const std::string& oit,
                const gpu::ContextInfo& info, const FrameRender& render,
                const std::function<void(const std::string&)>& skipped) {
     Sweep sweep;
     sweep.kind = kind;
-    if (kind == SweepKind::Oit) {
-        sweep.frames.push_back(render(scene, "reference", {}, {}));
-        renderAvailable(oit::Registry::instance(), info, "", skipped, [&](const std::string& n) {
-            sweep.frames.push_back(render(scene, n, {}, {}));
-        });
-    } else {
-        sweep.frames.push_back(render(scene, oit, "reference", {}));
-        // Every technique at the reference's map size (other properties at their defaults).
-        const nlohmann::json size = {{"size", sweep.frames.front().shadowProperties.at("size")}};
-        renderAvailable(
-            shadows::Registry::instance(), info, "shadows ", skipped,
-            [&](const std::string& n) { sweep.frames.push_back(render(scene, oit, n, size)); });
+    const bool shadows = kind == SweepKind::Shadows;
+    std::vector<std::string> names = {"reference"};
+    for (std::string& n : shadows
+                              ? available(shadows::Registry::instance(), info, "shadows ", skipped)
+                              : available(oit::Registry::instance(), info, "", skipped))
+        names.push_back(std::move(n));
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        // The progress line names the tile: "tile 3/7: shadows moment".
+        const ProgressNote note(sweepTileNote(kind, names[i], i + 1, names.size()));
+        if (!shadows) {
+            sweep.frames.push_back(render(scene, names[i], {}, {}));
+        } else if (i == 0) {
+            sweep.frames.push_back(render(scene, oit, "reference", {}));
+        } else {
+            // Every technique at the reference's map size (other properties at their defaults).
+            const nlohmann::json size = {
+                {"size", sweep.frames.front().shadowProperties.at("size")}};
+            sweep.frames.push_back(render(scene, oit, names[i], size));
+        }
     }
     for (const capture::RenderedFrame& f : sweep.frames)
         sweep.errors.push_back(compareLinear(f.hdr, sweep.frames.front().hdr));

@@ -45,6 +45,11 @@ Sweep runSweep(SweepKind kind, const scene::Scene& scene, const std::string& oit
                const gpu::ContextInfo& info, const FrameRender& render,
                const std::function<void(const std::string&)>& skipped);
 
+// The progress note while tile k (from 1) of n renders: "tile 2/7: wboit", or "tile 3/7:
+// shadows moment" (base/progress.h: shown after the ticker's label).
+std::string sweepTileNote(SweepKind kind, const std::string& technique, std::size_t k,
+                          std::size_t n);
+
 // The frames' tone-mapped images in rows, each labelled with its technique, its RMSE against
 // the reference and its GPU time (compare::labelledContactSheet).
 ImageF sweepContactSheet(const Sweep& sweep);

@@ -1,10 +1,13 @@
 #include "integrators/cpu_reference.h"
 
+#include "base/progress.h"
 #include "integrators/emission.h"
 
+#include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 namespace veil::volume {
@@ -167,6 +170,10 @@ FogSample CpuFogReference::pixel(const scene::Camera& camera, int width, int hei
 ImageF CpuFogReference::render(const scene::Camera& camera, int width, int height,
                                int steps) const {
     ImageF image(width, height, 4);
+    // The progress line's note (base/progress.h): the rows done, so it shows a percentage
+    // and the time left.
+    ProgressNote note(fmt::format("marching {}x{} pixels, {} steps per ray", width, height, steps));
+    std::atomic<int> rowsDone{0};
     tbb::parallel_for(0, height, [&](int y) {
         for (int x = 0; x < width; ++x) {
             const FogSample s = pixel(camera, width, height, x + 0.5, y + 0.5, steps);
@@ -174,6 +181,7 @@ ImageF CpuFogReference::render(const scene::Camera& camera, int width, int heigh
                 image.at(x, y, c) = static_cast<float>(s.radiance[c]);
             image.at(x, y, 3) = static_cast<float>(s.transmittance);
         }
+        note.set(double(rowsDone.fetch_add(1) + 1) / height);
     });
     return image;
 }

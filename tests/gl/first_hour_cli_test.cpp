@@ -1,5 +1,6 @@
 // Small things a first hour with `veil` ran into: a scene file with comments as plain JSON
-// (`veil info --json`) and the shipped default scene's floor warned about once.
+// (`veil info --json`), the shipped default scene's floor warned about once, and the
+// progress line of `--shadows all` naming each tile with its technique and k/N.
 #include "support/test_support.h"
 
 #include <gtest/gtest.h>
@@ -64,6 +65,23 @@ TEST(FirstHourCliTest, DefaultScenesOpenFloorIsNamedOnce) {
         " --width 32 --height 18 --shadows volume -o " + shellQuote(d / "default.png"));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_EQ(count(r.output, "mesh 'plane' is not a closed 2-manifold"), 1u) << r.output;
+}
+
+// `--shadows all`: each tile's progress line names its shadow technique and its place.
+TEST(FirstHourCliTest, ShadowSweepProgressNamesEachTile) {
+    const fs::path d = freshOutputDir("first_hour", "sweep");
+    const fs::path scene = writeTextFile(d / "s.json", kCommented);
+    const std::string err = (d / "stderr.txt").string();
+    const CommandResult r = runCommand("(VEIL_PROGRESS_DELAY_S=0 " + veilExe() + " render " +
+                                       shellQuote(scene) + " --shadows all --progress -o " +
+                                       shellQuote(d / "all.png") + " 2>'" + err + "')");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const std::string progress = readTextFile(err);
+    EXPECT_NE(progress.find("veil: rendering with blend, shadows reference "), std::string::npos)
+        << progress;
+    EXPECT_NE(progress.find(": tile 1/"), std::string::npos) << progress;
+    EXPECT_NE(progress.find(", shadows moment "), std::string::npos) << progress;
+    EXPECT_NE(progress.find(": shadows moment"), std::string::npos) << progress;
 }
 
 } // namespace veil::test
