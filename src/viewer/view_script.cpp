@@ -67,6 +67,18 @@ bool known(const std::string& kind) {
 
 } // namespace
 
+const std::set<std::string>& pathActions() {
+    static const std::set<std::string> actions = {"open",         "screenshot", "window_screenshot",
+                                                  "copy_command", "save_scene", "status"};
+    return actions;
+}
+
+std::string resolveAgainstScript(const std::filesystem::path& script, const std::string& file) {
+    const std::filesystem::path f(file);
+    if (f.empty() || f.is_absolute()) return file;
+    return (script.parent_path() / f).lexically_normal().string();
+}
+
 std::vector<ScriptAction> loadViewScript(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     VEIL_CHECK(in.good() && !std::filesystem::is_directory(path), "cannot open script '{}'",
@@ -160,6 +172,10 @@ std::vector<ScriptAction> loadViewScript(const std::filesystem::path& path) {
                        "{}: 'zoom' must be a number in 1e-6..1e6 (a distance factor)", where);
         if (a.contains("output"))
             VEIL_CHECK(a["output"].is_string(), "{}: 'output' must be a string", where);
+        // A relative file of an action is the script's: resolved against its folder, not the
+        // working directory (so a script beside its outputs runs from anywhere).
+        if (pathActions().count(act.kind) && act.value.is_string())
+            act.value = resolveAgainstScript(path, act.value.get<std::string>());
         // No output may replace the script being run (save_scene, screenshots, ...).
         static const std::set<std::string> writers = {"screenshot", "window_screenshot",
                                                       "copy_command", "save_scene", "status"};

@@ -29,6 +29,9 @@
 //                                            playing, a scripted run advances one frame per
 //                                            displayed frame once the last one is shown
 //                                            (the play action's frame included)
+// The files of open, screenshot, window_screenshot, copy_command, save_scene and status are
+// the script's: a relative one is resolved against the script's folder (copy_command's
+// "output" is a name in the printed command and stays as written).
 // A malformed script is an error naming the file and the action; an action that fails
 // (a bad file, a failing technique) is recorded like a click would be and the script goes on.
 #pragma once
@@ -36,6 +39,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -48,7 +52,14 @@ struct ScriptAction {
     std::size_t index = 0;
 };
 
-// Reads and checks the script: throws veil::Error "<file>: action N: ..." for a bad one.
+// Reads and checks the script: throws veil::Error "<file>: action N: ..." for a bad one. The
+// actions' relative files come back resolved (resolveAgainstScript).
 std::vector<ScriptAction> loadViewScript(const std::filesystem::path& path);
+
+// The actions whose value is a file the viewer reads or writes.
+const std::set<std::string>& pathActions();
+// `file` of an action of `script`: as written when absolute, else joined to the script's folder
+// ("shots/a.png" of "tests/s.json" -> "tests/shots/a.png"; of "s.json" -> "shots/a.png").
+std::string resolveAgainstScript(const std::filesystem::path& script, const std::string& file);
 
 } // namespace veil::viewer
