@@ -1,9 +1,14 @@
 // The viewer's generated property widgets (src/viewer/ui/property_widgets.h), driven headless
 // through Dear ImGui without a backend: every declared property of every technique gets a
-// widget, nothing changes without input, a click on a checkbox flips its value, and the form
-// layout keeps labels whole.
+// widget, nothing changes without input, a click on a checkbox flips its value, the form
+// layout keeps labels whole and a colour's fields wide enough for their values, hidden keys
+// (a volume's temperature settings without a temperature grid) get no widget, and the
+// timeline's slider names its range.
 #include "oit/technique.h"
+#include "scene/value_properties.h"
 #include "viewer/ui/property_widgets.h"
+#include "viewer/ui/timeline_panel.h"
+#include "viewer/ui/view_panel.h"
 
 #include <gtest/gtest.h>
 #include <imgui.h>
@@ -96,6 +101,56 @@ TEST(PropertyWidgetsTest, LabelsAreWholeAndWidgetsFillTheRestOfTheLine) {
     gui.frame(schema, values, {-1, -1}, false, longest + 4 * em);
     EXPECT_NEAR(gui.firstItem.x, gui.contentMin.x, 1.0f);
     EXPECT_GT(gui.firstItem.y, gui.contentMin.y + 2.5f * ImGui::GetFrameHeightWithSpacing());
+}
+
+// A colour beside a long key: each of its three fields holds what it shows ("R:0.550") at
+// every panel width, else the colour takes the line below the key.
+TEST(PropertyWidgetsTest, ColourFieldsAreWholeBesideALongLabel) {
+    HeadlessImGui gui;
+    PropertySchema schema;
+    schema.color("a_long_key_of_a_volume_colour", glm::vec3(0.55f), "a colour");
+    nlohmann::json values = schema.defaults().values();
+    gui.frame(schema, values);
+    const ImGuiStyle& style = ImGui::GetStyle();
+    const float field = ImGui::CalcTextSize("R:0.550").x + 2 * style.FramePadding.x;
+    for (float width = 240; width <= 800; width += 10) {
+        gui.frame(schema, values, {-1, -1}, false, width);
+        const float fields = gui.lastItemMax.x - gui.firstItem.x - ImGui::GetFrameHeight() -
+                             3 * style.ItemInnerSpacing.x;
+        EXPECT_GE(fields / 3, field - 0.5f) << "panel " << width;
+    }
+}
+
+TEST(PropertyWidgetsTest, HiddenKeysGetNoWidget) {
+    HeadlessImGui gui;
+    scene::VolumeRef cold;
+    const std::vector<std::string> hidden = hiddenVolumeKeys(cold);
+    EXPECT_EQ(hidden, (std::vector<std::string>{"temperature_scale", "temperature_offset",
+                                                "temperature_intensity"}));
+    scene::VolumeRef fire;
+    fire.temperatureGrid = "temperature";
+    EXPECT_TRUE(hiddenVolumeKeys(fire).empty());
+    // A widget fills in its key's value; the hidden ones are left out.
+    nlohmann::json values = nlohmann::json::object();
+    gui.frame(scene::volumeProperties(), values);
+    EXPECT_TRUE(values.contains("temperature_scale")) << values.dump();
+    values = nlohmann::json::object();
+    ImGuiIO& io = ImGui::GetIO();
+    io.MousePos = {-1, -1};
+    ImGui::NewFrame();
+    ImGui::Begin("t");
+    propertyWidgets(scene::volumeProperties(), values, hidden);
+    ImGui::End();
+    ImGui::Render();
+    EXPECT_TRUE(values.contains("density_scale")) << values.dump();
+    for (const std::string& key : hidden)
+        EXPECT_FALSE(values.contains(key)) << key << ": " << values.dump();
+}
+
+TEST(PropertyWidgetsTest, TimelineSliderNamesItsRange) {
+    EXPECT_EQ(timelineSliderFormat({1, 240, 1}), "frame %d of 1-240");
+    EXPECT_EQ(timelineSliderFormat({0, 100, 5}), "frame %d of 0-100:5");
+    EXPECT_EQ(timelineSliderFormat({-5, -1, 1}), "frame %d of -5--1");
 }
 
 } // namespace

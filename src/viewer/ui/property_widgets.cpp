@@ -65,17 +65,22 @@ bool floatWidget(const PropertyDecl& d, const std::string& id, nlohmann::json& v
 
 } // namespace
 
-bool propertyWidgets(const PropertySchema& schema, nlohmann::json& values) {
+bool propertyWidgets(const PropertySchema& schema, nlohmann::json& values,
+                     const std::vector<std::string>& hidden) {
+    const auto shown = [&](const PropertyDecl& d) {
+        return std::find(hidden.begin(), hidden.end(), d.key) == hidden.end();
+    };
     bool any = false;
     std::vector<std::string> keys;
     for (const PropertyDecl& d : schema.all())
-        keys.push_back(d.key);
+        if (shown(d)) keys.push_back(d.key);
     const float width = labelColumnWidth(keys);
     for (const PropertyDecl& d : schema.all()) {
+        if (!shown(d)) continue;
         nlohmann::json& v = values[d.key];
         if (v.is_null()) v = d.defaultValue;
         bool changed = false;
-        formLabel(d.key, width, tipText(d));
+        formLabel(d.key, width, tipText(d), minimumWidgetWidth(d.type));
         const std::string id = "##" + d.key;
         switch (d.type) {
         case PropertyType::Bool: {
@@ -132,6 +137,19 @@ bool propertyWidgets(const PropertySchema& schema, nlohmann::json& values) {
     return any;
 }
 
+float minimumWidgetWidth(PropertyType type) {
+    const ImGuiStyle& style = ImGui::GetStyle();
+    if (type != PropertyType::Color && type != PropertyType::Vec3) return ImGui::GetFontSize() * 6;
+    // ColorEdit3 (ImGuiColorEditFlags_Float) shows "R:%0.3f" in each field, DragFloat3 "%.3f";
+    // room for values up to 99.999 (HDR colours), the fields' padding and spacing, and the
+    // colour's square.
+    const char* widest = type == PropertyType::Color ? "R:99.999" : "-99.999";
+    const float field = ImGui::CalcTextSize(widest).x + style.FramePadding.x * 2;
+    float w = field * 3 + style.ItemInnerSpacing.x * 2;
+    if (type == PropertyType::Color) w += style.ItemInnerSpacing.x + ImGui::GetFrameHeight();
+    return w;
+}
+
 float labelColumnWidth(const std::vector<std::string>& labels) {
     float w = 0.0f;
     for (const std::string& l : labels)
@@ -139,12 +157,12 @@ float labelColumnWidth(const std::vector<std::string>& labels) {
     return w;
 }
 
-void formLabel(const std::string& label, float width, const std::string& tip) {
+void formLabel(const std::string& label, float width, const std::string& tip, float minWidget) {
     const float x0 = ImGui::GetCursorPosX();
     const float spacing = ImGui::GetStyle().ItemSpacing.x;
     // Too narrow for label and a usable widget side by side: the widget goes below.
-    const bool below =
-        ImGui::GetContentRegionAvail().x - width - spacing < ImGui::GetFontSize() * 6;
+    const bool below = ImGui::GetContentRegionAvail().x - width - spacing <
+                       std::max(minWidget, ImGui::GetFontSize() * 6);
     ImGui::AlignTextToFramePadding();
     ImGui::TextUnformatted(label.c_str());
     if (!tip.empty() && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", tip.c_str());

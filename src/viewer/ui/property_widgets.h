@@ -14,16 +14,24 @@
 namespace veil::ui {
 
 // Draws the widgets of `schema` for `values` (a JSON object of effective values, as
-// Properties::values() gives) and writes edits back. Returns true when a value changed;
-// edited values stay within the declared ranges.
-bool propertyWidgets(const PropertySchema& schema, nlohmann::json& values);
+// Properties::values() gives) and writes edits back, but none for the keys in `hidden` (which
+// mean nothing for this object: a volume's temperature settings without a temperature grid).
+// Returns true when a value changed; edited values stay within the declared ranges.
+bool propertyWidgets(const PropertySchema& schema, nlohmann::json& values,
+                     const std::vector<std::string>& hidden = {});
+
+// The width a widget of `type` needs to show its value whole: 6 em for one field; for a
+// colour or vector its three fields ("R:0.550" in a colour's) and the colour square.
+float minimumWidgetWidth(PropertyType type);
 
 // The width of a label column holding each of `labels` whole.
 float labelColumnWidth(const std::vector<std::string>& labels);
 // A form row's label: draws `label` in a column `width` wide and leaves the cursor where the
-// row's widget goes, with that widget's width set to fill the line. Give the widget a hidden
-// label ("##key"). `tip` (when not empty) shows on hovering the label.
-void formLabel(const std::string& label, float width, const std::string& tip = "");
+// row's widget goes, with that widget's width set to fill the line; when less than
+// `minWidget` (default 6 em) is left beside the label, the widget takes the line below. Give
+// the widget a hidden label ("##key"). `tip` (when not empty) shows on hovering the label.
+void formLabel(const std::string& label, float width, const std::string& tip = "",
+               float minWidget = 0.0f);
 
 // A JSON object (a technique's statistics) as a two-column table: key, value; nested objects
 // flattened to dotted keys, numbers to 4 significant digits (integers in full), arrays inline.

@@ -9,6 +9,12 @@
 
 namespace veil::ui {
 
+std::string timelineSliderFormat(const scene::FrameRange& range) {
+    std::string text = fmt::format("frame %d of {}-{}", range.first, range.last);
+    if (range.step != 1) text += fmt::format(":{}", range.step);
+    return text;
+}
+
 void drawTimeline(session::TimelinePlayer& player) {
     if (!player.animated()) return;
     const ImGuiIO& io = ImGui::GetIO();
@@ -49,7 +55,8 @@ void drawTimeline(session::TimelinePlayer& player) {
     if (ImGui::DragFloat("fps", &fps, 0.25f, 0.1f, 1000.0f, "%.1f")) player.setFps(fps);
     int frame = player.target();
     ImGui::SetNextItemWidth(-1);
-    if (ImGui::SliderInt("##frame", &frame, r.first, r.last)) {
+    const std::string format = timelineSliderFormat(r);
+    if (ImGui::SliderInt("##frame", &frame, r.first, r.last, format.c_str())) {
         player.play(false);
         player.seek(r.first + (frame - r.first) / r.step * r.step);
     }

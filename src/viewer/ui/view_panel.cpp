@@ -58,10 +58,10 @@ std::string jsonVec(const glm::vec3& v) {
 
 // The generated widgets of a schema over `values`; each changed key is set as prefix.KEY.
 void schemaWidgets(session::ViewSession& s, const PropertySchema& schema, nlohmann::json values,
-                   const std::string& prefix) {
+                   const std::string& prefix, const std::vector<std::string>& hidden = {}) {
     if (schema.empty()) return;
     const nlohmann::json before = values;
-    if (propertyWidgets(schema, values))
+    if (propertyWidgets(schema, values, hidden))
         for (const auto& [key, v] : values.items())
             if (!before.contains(key) || before[key] != v)
                 s.set(prefix + "." + key + "=" + v.dump());
@@ -187,7 +187,7 @@ void fogSections(session::ViewSession& s, const PanelState& st) {
             ImGui::Separator();
             ImGui::TextUnformatted(v.name.empty() ? key.c_str() : v.name.c_str());
             schemaWidgets(s, scene::volumeProperties(), scene::volumeValues(v),
-                          fmt::format("volumes.{}", i));
+                          fmt::format("volumes.{}", i), hiddenVolumeKeys(v));
             ImGui::PopID();
         }
     }
@@ -380,6 +380,11 @@ void frameSection(session::ViewSession& s, PanelState& st) {
 }
 
 } // namespace
+
+std::vector<std::string> hiddenVolumeKeys(const scene::VolumeRef& volume) {
+    if (!volume.temperatureGrid.empty()) return {};
+    return {"temperature_scale", "temperature_offset", "temperature_intensity"};
+}
 
 void drawPanel(GLFWwindow* window, session::ViewSession& session, viewer::DebugView& view,
                PanelState& state) {

@@ -14,6 +14,7 @@
 #include <deque>
 #include <set>
 #include <string>
+#include <vector>
 
 struct GLFWwindow;
 
@@ -28,6 +29,10 @@ struct PanelState {
     std::deque<float> frameMs; // the last frames' total pass times
     int screenshotCount = 0;
 };
+
+// The keys of a volume's widgets that mean nothing for `volume` and are not shown: its
+// temperature_scale, temperature_offset and temperature_intensity without a temperature grid.
+std::vector<std::string> hiddenVolumeKeys(const scene::VolumeRef& volume);
 
 // Draws the panel; edits act on `session` and `view` at once.
 void drawPanel(GLFWwindow* window, session::ViewSession& session, viewer::DebugView& view,
