@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <climits>
 #include <cmath>
 #include <numeric>
 #include <system_error>
@@ -93,10 +94,15 @@ std::optional<int> FilePattern::frameOf(const std::string& name) const {
     if (name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0) return std::nullopt;
     const std::string digits =
         name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
-    if (digits.size() > 9 || !std::all_of(digits.begin(), digits.end(),
-                                          [](char c) { return std::isdigit((unsigned char)c); }))
+    if (!std::all_of(digits.begin(), digits.end(),
+                     [](char c) { return std::isdigit((unsigned char)c); }))
         return std::nullopt;
-    const int n = std::stoi(digits);
+    // Padding may be wider than an int's digits (%012d, $F12): leading zeros do not count.
+    const std::size_t lead = std::min(digits.find_first_not_of('0'), digits.size() - 1);
+    if (digits.size() - lead > 10) return std::nullopt;
+    const long long wide = std::stoll(digits.substr(lead));
+    if (wide > INT_MAX) return std::nullopt;
+    const int n = int(wide);
     // Only as the pattern writes the number: "007" is not frame 7 of an unpadded pattern.
     if (fmt::format("{:0{}d}", n, padding) != digits) return std::nullopt;
     return n;

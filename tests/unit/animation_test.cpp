@@ -66,6 +66,17 @@ TEST(AnimationTest, PatternsPadAsWritten) {
     EXPECT_FALSE(unpadded->frameOf("a_.vdb"));
     EXPECT_FALSE(unpadded->frameOf("a_1x.vdb"));
     EXPECT_FALSE(scene::parseFilePattern("/d/plain.vdb"));
+    // Padded wider than an int's 10 digits (found by the frames fuzz target: frameOf()
+    // refused more than 9 digits, so such a sequence found none of its files).
+    for (const char* wide : {"/d/w.%012d.vdb", "/d/w.$F12.vdb", "/d/w.############.vdb"}) {
+        const auto p = scene::parseFilePattern(wide);
+        ASSERT_TRUE(p) << wide;
+        for (int f : {0, 12, 2147483647}) {
+            EXPECT_EQ(p->frameOf(p->fileFor(f).filename().string()), f) << wide;
+        }
+        EXPECT_FALSE(p->frameOf("w.002147483648.vdb")) << wide; // past INT_MAX
+    }
+    EXPECT_FALSE(unpadded->frameOf("a_99999999999999999999.vdb"));
     EXPECT_NE(
         errorOf([] { scene::parseFilePattern("/d/a.##.%04d.vdb"); }).find("one frame pattern"),
         std::string::npos);
