@@ -4,6 +4,8 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/random.h>
+#include <sys/stat.h>
 #include <sys/statvfs.h>
 #include <unistd.h>
 
@@ -12,6 +14,7 @@
 #include <cerrno>
 #include <climits>
 #include <cstring>
+#include <random>
 
 namespace veil {
 
@@ -73,7 +76,7 @@ void checkWritten(const fs::path& path, const fs::path& tmp) {
     const auto size = fs::file_size(tmp, ec);
     if (ec) failWrite(path, "the writer produced no file");
     if (size == 0) failWrite(path, "the writer produced an empty file");
-    const int fd = ::open(tmp.c_str(), O_RDONLY | O_CLOEXEC);
+    const int fd = ::open(tmp.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
     if (fd < 0) failWrite(path, std::strerror(errno));
     const bool synced = ::fsync(fd) == 0;
     const int syncErrno = errno;
@@ -88,12 +91,29 @@ void checkWritten(const fs::path& path, const fs::path& tmp) {
         failWrite(path, "no space left on device (the file system is full)");
 }
 
+// Ten letters or digits from the kernel's random source (std::random_device where getrandom
+// fails): about 51 bits, so a name cannot be guessed and planted in advance.
+std::string randomTag() {
+    static constexpr char kDigits[] = "abcdefghijklmnopqrstuvwxyz0123456789";
+    std::uint64_t bits = 0;
+    if (::getrandom(&bits, sizeof bits, 0) != static_cast<ssize_t>(sizeof bits)) {
+        std::random_device device;
+        bits = (std::uint64_t(device()) << 32) ^ device();
+    }
+    std::string tag(10, 'a');
+    for (char& c : tag) {
+        c = kDigits[bits % 36];
+        bits /= 36;
+    }
+    return tag;
+}
+
 } // namespace
 
 fs::path temporaryPathFor(const fs::path& path) {
     const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
     const std::string stem = path.stem().string(), ext = path.extension().string();
-    const std::string tail = fmt::format(".tmp{}", ::getpid());
+    const std::string tail = fmt::format(".tmp{}-{}", ::getpid(), randomTag());
     constexpr std::size_t kNameMax = 255; // NAME_MAX of Linux file systems
     std::string name = fmt::format(".{}{}{}", stem, tail, ext);
     if (name.size() > kNameMax) {
@@ -106,14 +126,54 @@ fs::path temporaryPathFor(const fs::path& path) {
     return dir / name;
 }
 
+namespace {
+
+// The temporary of `path`, created empty with O_EXCL | O_NOFOLLOW before any writer opens it:
+// a link or file planted at its name is never written through (a new name is drawn when the
+// name is taken). Its device and inode go to `made`.
+fs::path createTemporary(const fs::path& path, struct stat& made) {
+    for (int attempt = 0; attempt < 16; ++attempt) {
+        fs::path tmp = temporaryPathFor(path);
+        const int fd =
+            ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+        if (fd < 0 && errno == EEXIST) continue;
+        if (fd < 0)
+            failWrite(path, fmt::format("cannot create a temporary file beside it: {}",
+                                        std::strerror(errno)));
+        const bool ok = ::fstat(fd, &made) == 0;
+        ::close(fd);
+        if (!ok) {
+            ::unlink(tmp.c_str());
+            failWrite(path, "cannot stat its temporary file");
+        }
+        return tmp;
+    }
+    failWrite(path, "no free temporary file name beside it after 16 tries");
+}
+
+// The temporary is still the file createTemporary() made: a writer replaced by a link (or
+// another file) in the meantime is refused rather than renamed into place.
+void checkSameTemporary(const fs::path& path, const fs::path& tmp, const struct stat& made) {
+    struct stat now {};
+    if (::lstat(tmp.c_str(), &now) != 0 || !S_ISREG(now.st_mode) || now.st_nlink != 1 ||
+        now.st_dev != made.st_dev || now.st_ino != made.st_ino)
+        failWrite(path, fmt::format("its temporary file '{}' was replaced during the write (by a "
+                                    "link or another file): refusing to rename it into place",
+                                    tmp.string()));
+}
+
+} // namespace
+
 void writeFileAtomically(const fs::path& path, const std::function<void(const fs::path&)>& write) {
     const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
     VEIL_CHECK(fs::is_directory(dir), "cannot write '{}': folder '{}' does not exist",
                path.string(), dir.string());
-    const fs::path tmp = temporaryPathFor(path);
+    struct stat made {};
+    const fs::path tmp = createTemporary(path, made);
     Slot* slot = registerTemporary(tmp);
     try {
         write(tmp);
+        checkSameTemporary(path, tmp, made);
         checkWritten(path, tmp);
         std::error_code ec;
         fs::rename(tmp, path, ec);
@@ -130,7 +190,7 @@ void writeFileAtomically(const fs::path& path, const std::function<void(const fs
 
 void writeTextFileAtomically(const fs::path& path, std::string_view text) {
     writeFileAtomically(path, [&](const fs::path& tmp) {
-        const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+        const int fd = ::open(tmp.c_str(), O_WRONLY | O_TRUNC | O_NOFOLLOW | O_CLOEXEC);
         if (fd < 0) failWrite(path, std::strerror(errno));
         std::size_t done = 0;
         while (done < text.size()) {

@@ -9,8 +9,11 @@
 
 namespace veil {
 
-// Calls write(tmpPath) and renames tmpPath to path on success. On any exception the
-// temporary is removed and the exception propagates. The temporary keeps the extension of
+// Creates tmpPath (temporaryPathFor) empty, with O_CREAT | O_EXCL | O_NOFOLLOW, so a link
+// or file already at that name is never written through; calls write(tmpPath) and renames
+// tmpPath to path on success, refusing a tmpPath that is no longer the file it created (a
+// link or another file swapped in). On any exception the temporary is removed and the
+// exception propagates. The temporary keeps the extension of
 // `path` so writers that dispatch on the extension (OpenImageIO, VTK) see the right one.
 // Before the rename the result is checked, because some writers (OpenVDB's File::write)
 // ignore write errors: the file must exist, be non-empty, survive fsync, and the file
@@ -21,8 +24,9 @@ void writeFileAtomically(const std::filesystem::path& path,
 // writeFileAtomically with `text` written by write(2), every result checked.
 void writeTextFileAtomically(const std::filesystem::path& path, std::string_view text);
 
-// The temporary name used for `path`: ".<stem>.tmp<pid><ext>" beside it, the stem shortened
-// and hashed when the name would pass NAME_MAX (255 bytes).
+// A temporary name for `path`: ".<stem>.tmp<pid>-<tag><ext>" beside it, <tag> ten random
+// letters or digits drawn anew on every call (so the name cannot be planted in advance), the
+// stem shortened and hashed when the name would pass NAME_MAX (255 bytes).
 std::filesystem::path temporaryPathFor(const std::filesystem::path& path);
 
 // Throws veil::Error naming `path` unless it can be written: its folder exists and is

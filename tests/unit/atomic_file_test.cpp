@@ -1,7 +1,7 @@
 // Atomic writes (base/atomic_file.h) under hostile conditions: a full file
 // system, a writer that ignores its own write errors (as OpenVDB's File::write does), a
-// file name near NAME_MAX, SIGTERM in the middle of a write, and outputs that would
-// overwrite an input.
+// file name near NAME_MAX, SIGTERM in the middle of a write, outputs that would overwrite an
+// input, and a link planted at the temporary's name or swapped in for it.
 #include "base/atomic_file.h"
 #include "base/error.h"
 
@@ -80,9 +80,64 @@ TEST(AtomicFileTest, LongFileNameUsesShortTemporary) {
     veil::writeFileAtomically(path, [](const fs::path& t) { std::ofstream(t) << "image"; });
     EXPECT_TRUE(fs::exists(path));
     EXPECT_TRUE(temporaries(dir).empty());
-    // Short names keep the readable form.
-    EXPECT_EQ(veil::temporaryPathFor(dir / "a.json").filename().string(),
-              ".a.tmp" + std::to_string(::getpid()) + ".json");
+    // Short names keep the readable form, with a random tag: ".a.tmp<pid>-<10 random>.json".
+    const std::string shortName = veil::temporaryPathFor(dir / "a.json").filename().string();
+    const std::string head = ".a.tmp" + std::to_string(::getpid()) + "-";
+    EXPECT_EQ(shortName.substr(0, head.size()), head);
+    EXPECT_EQ(shortName.size(), head.size() + 10 + 5) << shortName;
+    EXPECT_EQ(shortName.substr(shortName.size() - 5), ".json");
+}
+
+// A link planted at the temporary name a write would use (before: ".<stem>.tmp<pid><ext>",
+// known in advance) is never written through: the temporary has a random name and is created
+// with O_EXCL | O_NOFOLLOW before the writer opens it.
+TEST(AtomicFileTest, PlantedLinkAtTheTemporaryNameIsNotFollowed) {
+    const fs::path dir = testDir("planted");
+    const fs::path victim = dir / "victim.txt";
+    std::ofstream(victim) << "keep";
+    const fs::path planted = dir / (".out.tmp" + std::to_string(::getpid()) + ".exr");
+    fs::create_symlink(victim, planted);
+    fs::path seen;
+    veil::writeFileAtomically(dir / "out.exr", [&](const fs::path& t) {
+        seen = t;
+        // Made before the writer runs: a regular, empty file of its own.
+        EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(t)));
+        EXPECT_EQ(fs::file_size(t), 0u);
+        std::ofstream(t) << "image";
+    });
+    std::string text;
+    std::ifstream(victim) >> text;
+    EXPECT_EQ(text, "keep");
+    std::ifstream(dir / "out.exr") >> text;
+    EXPECT_EQ(text, "image");
+    EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(dir / "out.exr")));
+    EXPECT_TRUE(fs::is_symlink(fs::symlink_status(planted))) << "the planted link was touched";
+    EXPECT_NE(seen, planted);
+    // Two writes of one path draw different names.
+    EXPECT_NE(veil::temporaryPathFor(dir / "out.exr"), veil::temporaryPathFor(dir / "out.exr"));
+}
+
+// A temporary replaced by a link while the writer runs (a race in a folder others can write)
+// is refused, not renamed into place: the output would be a link to another file.
+TEST(AtomicFileTest, TemporaryReplacedDuringTheWriteIsRefused) {
+    const fs::path dir = testDir("replaced");
+    const fs::path victim = dir / "victim.txt";
+    std::ofstream(victim) << "keep";
+    const fs::path out = dir / "out.vti";
+    try {
+        veil::writeFileAtomically(out, [&](const fs::path& t) {
+            fs::remove(t);
+            fs::create_symlink(victim, t);
+        });
+        ADD_FAILURE() << "a temporary replaced by a link was renamed into place";
+    } catch (const veil::Error& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find(out.string()), std::string::npos) << m;
+        EXPECT_NE(m.find("was replaced"), std::string::npos) << m;
+    }
+    EXPECT_FALSE(fs::exists(fs::symlink_status(out)));
+    EXPECT_TRUE(temporaries(dir).empty());
+    EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(victim)));
 }
 
 // On a full disk a checked writer fails, and an unchecked one (a short file is all it
