@@ -47,7 +47,8 @@ FrameStages buildStages(const scene::Scene& scene, const gpu::ContextInfo& conte
         scene, context, programs,
         shadows::Registry::instance().create(sc.name, context, programs, sc.properties, sc.where),
         sc.where);
-    const std::filesystem::path visibility = shadows->technique().visibilityInclude();
+    const auto receivers = shadows->technique().receivers(); // visibility include, defines
+    const std::filesystem::path& visibility = receivers.visibility;
 
     const Properties aoProperties = AmbientOcclusion::schema().resolve(
         scene.render.aoProperties, scene.render.aoWhere, "the AO pass");
@@ -55,11 +56,13 @@ FrameStages buildStages(const scene::Scene& scene, const gpu::ContextInfo& conte
     if (aoProperties.getBool("enabled"))
         ao = std::make_unique<AmbientOcclusion>(programs, aoProperties);
     // With AO the opaque shading reads the AO buffer (define VEIL_AO); without, the program is
-    // the one it always was.
-    const gpu::ProgramHandle opaqueProgram = programs.add(gpu::ProgramDesc::graphics(
-        "frame/mesh.vert", "frame/opaque.frag",
-        ao ? std::vector<std::string>{"VEIL_AO 1"} : std::vector<std::string>{},
-        {{"veil:light_visibility", visibility}}));
+    // the one it always was. The shadow technique's receiver defines follow.
+    std::vector<std::string> opaqueDefines;
+    if (ao) opaqueDefines.push_back("VEIL_AO 1");
+    opaqueDefines.insert(opaqueDefines.end(), receivers.defines.begin(), receivers.defines.end());
+    const gpu::ProgramHandle opaqueProgram = programs.add(
+        gpu::ProgramDesc::graphics("frame/mesh.vert", "frame/opaque.frag", std::move(opaqueDefines),
+                                   {{"veil:light_visibility", visibility}}));
     auto tonemap = std::make_unique<TonemapStage>(programs);
 
     checkFogWork(scene, context, width, height);
@@ -90,7 +93,7 @@ FrameStages buildStages(const scene::Scene& scene, const gpu::ContextInfo& conte
 
     std::unique_ptr<TransparencyStage> transparency =
         TransparencyStage::create(std::move(technique), std::move(techniquePrograms), scene,
-                                  programs, fog ? &fog->fog() : nullptr, visibility);
+                                  programs, fog ? &fog->fog() : nullptr, receivers);
     FrameStages s;
     s.transparency = transparency.get();
     s.shadows = shadows.get();

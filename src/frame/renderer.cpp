@@ -94,7 +94,7 @@ void Renderer::setOitTechnique(const std::string& name, const nlohmann::json& pr
             return oit::Registry::instance().create(name, context_, programs_, properties, where);
         },
         scene_, programs_, stages_.fog ? &stages_.fog->fog() : nullptr,
-        stages_.shadows->technique().visibilityInclude());
+        stages_.shadows->technique().receivers());
     next->resize(pass_);
     auto slot = std::find_if(stages_.list.begin(), stages_.list.end(),
                              [&](const auto& s) { return s.get() == stages_.transparency; });

@@ -18,6 +18,10 @@ void TechniqueKind::registerBuiltins(Registry& registry) {
     registerVolume(registry);
 }
 
+Technique::Receivers Technique::receivers() const {
+    return {visibilityInclude(), opaqueMapDefines(properties())};
+}
+
 PropertySchema commonProperties(int defaultSize) {
     PropertySchema s;
     s.integer("size", defaultSize, 16, 16384,

@@ -120,6 +120,15 @@ public:
     virtual nlohmann::json stats() const { return nlohmann::json::object(); }
 
     const Properties& properties() const { return properties_; }
+    // What the frame's surface receivers are compiled with (opaque.frag, transparent.frag, the
+    // compute rasterizer's fine pass): the visibility include and the defines of the receiver
+    // options, e.g. "VEIL_RECEIVER_SLOPE 2" for receiver_slope = none (opaque_depth.glsl).
+    // Edits of those properties build a new renderer, so the programs follow them.
+    struct Receivers {
+        std::filesystem::path visibility; // "veil:light_visibility"
+        std::vector<std::string> defines;
+    };
+    Receivers receivers() const;
 
 private:
     template <class>

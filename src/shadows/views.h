@@ -54,7 +54,7 @@ struct ShadowViewEntry {
 struct ShadowsBlock {
     ShadowViewEntry views[VEIL_MAX_SHADOW_VIEWS];
     glm::ivec4 lights[VEIL_MAX_LIGHTS]; // first view or -1, view count, type, 0
-    glm::vec4 mapSize; // size, 1 / size, view count, receiver_slope mode (the technique fills w)
+    glm::vec4 mapSize;                  // size, 1 / size, view count, unused
     glm::vec4 params[4];                // technique-defined
 };
 static_assert(sizeof(ShadowsBlock) ==

@@ -17,7 +17,7 @@ layout(std140, binding = VEIL_UBO_SHADOWS) uniform ShadowsBlock {
     // Per scene light: x = first view (layer) or -1 when the light casts no shadow, y = number of
     // views (1 or 6); z, w unused.
     ivec4 lights[VEIL_MAX_LIGHTS];
-    vec4 mapSize; // x = texels per side, y = 1 / x, z = number of views, w = receiver slope mode
+    vec4 mapSize; // x = texels per side, y = 1 / x, z = number of views, w unused
     vec4 params[4]; // technique-defined (see the technique's visibility.glsl)
 } shadows;
 
@@ -45,13 +45,20 @@ int shadowViewOf(int light, vec3 P, vec3 lightPosition) {
     return l.x + face;
 }
 
-// Map coordinates of P in view v: texture uv in [0,1]^2 and normalized linear depth. False
+// Map coordinates of P in view v: texture uv in [0,1]^2, normalized linear depth and the clip
+// w that divides uv (1 for an orthographic view; the receiver-plane slope reuses it). False
 // where P is outside the view (not shadowed by this map).
-bool shadowViewCoordinates(int v, vec3 P, out vec2 uv, out float depth) {
+bool shadowViewCoordinates(int v, vec3 P, out vec2 uv, out float depth, out float w) {
     vec4 c = shadows.views[v].worldToTexture * vec4(P, 1.0);
+    w = c.w;
     if (c.w <= 0.0) return false;
     uv = c.xy / c.w;
     if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return false;
     depth = shadowViewDepth(v, P);
     return depth <= 1.0;
+}
+
+bool shadowViewCoordinates(int v, vec3 P, out vec2 uv, out float depth) {
+    float w;
+    return shadowViewCoordinates(v, P, uv, depth, w);
 }

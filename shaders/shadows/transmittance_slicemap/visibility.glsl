@@ -45,10 +45,10 @@ vec3 slmColumnTransmittance(int v, vec2 uv, float depth, ivec2 o) {
 vec3 slmVisibility(int light, vec3 P, vec3 N, vec3 L) {
     int v;
     vec2 uv;
-    float z;
-    if (!shadowLocate(light, P, v, uv, z)) return vec3(1.0);
+    float z, w;
+    if (!shadowLocate(light, P, v, uv, z, w)) return vec3(1.0);
     int r = int(shadows.params[0].y);
-    vec2 slope = r > 0 ? shadowReceiverSlope(v, P, N, uv, z) : vec2(0.0);
+    vec2 slope = r > 0 ? shadowReceiverSlope(v, N, uv, w) : vec2(0.0);
     vec3 sum = vec3(0.0);
     for (int y = -r; y <= r; ++y)
         for (int x = -r; x <= r; ++x)

@@ -45,7 +45,8 @@ std::string ComputeRaster::supportedNames() {
 }
 
 ComputeRaster::ComputeRaster(gpu::ProgramManager& programs, const oit::Technique& technique,
-                             const gpu::IncludeAliases& surface)
+                             const gpu::IncludeAliases& surface,
+                             const std::vector<std::string>& surfaceDefines)
     : programs_(programs) {
     const oit::TechniqueInfo* info = oit::Registry::instance().find(technique.name());
     VEIL_CHECK(info && info->computeRaster,
@@ -67,6 +68,7 @@ ComputeRaster::ComputeRaster(gpu::ProgramManager& programs, const oit::Technique
         for (std::string& d : technique.defines(pass))
             defines.push_back(std::move(d));
         defines.push_back(fmt::format("OIT_PASS {}", pass));
+        defines.insert(defines.end(), surfaceDefines.begin(), surfaceDefines.end());
         gpu::IncludeAliases aliases = surface;
         aliases.push_back({"veil:oit_emit", technique.emitInclude()});
         fine_.push_back(programs_.add(

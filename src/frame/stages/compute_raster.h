@@ -39,9 +39,11 @@ public:
 
     // Throws veil::Error naming `technique` when it has no compute-raster emission. `surface`:
     // the frame's "veil:raster_setup", "veil:raster_surface", "veil:raster_layout" and
-    // "veil:light_visibility".
+    // "veil:light_visibility"; `surfaceDefines`: more defines of the fine stage's shading
+    // (the shadow technique's receiver defines, shadows::Technique::receivers).
     ComputeRaster(gpu::ProgramManager& programs, const oit::Technique& technique,
-                  const gpu::IncludeAliases& surface);
+                  const gpu::IncludeAliases& surface,
+                  const std::vector<std::string>& surfaceDefines = {});
     // The techniques that run on the compute rasterizer, for messages.
     static std::string supportedNames();
 

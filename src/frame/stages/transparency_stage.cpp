@@ -13,7 +13,7 @@ namespace veil::frame {
 std::unique_ptr<TransparencyStage>
 TransparencyStage::create(const std::function<std::unique_ptr<oit::Technique>()>& make,
                           const scene::Scene& scene, gpu::ProgramManager& programs,
-                          volume::FogPass* fog, const std::filesystem::path& visibility) {
+                          volume::FogPass* fog, const shadows::Technique::Receivers& receivers) {
     const std::size_t mark = programs.size();
     std::unique_ptr<oit::Technique> technique;
     try {
@@ -24,20 +24,20 @@ TransparencyStage::create(const std::function<std::unique_ptr<oit::Technique>()>
         throw;
     }
     return create(std::move(technique), programs.handlesFrom(mark), scene, programs, fog,
-                  visibility);
+                  receivers);
 }
 
 std::unique_ptr<TransparencyStage>
 TransparencyStage::create(std::unique_ptr<oit::Technique> technique,
                           std::vector<gpu::ProgramHandle> techniquePrograms,
                           const scene::Scene& scene, gpu::ProgramManager& programs,
-                          volume::FogPass* fog, const std::filesystem::path& visibility) {
+                          volume::FogPass* fog, const shadows::Technique::Receivers& receivers) {
     std::unique_ptr<TransparencyStage> stage(
         new TransparencyStage(std::move(technique), programs, fog));
     stage->owned_ = std::move(techniquePrograms);
     const std::size_t mark = programs.size();
     try {
-        stage->build(scene, visibility);
+        stage->build(scene, receivers);
     } catch (...) {
         for (gpu::ProgramHandle h : programs.handlesFrom(mark))
             programs.release(h);
@@ -59,8 +59,10 @@ TransparencyStage::~TransparencyStage() {
         programs_.release(h);
 }
 
-void TransparencyStage::build(const scene::Scene& scene, const std::filesystem::path& visibility) {
+void TransparencyStage::build(const scene::Scene& scene,
+                              const shadows::Technique::Receivers& receivers) {
     using gpu::ProgramDesc;
+    const std::filesystem::path& visibility = receivers.visibility;
     const oit::Technique& t = *technique_;
     const bool piecewise = fog_ && t.fogSegments();
     if (piecewise) {
@@ -73,8 +75,11 @@ void TransparencyStage::build(const scene::Scene& scene, const std::filesystem::
     for (int pass = 0; pass < t.geometryPasses(); ++pass) {
         std::vector<std::string> defines = t.defines(pass);
         defines.push_back(fmt::format("OIT_PASS {}", pass));
+        std::vector<std::string> surfaceDefines = defines;
+        surfaceDefines.insert(surfaceDefines.end(), receivers.defines.begin(),
+                              receivers.defines.end());
         surface_.push_back(programs_.add(
-            ProgramDesc::graphics("frame/mesh.vert", "frame/transparent.frag", defines,
+            ProgramDesc::graphics("frame/mesh.vert", "frame/transparent.frag", surfaceDefines,
                                   {emit[0], {"veil:light_visibility", visibility}})));
         if (!fog_) continue;
         const oit::PerPixelEmit mode = piecewise ? oit::PerPixelEmit::None : t.perPixelEmit(pass);
@@ -97,7 +102,8 @@ void TransparencyStage::build(const scene::Scene& scene, const std::filesystem::
             gpu::IncludeAliases{{"veil:raster_setup", "frame/raster_setup.glsl"},
                                 {"veil:raster_surface", "frame/raster_surface.glsl"},
                                 {"veil:raster_layout", "frame/raster_layout.glsl"},
-                                {"veil:light_visibility", visibility}});
+                                {"veil:light_visibility", visibility}},
+            receivers.defines);
 }
 
 std::vector<pass::Pass> TransparencyStage::passes(const pass::Assembly& assembly) {

@@ -21,6 +21,7 @@
 #include "oit/technique.h"
 #include "pass/stage.h"
 #include "scene/scene.h"
+#include "shadows/technique.h"
 
 #include <filesystem>
 #include <functional>
@@ -33,19 +34,20 @@ namespace veil::frame {
 class TransparencyStage : public pass::Stage {
 public:
     // Builds the stage from the technique `make` creates (its programs are the stage's), the
-    // fog (null: none) and the shadow technique's "veil:light_visibility" include. On an
-    // exception every program added since the call is released again.
+    // fog (null: none) and the shadow technique's receivers (its "veil:light_visibility"
+    // include and receiver defines). On an exception every program added since the call is
+    // released again.
     static std::unique_ptr<TransparencyStage>
     create(const std::function<std::unique_ptr<oit::Technique>()>& make, const scene::Scene& scene,
            gpu::ProgramManager& programs, volume::FogPass* fog,
-           const std::filesystem::path& visibility);
+           const shadows::Technique::Receivers& receivers);
     // Takes the technique built earlier (`techniquePrograms`: the programs it added) and adds
     // the rest; the same release on an exception.
     static std::unique_ptr<TransparencyStage>
     create(std::unique_ptr<oit::Technique> technique,
            std::vector<gpu::ProgramHandle> techniquePrograms, const scene::Scene& scene,
            gpu::ProgramManager& programs, volume::FogPass* fog,
-           const std::filesystem::path& visibility);
+           const shadows::Technique::Receivers& receivers);
     ~TransparencyStage() override;
 
     std::string name() const override { return "transparency"; }
@@ -60,7 +62,7 @@ public:
 private:
     TransparencyStage(std::unique_ptr<oit::Technique> technique, gpu::ProgramManager& programs,
                       volume::FogPass* fog);
-    void build(const scene::Scene& scene, const std::filesystem::path& visibility);
+    void build(const scene::Scene& scene, const shadows::Technique::Receivers& receivers);
     void emitFog(const pass::Context& context, int pass) const;
 
     gpu::ProgramManager& programs_;

@@ -40,7 +40,6 @@ public:
     // params[0] is the opaque map's (bias, PCF radius), read by opaque_depth.glsl; params[1..3]
     // are the technique's own.
     void fillParams(ShadowsBlock& block) const override {
-        block.mapSize.w = receiverSlopeMode(properties());
         block.params[0] = glm::vec4(bias_, static_cast<float>(pcfRadius_), 0.0f, 0.0f);
         block.params[1] = glm::vec4(strength_, 0.0f, 0.0f, 0.0f);
     }

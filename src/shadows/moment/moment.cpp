@@ -110,7 +110,6 @@ public:
         (quantized_ ? media16_ : media_).bind(VEIL_TEX_SHADOW3);
     }
     void fillParams(ShadowsBlock& block) const override {
-        block.mapSize.w = receiverSlopeMode(properties());
         block.params[0] =
             glm::vec4(bias_, static_cast<float>(pcfRadius_), mediaOverestimation_, 0.0f);
         block.params[1] =

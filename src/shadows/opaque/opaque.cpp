@@ -2,6 +2,8 @@
 
 #include "shadows/common/depth_maps.h"
 
+#include <fmt/format.h>
+
 namespace veil::shadows {
 
 namespace {
@@ -26,7 +28,6 @@ public:
     std::vector<std::string> receiverResources() const override { return {"shadow.depth"}; }
     void bindForReceivers() const override { depth_.bind(); }
     void fillParams(ShadowsBlock& block) const override {
-        block.mapSize.w = receiverSlopeMode(properties());
         block.params[0] = glm::vec4(bias_, static_cast<float>(pcfRadius_), 0.0f, 0.0f);
     }
     const gpu::Texture* resourceTexture(const std::string& name) const override {
@@ -51,19 +52,24 @@ PropertySchema& addOpaqueMapProperties(PropertySchema& schema) {
                 "[Isidoro06]");
     schema.integer("pcf_radius", 1, 0, 16, "opaque map PCF kernel: (2r+1)^2 taps");
     schema.choice("receiver_slope", "derivatives", {"derivatives", "geometric", "none"},
-                  "where the receiver plane's depth slope of the opaque map comes from: "
+                  "where the receiver plane's depth slope of the opaque map comes from, "
+                  "compiled into the receiving programs (an edit builds a new renderer): "
                   "derivatives = the screen-space derivatives of the shaded point in fragment "
-                  "shaders (geometric in compute receivers and where they are degenerate), "
-                  "geometric = two tangent points projected per light everywhere, none = no "
-                  "slope (acne on tilted receivers; for measuring its cost)",
+                  "shaders (zero where degenerate; geometric in compute receivers), "
+                  "geometric = two tangents of the normal's plane projected per light "
+                  "everywhere, none = no slope (acne on tilted receivers; for measuring its "
+                  "cost)",
                   "[Isidoro06]");
     return schema;
 }
 
-float receiverSlopeMode(const Properties& properties) {
-    if (!properties.values().contains("receiver_slope")) return 0.0f;
-    const std::string mode = properties.getString("receiver_slope");
-    return mode == "geometric" ? 1.0f : mode == "none" ? 2.0f : 0.0f;
+std::vector<std::string> opaqueMapDefines(const Properties& properties) {
+    const std::string mode = properties.values().contains("receiver_slope")
+                                 ? properties.getString("receiver_slope")
+                                 : std::string("derivatives");
+    return {fmt::format("VEIL_RECEIVER_SLOPE {}", mode == "geometric" ? 1
+                                                  : mode == "none"    ? 2
+                                                                      : 0)};
 }
 
 void registerOpaque(Registry& registry) {

@@ -18,8 +18,9 @@ void registerOpaque(Registry& registry);
 // receiver_slope), for the schemas of techniques that include the opaque map.
 PropertySchema& addOpaqueMapProperties(PropertySchema& schema);
 
-// receiver_slope as the shadows block's mapSize.w (shaders/shadows/common/opaque_depth.glsl):
-// 0 derivatives, 1 geometric, 2 none; 0 for a technique without the property.
-float receiverSlopeMode(const Properties& properties);
+// The defines that compile receiver_slope into the receiving programs
+// (shaders/shadows/common/opaque_depth.glsl): "VEIL_RECEIVER_SLOPE N", N = 0 derivatives,
+// 1 geometric, 2 none; 0 for a technique without the property (Technique::receivers).
+std::vector<std::string> opaqueMapDefines(const Properties& properties);
 
 } // namespace veil::shadows

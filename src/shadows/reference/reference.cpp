@@ -66,7 +66,6 @@ public:
         if (frame.bindMedia) frame.bindMedia(program);
     }
     void fillParams(ShadowsBlock& block) const override {
-        block.mapSize.w = receiverSlopeMode(properties());
         block.params[0] = glm::vec4(bias_, static_cast<float>(pcfRadius_), 0.0f, 0.0f);
         block.params[1] = glm::vec4(receiverOffset_, static_cast<float>(mediaSteps_),
                                     static_cast<float>(maxList_), 0.0f);

@@ -158,7 +158,6 @@ public:
         return fogMap_ ? fogMap_->work(viewCount, media) : WorkEstimate{};
     }
     void fillParams(ShadowsBlock& block) const override {
-        block.mapSize.w = receiverSlopeMode(properties());
         block.params[0] = glm::vec4(bias_, static_cast<float>(pcfRadius_), 0.0f, 0.0f);
         if (mode_ == Mode::Stochastic)
             block.params[1] =

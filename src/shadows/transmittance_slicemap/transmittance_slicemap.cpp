@@ -170,7 +170,6 @@ public:
         if (fogMap_) fogMap_->bind();
     }
     void fillParams(ShadowsBlock& block) const override {
-        block.mapSize.w = receiverSlopeMode(properties());
         block.params[0] = glm::vec4(bias_, float(pcfRadius_), float(slices_), local_ ? 1.0f : 0.0f);
     }
     // The classes and the fog come from this frame's passes (they run before every

@@ -83,7 +83,6 @@ public:
         if (visibility_) visibility_.bind(VEIL_TEX_SHADOW1);
     }
     void fillParams(ShadowsBlock& block) const override {
-        block.mapSize.w = receiverSlopeMode(properties());
         block.params[0] = glm::vec4(bias_, static_cast<float>(pcfRadius_), 0.0f, 0.0f);
         // Layers in light order: the lights with views, as the passes number them.
         int layer = 0;
