@@ -4,6 +4,9 @@
 #include "veil:light_visibility"
 // shadowReceiverDerivatives() for the fragment-shader receivers (opaque.frag, transparent.frag).
 #include "../shadows/common/receiver_derivatives.glsl"
+// With VEIL_SURFACE_SCATTERED_LIGHT (the frame has a scattered-light cache) the diffuse lobe
+// also receives the cache's scattered and emitted light (volume/scattered_light.glsl).
+#include "../volume/scattered_light.glsl"
 
 // The ambient term alone (constant irradiance times the diffuse albedo).
 vec3 ambientReflection(SurfaceMaterial m, float diffuseWeight) {
@@ -14,6 +17,10 @@ vec3 ambientReflection(SurfaceMaterial m, float diffuseWeight) {
 vec3 shadeSurface(SurfaceMaterial m, vec3 P, vec3 N, vec3 V, float diffuseWeight) {
     vec3 result = m.emission + lighting.ambient.rgb * m.baseColor * (1.0 - m.metalness) *
                                    diffuseWeight;
+#ifdef VEIL_SURFACE_SCATTERED_LIGHT
+    result += scatteredSurfaceLight(P, N, lighting.ambient.rgb) * m.baseColor *
+              (1.0 - m.metalness) * diffuseWeight;
+#endif
     for (int i = 0; i < lighting.lightCount.x; ++i) {
         vec3 L;
         vec3 e = incidentRadiance(i, P, L);

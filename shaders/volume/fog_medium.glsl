@@ -43,15 +43,9 @@ float neighbourhoodMean(int i, vec3 p) {
 }
 #endif
 
-#ifdef VEIL_SCATTERED_LIGHT
-// The scattered-light cache (render.fog_scattered_light, src/fog/scattered_light_cache.h):
-// over the world box [scatteredLo, scatteredHi], the mean radiance arriving after at least one
-// scattering event or from the sky (rgb, a: luminance) and its P1 flux G (xyz). The
-// in-scattered radiance toward V for phase anisotropy g is mean x (1 + g G.V / mean_Y).
-layout(binding = VEIL_TEX_SCATTERED_LIGHT) uniform sampler3D scatteredMean;
-layout(binding = VEIL_TEX_SCATTERED_LIGHT + 1) uniform sampler3D scatteredFlux;
-uniform vec3 scatteredLo, scatteredHi;
-#endif
+// The scattered-light cache (VEIL_SCATTERED_LIGHT): the in-scattered radiance toward V for
+// phase anisotropy g is mean x (1 + g G.V / mean_Y).
+#include "scattered_light.glsl"
 
 #ifdef VEIL_VOLUME_EMISSION
 #include "volume_emission.glsl"

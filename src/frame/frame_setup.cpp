@@ -55,19 +55,22 @@ FrameStages buildStages(const scene::Scene& scene, const gpu::ContextInfo& conte
     std::unique_ptr<AmbientOcclusion> ao;
     if (aoProperties.getBool("enabled"))
         ao = std::make_unique<AmbientOcclusion>(programs, aoProperties);
-    // With AO the opaque shading reads the AO buffer (define VEIL_AO); without, the program is
-    // the one it always was. The shadow technique's receiver defines follow.
-    std::vector<std::string> opaqueDefines;
-    if (ao) opaqueDefines.push_back("VEIL_AO 1");
-    opaqueDefines.insert(opaqueDefines.end(), receivers.defines.begin(), receivers.defines.end());
-    const gpu::ProgramHandle opaqueProgram = programs.add(
-        gpu::ProgramDesc::graphics("frame/mesh.vert", "frame/opaque.frag", std::move(opaqueDefines),
-                                   {{"veil:light_visibility", visibility}}));
     auto tonemap = std::make_unique<TonemapStage>(programs);
 
     checkFogWork(scene, context, width, height);
     auto fogPass = std::make_unique<volume::FogPass>(
         scene, programs, gpu::IncludeAliases{{"veil:light_visibility", visibility}});
+    // With AO the opaque shading reads the AO buffer (define VEIL_AO); with a scattered-light
+    // cache surfaces receive its light (VEIL_SURFACE_SCATTERED_LIGHT, bound by the fog stage);
+    // without either, the program is the one it always was. The shadow technique's receiver
+    // defines follow.
+    std::vector<std::string> opaqueDefines;
+    if (ao) opaqueDefines.push_back("VEIL_AO 1");
+    if (fogPass->scatteredLightCache()) opaqueDefines.push_back(kSurfaceScatteredLightDefine);
+    opaqueDefines.insert(opaqueDefines.end(), receivers.defines.begin(), receivers.defines.end());
+    const gpu::ProgramHandle opaqueProgram = programs.add(
+        gpu::ProgramDesc::graphics("frame/mesh.vert", "frame/opaque.frag", std::move(opaqueDefines),
+                                   {{"veil:light_visibility", visibility}}));
     glm::vec3 lo, hi;
     scene.bounds(lo, hi);
     std::unique_ptr<FogStage> fog;

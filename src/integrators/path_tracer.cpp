@@ -282,6 +282,36 @@ ScatteredLight VolumePathTracer::scatteredLight(const glm::dvec3& lo, const glm:
     return out;
 }
 
+glm::dvec3 VolumePathTracer::surfaceIrradiance(const glm::dvec3& p, const glm::dvec3& n,
+                                               int samples, std::uint64_t key,
+                                               glm::dvec3* standardError) const {
+    VEIL_CHECK(samples > 1, "surface irradiance: at least 2 samples ({})", samples);
+    // An orthonormal basis around n (as scatter()).
+    const double sign = std::copysign(1.0, n.z);
+    const double a = -1.0 / (sign + n.z), b = n.x * n.y * a;
+    const glm::dvec3 t(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    const glm::dvec3 bt(b, sign + n.y * n.y * a, -n.y);
+    Medium::Lookup lookup = medium_.lookup();
+    glm::dvec3 sum(0.0), sum2(0.0);
+    for (int k = 0; k < samples; ++k) {
+        Pcg32 rng(mix64((std::uint64_t(settings_.seed) << 32) ^ std::uint64_t(k)),
+                  mix64(key + 0x5e7face5ull));
+        // Cosine-weighted (Malley's method): pdf cos / pi, so E = pi x mean(L).
+        const double r = std::sqrt(rng.uniform()), phi = 2.0 * std::numbers::pi * rng.uniform();
+        const double z = std::sqrt(std::max(0.0, 1.0 - r * r));
+        const glm::dvec3 d = glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * bt + z * n);
+        const glm::dvec3 l = trace(lookup, p, d, 1e300, rng, true);
+        sum += l;
+        sum2 += l * l;
+    }
+    const double m = samples;
+    const glm::dvec3 mean = sum / m;
+    if (standardError)
+        *standardError = std::numbers::pi *
+                         glm::sqrt(glm::max(glm::dvec3(0.0), sum2 / m - mean * mean) / (m - 1.0));
+    return std::numbers::pi * mean;
+}
+
 // The cache's grid: fog_scattered_light_cell voxels of the finest volume per texel, over the
 // union of the volumes' bounds, at most kScatteredLightMaxTexels per axis (a coarser cell where the
 // bounds are larger).

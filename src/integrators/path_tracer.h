@@ -129,6 +129,16 @@ public:
     ScatteredLight scatteredLight(const glm::dvec3& lo, const glm::dvec3& hi,
                                   const glm::ivec3& dims, int samples,
                                   const std::function<void(double)>& progress = {}) const;
+    // The irradiance at world point `p` of a surface with unit normal `n` from the volumes'
+    // emission and scattered light and from the sky (render.ambient) seen through them, without
+    // the lights' unscattered light: what the surfaces lit by the scattered-light cache receive
+    // from it (docs/volumes.md "Surfaces lit by the cache"), the reference they are tested
+    // against. `samples` cosine-weighted directions about n, each traced as the cache's paths
+    // are (the same transport; escaping, a path sees the sky; no surface blocks it); E = pi x
+    // their mean radiance, with its standard error in `standardError` when given. The random
+    // numbers are keyed by (settings.seed, key, sample).
+    glm::dvec3 surfaceIrradiance(const glm::dvec3& p, const glm::dvec3& n, int samples,
+                                 std::uint64_t key, glm::dvec3* standardError = nullptr) const;
     // The world box of the volumes (the union of their bounds).
     void worldBounds(glm::dvec3& lo, glm::dvec3& hi) const;
 

@@ -40,7 +40,8 @@ public:
     // Throws veil::Error naming `technique` when it has no compute-raster emission. `surface`:
     // the frame's "veil:raster_setup", "veil:raster_surface", "veil:raster_layout" and
     // "veil:light_visibility"; `surfaceDefines`: more defines of the fine stage's shading
-    // (the shadow technique's receiver defines, shadows::Technique::receivers).
+    // (the shadow technique's receiver defines, shadows::Technique::receivers, and
+    // kSurfaceScatteredLightDefine where the frame has a scattered-light cache).
     ComputeRaster(gpu::ProgramManager& programs, const oit::Technique& technique,
                   const gpu::IncludeAliases& surface,
                   const std::vector<std::string>& surfaceDefines = {});

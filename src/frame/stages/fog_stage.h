@@ -11,6 +11,11 @@
 
 namespace veil::frame {
 
+// The define of the surface programs (opaque, transparent, compute-raster fine) of a frame
+// whose fog has a scattered-light cache: their diffuse lobe receives the cache's light
+// (shaders/volume/scattered_light.glsl). Frames without a cache compile without it.
+inline constexpr const char* kSurfaceScatteredLightDefine = "VEIL_SURFACE_SCATTERED_LIGHT 1";
+
 class FogStage : public pass::Stage {
 public:
     FogStage(std::unique_ptr<volume::FogPass> fog, int slabTexels)
@@ -22,12 +27,9 @@ public:
     }
     void addResources(pass::Resources& resources) const override { fog_->addResources(resources); }
     std::size_t gpuBytes() const override { return fog_->gpuBytes(); }
-    void beginFrame(pass::Context& context) override {
-        fog_->prepareScatteredLight(); // its bake is not part of the timed pass `fog`
-        context.bindMedia = nullptr;
-        if (fog_->hasGridVolumes())
-            context.bindMedia = [this](const gpu::Program& program) { fog_->bindVolumes(program); };
-    }
+    // Bakes the scattered-light cache if it is stale (not part of the timed pass `fog`), gives
+    // receivers its textures and passes that sample the media the volumes.
+    void beginFrame(pass::Context& context) override;
 
     volume::FogPass& fog() { return *fog_; }
     const volume::FogPass& fog() const { return *fog_; }

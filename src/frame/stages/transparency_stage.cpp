@@ -1,5 +1,7 @@
 #include "frame/stages/transparency_stage.h"
 
+#include "frame/stages/fog_stage.h"
+
 #include "shaders/common/bindings.h"
 
 #include <fmt/format.h>
@@ -76,6 +78,8 @@ void TransparencyStage::build(const scene::Scene& scene,
         std::vector<std::string> defines = t.defines(pass);
         defines.push_back(fmt::format("OIT_PASS {}", pass));
         std::vector<std::string> surfaceDefines = defines;
+        if (fog_ && fog_->scatteredLightCache())
+            surfaceDefines.push_back(kSurfaceScatteredLightDefine);
         surfaceDefines.insert(surfaceDefines.end(), receivers.defines.begin(),
                               receivers.defines.end());
         surface_.push_back(programs_.add(
@@ -96,14 +100,18 @@ void TransparencyStage::build(const scene::Scene& scene,
             fogEmit_.emplace_back();
         }
     }
-    if (scene.render.oitRasterizer == "compute")
+    if (scene.render.oitRasterizer == "compute") {
+        std::vector<std::string> fineDefines = receivers.defines;
+        if (fog_ && fog_->scatteredLightCache())
+            fineDefines.push_back(kSurfaceScatteredLightDefine);
         raster_ = std::make_unique<ComputeRaster>(
             programs_, t,
             gpu::IncludeAliases{{"veil:raster_setup", "frame/raster_setup.glsl"},
                                 {"veil:raster_surface", "frame/raster_surface.glsl"},
                                 {"veil:raster_layout", "frame/raster_layout.glsl"},
                                 {"veil:light_visibility", visibility}},
-            receivers.defines);
+            fineDefines);
+    }
 }
 
 std::vector<pass::Pass> TransparencyStage::passes(const pass::Assembly& assembly) {
