@@ -136,7 +136,7 @@ TEST_F(FogSurfaceLightTest, WithoutACacheTheFloorGetsTheAmbientAlone) {
     VEIL_EXPECT_NO_GL_ERROR();
 }
 
-// A measurement, not run by default (two 23k-texel CPU bakes: minutes on 2 cores):
+// Not run by default (two 23k-texel CPU bakes: minutes on 2 cores):
 // datasets/scenes/fire-floor.json, the EmberGen fire on its floor, seen from a camera between
 // the floor and the grid's lowest voxels looking down at the floor under the flames.
 //   veil_gl_tests --gtest_also_run_disabled_tests --gtest_filter='*EmberGen*'
@@ -155,17 +155,18 @@ TEST_F(FogSurfaceLightTest, DISABLED_EmberGenFireOnTheFloor) {
     }
     scene::Camera& cam = s.cameras[0];
     cam.type = scene::CameraType::Orthographic;
-    cam.position = {-4.5f, -28.5f, -129.5f}; // the floor at z = -130, the grid from z = -129
+    cam.position = {-4.5f, -28.5f, -129.5f}; // the floor at -130, the padded grid from -129.5
     cam.target = {-4.5f, -28.5f, -131.0f};
     cam.up = {0.0f, 1.0f, 0.0f};
     cam.orthoHeight = 80.0f;
     cam.nearPlane = 0.01f;
     cam.farPlane = 2.0f;
-    // The scene's floor has diffuse albedo 0.5 (kAlbedo).
-    // Measured on llvmpipe: GPU 0.0461, path tracer 0.0185 +- 0.0007 (+149 %, docs/volumes.md
-    // "Surfaces lit by the cache" says why): recorded, not asserted.
+    // The scene's floor has diffuse albedo 0.5 (kAlbedo). Without the moon: its direct light on
+    // the floor is the shadow technique's, not the cache's (the reference has none of it).
+    s.lights.clear();
+    // Measured on llvmpipe: GPU 0.01696, path tracer 0.01802 +- 0.00074 (-5.9 %).
     const Comparison c = compareFloor(s, info(), 64, {0.0, 0.0, 1.0}, -130.0);
-    EXPECT_GT(c.reference, 0.0);
+    EXPECT_NEAR(c.gpu / c.reference, 1.0, 0.15);
 }
 
 } // namespace veil::test
