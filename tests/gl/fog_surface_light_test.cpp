@@ -123,6 +123,35 @@ TEST_F(FogSurfaceLightTest, FireLightsTheFloorAsThePathTracer) {
     VEIL_EXPECT_NO_GL_ERROR();
 }
 
+double meanFloor(const nlohmann::json& doc, const gpu::ContextInfo& info) {
+    const scene::Scene s = scene::parseScene(doc, sourceDir()); // the renderer keeps a reference
+    frame::Renderer r(s, info, {kSize, kSize, "", "blend"});
+    r.render();
+    const gpu::ImageF hdr = r.readHdr();
+    double sum = 0.0;
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x)
+            sum += luminance(glm::dvec3(hdr.at(x, y, 0), hdr.at(x, y, 1), hdr.at(x, y, 2)));
+    return sum / (kSize * kSize);
+}
+
+// Transparent surfaces receive the same light: the floor at alpha 0.5 over the black background,
+// drawn by the hardware rasterizer (transparent.frag) and by the compute rasterizer (fine.comp),
+// is half the opaque floor (blend: alpha x reflected).
+TEST_F(FogSurfaceLightTest, TransparentSurfacesReceiveTheSameLight) {
+    const nlohmann::json opaque = fireOverFloor();
+    const double full = meanFloor(opaque, info());
+    for (const char* rasterizer : {"raster", "compute"}) {
+        nlohmann::json doc = opaque;
+        doc["materials"]["floor"]["alpha"] = 0.5;
+        doc["render"]["oit_rasterizer"] = rasterizer;
+        const double half = meanFloor(doc, info());
+        std::printf("%s: transparent floor %.5g, opaque %.5g\n", rasterizer, half, full);
+        EXPECT_NEAR(half / full, 0.5, 0.01) << rasterizer;
+    }
+    VEIL_EXPECT_NO_GL_ERROR();
+}
+
 // Without a cache the surface programs are compiled as before (no VEIL_SURFACE_SCATTERED_LIGHT)
 // and the floor gets the ambient term alone.
 TEST_F(FogSurfaceLightTest, WithoutACacheTheFloorGetsTheAmbientAlone) {
