@@ -169,8 +169,23 @@ void writeFileAtomically(const fs::path& path, const std::function<void(const fs
     VEIL_CHECK(fs::is_directory(dir), "cannot write '{}': folder '{}' does not exist",
                path.string(), dir.string());
     struct stat made {};
-    const fs::path tmp = createTemporary(path, made);
-    Slot* slot = registerTemporary(tmp);
+    // Created and registered with SIGINT, SIGTERM and SIGHUP held back, so a signal right
+    // after the file appears still finds it registered and removes it.
+    sigset_t cleanupSignals, previous;
+    sigemptyset(&cleanupSignals);
+    for (int sig : {SIGINT, SIGTERM, SIGHUP})
+        sigaddset(&cleanupSignals, sig);
+    ::pthread_sigmask(SIG_BLOCK, &cleanupSignals, &previous);
+    fs::path tmp;
+    Slot* slot = nullptr;
+    try {
+        tmp = createTemporary(path, made);
+        slot = registerTemporary(tmp);
+    } catch (...) {
+        ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+        throw;
+    }
+    ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);
     try {
         write(tmp);
         checkSameTemporary(path, tmp, made);
