@@ -7,6 +7,7 @@
 
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "base/output_lock.h"
 #include "base/process.h"
 #include "base/progress.h"
 #include "base/text.h"
@@ -22,7 +23,10 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 
@@ -83,11 +87,6 @@ void runRenderFrames(const RenderFramesArgs& args) {
         } catch (const Error& e) {
             throw Error(fmt::format("{}: {}", args.scene, e.what()));
         }
-    if (!scene.timeline.animated() && frames.size() > 1)
-        std::fprintf(stderr,
-                     "veil: warning: '%s' has no animation (no sequence, camera or light keys): "
-                     "its %zu frames are identical\n",
-                     args.scene.c_str(), frames.size());
 
     sequence::RangeJob job;
     job.scenePath = fs::absolute(args.scene);
@@ -98,17 +97,30 @@ void runRenderFrames(const RenderFramesArgs& args) {
     job.options =
         frame::RendererOptions{args.width, args.height, args.camera, args.oit, {}, args.shadows};
     job.stop = &process::StopOnSignal::stopFlag();
+    // Every output path is checked before anything renders.
+    if (ffmpeg) checkOutputPath(args.output, "output", inputs);
+    for (int f : ffmpeg ? std::vector<int>{} : frames)
+        checkOutputPath(outputForFrame(job.output, f, frames.size() == 1, "output"), "output",
+                        inputs);
+    // A second run writing one of these frames (or the video) now is refused: two runs at once
+    // left frames of two sizes. Runs over other frames of the pattern go on (base/output_lock.h).
+    const OutputLock lock(args.output, ffmpeg ? std::vector<int>{} : frames, "veil render");
+    if (!scene.timeline.animated() && frames.size() > 1)
+        std::fprintf(stderr,
+                     "veil: warning: '%s' has no animation (no sequence, camera or light keys): "
+                     "its %zu frames are identical\n",
+                     args.scene.c_str(), frames.size());
     fs::path videoFolder;
     if (ffmpeg) {
-        videoFolder = fs::path(args.output).parent_path() /
-                      fmt::format(".{}.frames", fs::path(args.output).filename().string());
-        fs::create_directories(videoFolder);
+        // A new folder of its own (mkdtemp), never one planted at a known name.
+        std::string made =
+            (fs::path(args.output).parent_path() /
+             fmt::format(".{}.frames.XXXXXX", fs::path(args.output).filename().string()))
+                .string();
+        VEIL_CHECK(::mkdtemp(made.data()), "cannot create a folder for the frames of '{}': {}",
+                   args.output, std::strerror(errno));
+        videoFolder = made;
         job.output = (videoFolder / "%06d.png").string();
-    } else {
-        // Every output path is checked before anything renders.
-        for (int f : frames)
-            checkOutputPath(outputForFrame(job.output, f, frames.size() == 1, "output"), "output",
-                            inputs);
     }
     const bool showProgress = progressWanted(args.progress);
     const bool terminal = ::isatty(STDERR_FILENO) != 0;

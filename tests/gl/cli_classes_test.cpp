@@ -2,11 +2,15 @@
 // everywhere, frame ranges past the limit are refused before anything is allocated, `veil
 // info` counts without overflow and refuses an unknown grid, path-tracer work is estimated
 // and refused past --time-limit, animated cameras are checked per frame, messages name what
-// they should (the output, the pattern, the frame, the glTF node).
+// they should (the output, the pattern, the frame, the glTF node), a frame range into frames
+// another run is writing is refused.
+#include "base/output_lock.h"
 #include "support/test_support.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -216,6 +220,34 @@ TEST(CliClassesTest, VoxelizeNamesTheCollapsingGltfNodeAndTheFrame) {
     expectError("voxelize " + q(d / "z.#.gltf") + " --frames 1-1 --res 16 -o " + q(d / "z.#.vdb"),
                 {"frame 1 (", "nodes[0] 'Flat'"}, 1);
     EXPECT_FALSE(fs::exists(d / "z.vdb"));
+}
+
+// Mutation: the OutputLock in runRenderFrames() removed -> the run writes frames 1-3 beside
+// the other run holding frame 2 (before: two runs into one pattern both exited 0 and left
+// frames of two sizes).
+TEST(CliClassesTest, FramesAnotherRunIsWritingAreRefused) {
+    const fs::path d = freshDir("lock");
+    const std::string s = q(writeTextFile(d / "s.json", kScene));
+    const fs::path pattern = d / "o.#.png";
+    {
+        // This process stands for a veil render writing frame 2 of the pattern.
+        const OutputLock other(pattern, {2}, "veil render");
+        expectError("render " + s + " --frames 1-3 -o " + q(pattern),
+                    {"frame 2 of output '" + pattern.string() + "'", "another veil render",
+                     "pid " + std::to_string(::getpid()), other.file().string()},
+                    1);
+        EXPECT_FALSE(fs::exists(d / "o.1.png"));
+        // Other frames of the pattern (a slice of a Slurm array) render beside it.
+        const CommandResult r =
+            runCommand(veilExe() + " render " + s + " --frames 3-4 -o " + q(pattern));
+        EXPECT_EQ(r.exitCode, 0) << r.output;
+        EXPECT_TRUE(fs::exists(d / "o.4.png"));
+    }
+    const CommandResult r =
+        runCommand(veilExe() + " render " + s + " --frames 1-3 -o " + q(pattern));
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_TRUE(fs::exists(d / "o.2.png"));
+    EXPECT_FALSE(fs::exists(OutputLock::fileFor(pattern))) << "the lock file is left behind";
 }
 
 // Mutation: the empty-name check removed -> temperature_grid "" renders without emission.
