@@ -85,8 +85,10 @@ gpu::Texture makeTarget(GLenum format, int width, int height, GLint filter) {
 
 class PhenomenologicalTechnique final : public Technique {
 public:
-    PhenomenologicalTechnique(gpu::ProgramManager& programs, PhenomenologicalParams params)
-        : programs_(programs), params_(params) {
+    // `name`: the registered name it was made under (phenomenological, -nodiff, -volume).
+    PhenomenologicalTechnique(gpu::ProgramManager& programs, PhenomenologicalParams params,
+                              std::string name)
+        : programs_(programs), params_(params), name_(std::move(name)) {
         params_.validate();
         resolveProgram_ =
             programs_.add(gpu::ProgramDesc::compute("oit/phenomenological/resolve.comp"));
@@ -103,7 +105,7 @@ public:
         }
     }
 
-    std::string name() const override { return "phenomenological"; }
+    std::string name() const override { return name_; }
     std::filesystem::path emitInclude() const override { return "oit/phenomenological/emit.glsl"; }
     // Reduced-resolution particles: pass 0 draws all but billboards at full resolution,
     // pass 1 only billboards at 1/particleDownsample [McGuire16 sec. 3].
@@ -408,6 +410,7 @@ private:
 
     gpu::ProgramManager& programs_;
     PhenomenologicalParams params_;
+    std::string name_;
     gpu::ProgramHandle resolveProgram_, downsampleProgram_, upsampleProgram_, thicknessProgram_;
     // The frame's scissor limit while the particle pass replaces it (beginAccumulate()).
     gpu::StateTracker* limitTracker_ = nullptr;
@@ -471,28 +474,38 @@ static PropertySchema phenomenologicalSchema() {
     return s;
 }
 
-static std::unique_ptr<Technique> createPhenomenological(gpu::ProgramManager& programs,
-                                                         const Properties& properties) {
-    return std::make_unique<PhenomenologicalTechnique>(programs,
-                                                       phenomenologicalParams(properties));
+namespace {
+
+// A factory for each registered name, so name() is the name the technique was asked by (the
+// compute rasterizer's refusal, the viewer's technique list and reports name the variant).
+template <const char* Name>
+std::unique_ptr<Technique> createPhenomenological(gpu::ProgramManager& programs,
+                                                  const Properties& properties) {
+    return std::make_unique<PhenomenologicalTechnique>(programs, phenomenologicalParams(properties),
+                                                       Name);
 }
+constexpr char kPhenomenological[] = "phenomenological";
+constexpr char kNodiff[] = "phenomenological-nodiff";
+constexpr char kVolume[] = "phenomenological-volume";
+
+} // namespace
 
 void registerPhenomenological(Registry& registry) {
-    registry.add({"phenomenological",
+    registry.add({kPhenomenological,
                   "[McGuire16, McGuire17]: weighted blended OIT with colored transmission, "
                   "diffusion, refraction and self-modulation",
-                  nullptr, createPhenomenological, phenomenologicalSchema()});
+                  nullptr, createPhenomenological<kPhenomenological>, phenomenologicalSchema()});
     // The paper's cost figures are given with and without diffusion; the variant without it
     // (resolve without the gather) is the one the benchmark targets name.
-    registry.add({"phenomenological-nodiff",
+    registry.add({kNodiff,
                   "phenomenological without diffusion (refraction and self-modulation kept)",
-                  nullptr, createPhenomenological,
+                  nullptr, createPhenomenological<kNodiff>,
                   phenomenologicalSchema().withDefault("diffusion", false)});
     // Thickness-dependent refraction and absorption from slice maps [Eisemann06].
-    registry.add({"phenomenological-volume",
+    registry.add({kVolume,
                   "phenomenological with volume refraction: per-pixel thickness from front/back "
                   "slice maps scales refraction, Beer-Lambert absorption and roughness blur",
-                  nullptr, createPhenomenological,
+                  nullptr, createPhenomenological<kVolume>,
                   phenomenologicalSchema().withDefault("volume_refraction", true)});
 }
 
