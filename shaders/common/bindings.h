@@ -64,6 +64,7 @@
 #define VEIL_IMG_FOG_RADIANCE 4
 #define VEIL_IMG_FOG_TRANSMITTANCE 5
 #define VEIL_IMG_VOLUME_LIGHT 6
+#define VEIL_IMG_VOLUME_LIGHT_STATE 7 // FogDepthMap: each column's march between dispatches
 #define VEIL_MAX_VOLUMES 4
 // stochastic transparency (src/oit/stochastic): S-choose-R mask table
 #define VEIL_SSBO_STOCH_MASKS 4

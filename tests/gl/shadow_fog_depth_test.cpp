@@ -148,6 +148,27 @@ INSTANTIATE_TEST_SUITE_P(FogDepthMap, ShadowFogDepthTest,
                              return n;
                          });
 
+// fog_slices 1024 x fog_substeps 64: 65536 density samples per column, past the 65535 loop
+// iterations llvmpipe allows one invocation (before, one invocation marched them all and the
+// optical depth stopped short: the floor came out lit). Marched in dispatches of 4096 samples,
+// the map gives what 1024 x 4 samples give (both midpoint sums far finer than the slab's
+// ramps; the same columns, so the same interpolation between them), within the RGBA16F
+// target's rounding of the two images.
+TEST_F(ShadowFogDepthTest, SamplesPastTheLoopLimitAreSplitAcrossDispatches) {
+    const double sigma = sigmaFor(Light::Directional, std::sqrt(2.0));
+    auto floorT = [&](int substeps) {
+        return measure({{"type", "stochastic"},
+                        {"size", 512},
+                        {"fog_columns", 16},
+                        {"fog_slices", 1024},
+                        {"fog_substeps", substeps}},
+                       Light::Directional, sigma, info());
+    };
+    const Measured fine = floorT(64), coarse = floorT(4);
+    ASSERT_LT(coarse.t, 0.9) << "the slab casts no shadow";
+    EXPECT_NEAR(fine.t, coarse.t, 2e-3 + fine.rounding + coarse.rounding);
+}
+
 TEST_F(ShadowFogDepthTest, ReferenceIsExactAtDefaultSteps) {
     // The default media_steps (256) per receiver and 256 fog steps per pixel: a midpoint sum of
     // 256 steps over the slab's smooth trilinear ramps is exact to far below 1e-3; what is left

@@ -22,17 +22,25 @@
 // the bounds (none for grids) would add sigma x H / 2. For the fog slab of
 // tests/gl/shadow_fog_depth_test.cpp (bounds 2.3 long along the ray, H = 0.0044 at the
 // defaults, ramps 0.07 long): 4 kinks x sigma x 3.4e-5, far below 1 % of T.
+//
+// A dispatch marches the samples [uSamples.x, uSamples.y) of every column and keeps the sum
+// and the next boundary in uState for the next dispatch (FogDepthMap::run() splits the N
+// samples in dispatches of kSamplesPerDispatch): Mesa's llvmpipe ends all loops of one
+// invocation after 65535 iterations, and fog_slices x fog_substeps reaches 65536 samples.
 #include "views.glsl"
 #include "../../volume/volume_common.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = VEIL_IMG_VOLUME_LIGHT, r32f) uniform writeonly image3D uTau;
+// Per column: the optical depth summed so far and the next boundary to store (as a float).
+layout(binding = VEIL_IMG_VOLUME_LIGHT_STATE, rg32f) uniform image2D uState;
 
 uniform int shadowView;
 uniform int uSlices;
 uniform int uSubsteps;
 uniform int uColumns;
 uniform ivec2 rows; // column rows [rows.x, rows.y) of this dispatch (bands, the .cpp)
+uniform ivec2 uSamples; // the samples [x, y) of the column's N this dispatch marches
 uniform mat4 uClipToWorld; // inverse of the view's viewProjection
 
 vec3 unproject(vec2 ndc, float z) {
@@ -62,13 +70,20 @@ void main() {
     tOut = min(tOut, 1.0);
     int z0 = shadowView * (uSlices + 1);
     float dt = 1.0 / float(uSlices), worldPerT = length(perT);
+    int n = uSlices * uSubsteps;
+    bool first = uSamples.x == 0, last = uSamples.y >= n;
     float tau = 0.0;
     int k = 0; // the next boundary to store
+    if (!first) {
+        vec2 state = imageLoad(uState, c).xy;
+        tau = state.x;
+        k = int(state.y);
+    }
     if (tIn < tOut) {
-        int n = uSlices * uSubsteps;
         float H = (tOut - tIn) / float(n);
-        for (; k <= uSlices && float(k) * dt <= tIn; ++k) imageStore(uTau, ivec3(c, z0 + k), vec4(0.0));
-        for (int m = 0; m < n; ++m) {
+        if (first)
+            for (; k <= uSlices && float(k) * dt <= tIn; ++k) imageStore(uTau, ivec3(c, z0 + k), vec4(0.0));
+        for (int m = uSamples.x; m < min(uSamples.y, n); ++m) {
             float s0 = tIn + float(m) * H;
             float sigma = volumeExtinction(origin + perT * (s0 + 0.5 * H)) * worldPerT;
             for (; k <= uSlices && float(k) * dt < s0 + H; ++k)
@@ -76,5 +91,8 @@ void main() {
             tau += sigma * H;
         }
     }
-    for (; k <= uSlices; ++k) imageStore(uTau, ivec3(c, z0 + k), vec4(tau));
+    if (last)
+        for (; k <= uSlices; ++k) imageStore(uTau, ivec3(c, z0 + k), vec4(tau));
+    else
+        imageStore(uState, c, vec4(tau, float(k), 0.0, 0.0));
 }

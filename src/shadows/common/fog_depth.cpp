@@ -18,6 +18,8 @@ void FogDepthMap::resize(int mapSize, int views) {
     if (mapSize == size_ && views == views_) return;
     size_ = mapSize;
     views_ = views;
+    state_ = gpu::Texture(GL_TEXTURE_2D);
+    state_.storage2D(1, GL_RG32F, columns_, columns_);
     tau_ = gpu::Texture(GL_TEXTURE_3D);
     tau_.storage3D(1, GL_R32F, columns_, columns_, std::max(views_, 1) * (slices_ + 1))
         .parameter(GL_TEXTURE_MIN_FILTER, GL_LINEAR)
@@ -38,6 +40,9 @@ void FogDepthMap::run(const pass::Context& frame, int y0, int y1) {
     p.use();
     frame.bindMedia(p);
     glBindImageTexture(VEIL_IMG_VOLUME_LIGHT, tau_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32F);
+    glBindImageTexture(VEIL_IMG_VOLUME_LIGHT_STATE, state_.id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+                       GL_RG32F);
+    const int samples = slices_ * substeps_;
     for (const LightView& view : *frame.lightViews) {
         p.set("shadowView", view.layer)
             .set("uSlices", slices_)
@@ -45,7 +50,14 @@ void FogDepthMap::run(const pass::Context& frame, int y0, int y1) {
             .set("uColumns", columns_)
             .set("uClipToWorld", glm::inverse(view.viewProjection))
             .set("rows", glm::ivec2(c0, c1));
-        glDispatchCompute((columns_ + 7) / 8, (c1 - c0 + 7) / 8, 1);
+        // Each column's samples in dispatches of at most kSamplesPerDispatch, the sum carried
+        // in state_ from one to the next (fog_depth.comp).
+        for (int m0 = 0; m0 < samples; m0 += kSamplesPerDispatch) {
+            if (m0 > 0) glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            p.set("uSamples", glm::ivec2(m0, std::min(samples, m0 + kSamplesPerDispatch)));
+            glDispatchCompute((columns_ + 7) / 8, (c1 - c0 + 7) / 8, 1);
+        }
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT); // state_ again for the next view
     }
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     glUseProgram(0);

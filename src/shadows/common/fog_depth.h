@@ -6,7 +6,8 @@
 // (shaders/shadows/common/fog_depth.comp). Receivers read exp(-tau) linearly between slice
 // boundaries and bilinearly between columns (fog_depth.glsl), the deep shadow map of the media
 // [Lokovic00]; surfaces and fog samples alike, so the fog marcher's own self-shadowing
-// volumes are off while this is on (Technique::attenuatesMedia()).
+// volumes are off while this is on (Technique::attenuatesMedia()). The samples of a column are
+// marched in dispatches of kSamplesPerDispatch, within llvmpipe's loop limit.
 #pragma once
 
 #include "shadows/technique.h"
@@ -35,15 +36,23 @@ public:
     void prepareReceiver(const gpu::Program& program) const;
     const gpu::Texture& texture() const { return tau_; }
     std::size_t gpuBytes() const {
-        return std::size_t(columns_) * columns_ * std::max(views_, 1) * (slices_ + 1) * 4;
+        return std::size_t(columns_) * columns_ * (std::max(views_, 1) * (slices_ + 1) * 4 + 8);
     }
     int slices() const { return slices_; }
     Technique::WorkEstimate work(int viewCount, bool media) const;
+
+    // Density samples per column and dispatch: Mesa's llvmpipe ends all loops of one shader
+    // invocation after 65535 iterations (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS), and a column
+    // takes fog_slices x fog_substeps samples (up to 65536), each up to about 8 iterations
+    // with the volume slots' loop, plus up to 1025 boundary stores: 4096 x 8 + 1025 stay far
+    // below the limit, and the defaults (128 x 4) need one dispatch.
+    static constexpr int kSamplesPerDispatch = 4096;
 
 private:
     gpu::ProgramManager& programs_;
     gpu::ProgramHandle program_;
     gpu::Texture tau_{gpu::NoCreate};
+    gpu::Texture state_{gpu::NoCreate}; // RG32F per column: the sum so far, the next boundary
     int columns_, slices_, substeps_;
     int size_ = 0, views_ = 0;
     bool active_ = false;
