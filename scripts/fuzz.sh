@@ -5,8 +5,9 @@
 #
 #   scripts/fuzz.sh [SECONDS]
 #   FUZZ_TOTAL_SECONDS=S        instead of SECONDS per target, S shared equally by the targets
-#                               (CI: 180 s for five targets, 36 s each)
-#   FUZZ_TARGETS="scene mesh"   the targets to run (default: scene volume mesh suite results)
+#                               (CI: 120 s for seven targets, 17 s each)
+#   FUZZ_TARGETS="scene mesh"   the targets to run (default: scene volume mesh suite results
+#                               time frames)
 #   FUZZ_JOBS=N                 N fuzzing processes per target (libFuzzer -fork=N)
 #   FUZZ_SEED=S                 libFuzzer's -seed (default 1, so CI runs repeat)
 #   FUZZ_REPLAY_ONLY="volume"   targets that only replay their seeds and regressions once
@@ -23,7 +24,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-targets=${FUZZ_TARGETS:-scene volume mesh suite results}
+targets=${FUZZ_TARGETS:-scene volume mesh suite results time frames}
 seconds=${1:-60}
 if [[ -n ${FUZZ_TOTAL_SECONDS:-} ]]; then
   count=$(wc -w <<<"$targets")

@@ -1,19 +1,22 @@
 #include "fuzz/fuzz_entries.h"
 
 #include "base/error.h"
+#include "grid/density_grid.h"
 #include "regress/report.h"
 #include "regress/suite.h"
 #include "scene/json_text.h"
 #include "scene/mesh.h"
 #include "scene/scene.h"
-#include "grid/density_grid.h"
+#include "scene/timeline.h"
 
 #include <algorithm>
 #include <array>
+#include <climits>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -54,6 +57,34 @@ fs::path writeInput(const std::string& name, std::span<const std::uint8_t> bytes
         std::abort(); // not a finding of the code under test, but never silently skip inputs
     }
     return path;
+}
+
+// A folder of `scratchDir()` holding empty files of a few sequences (their content is never
+// read): the time and frames targets find, hold and miss frames there.
+const fs::path& sequenceDir(const std::string& name) {
+    static std::vector<std::pair<std::string, fs::path>> made;
+    for (const auto& [n, dir] : made)
+        if (n == name) return dir;
+    const fs::path dir = scratchDir() / name;
+    fs::create_directories(dir);
+    for (const char* file :
+         {"seq.0001.vdb", "seq.0002.vdb", "seq.0004.vdb", "seq.0010.vdb", "f_1.vdb", "f_3.vdb",
+          "f_007.vdb", "f.$F.exr", "s.-001.vdb", "long.000000000012.vdb"})
+        std::ofstream(dir / file) << "x";
+    made.emplace_back(name, dir);
+    return made.back().second;
+}
+
+// Pieces of the input between NUL bytes (a trailing NUL adds none).
+std::vector<std::string_view> nulPieces(std::span<const std::uint8_t> input) {
+    std::string_view rest(reinterpret_cast<const char*>(input.data()), input.size());
+    std::vector<std::string_view> pieces;
+    while (!rest.empty()) {
+        const std::size_t end = rest.find('\0');
+        pieces.push_back(rest.substr(0, end));
+        rest = end == std::string_view::npos ? std::string_view() : rest.substr(end + 1);
+    }
+    return pieces;
 }
 
 std::string gLastError;
@@ -155,12 +186,117 @@ Outcome resultsEntry(std::span<const std::uint8_t> input) {
     return expectOnlyVeilErrors([&] { (void)regress::readReport(shard); });
 }
 
+Outcome timeEntry(std::span<const std::uint8_t> input) {
+    const std::string_view text(reinterpret_cast<const char*>(input.data()), input.size());
+    const fs::path& base = sequenceDir("time-base");
+    return expectOnlyVeilErrors([&] {
+        const nlohmann::json doc = scene::parseJsonText(text, "<fuzz>");
+        const scene::AnimatedScene s = scene::parseAnimatedScene(doc, base);
+        (void)s.timeline.animated();
+        const scene::FrameRange range = scene::sceneFrameRange(s.timeline);
+        (void)scene::frameCountProblem(range, "the scene's frames");
+        // The range's ends and middle, the default frame and one frame past each end; the
+        // keys between frames too (cameraAtFrame and lightAtFrame take any time).
+        const long long probes[] = {range.first,
+                                    range.last,
+                                    ((long long)range.first + range.last) / 2,
+                                    scene::defaultFrame(s.timeline),
+                                    (long long)range.first - 1,
+                                    (long long)range.last + 1};
+        for (const long long p : probes) {
+            if (p < INT_MIN || p > INT_MAX) continue;
+            const int frame = int(p);
+            for (std::size_t i = 0; i < s.scene.cameras.size(); ++i) {
+                (void)scene::cameraProblemAtFrame(s.scene.cameras[i], s.timeline.cameras[i], frame);
+                (void)scene::cameraAtFrame(s.scene.cameras[i], s.timeline.cameras[i], frame + 0.37);
+            }
+            for (std::size_t i = 0; i < s.scene.lights.size(); ++i)
+                (void)scene::lightAtFrame(s.scene.lights[i], s.timeline.lights[i], frame + 0.37);
+            try {
+                (void)scene::volumeFrames(s, frame);
+                (void)scene::sceneAtFrame(s, frame);
+            } catch (const veil::Error&) {
+                // A missing file or an unrenderable camera at this frame; the others go on.
+            }
+        }
+        const std::vector<int> frames = range.frames("the scene's frames");
+        if (static_cast<long long>(frames.size()) != range.count())
+            throw std::logic_error("FrameRange::frames() disagrees with count()");
+    });
+}
+
+Outcome framesEntry(std::span<const std::uint8_t> input) {
+    const std::vector<std::string_view> pieces = nulPieces(input);
+    const fs::path& dir = sequenceDir("frames-dir");
+    return expectOnlyVeilErrors([&] {
+        std::string refused;
+        std::vector<int> frames;
+        try {
+            const scene::FrameRange range =
+                scene::parseFrameRange(std::string(pieces.empty() ? "" : pieces[0]));
+            frames = range.frames();
+            if (frames.empty() || frames.front() != range.first || frames.back() > range.last ||
+                static_cast<long long>(frames.size()) != range.count())
+                throw std::logic_error("parseFrameRange: frames() outside first..last");
+        } catch (const veil::Error& e) {
+            refused = e.what();
+        }
+        if (pieces.size() < 2) {
+            if (!refused.empty()) throw Error(refused);
+            return;
+        }
+        const std::optional<scene::FilePattern> pattern =
+            scene::parseFilePattern(fs::path(std::string(pieces[1])));
+        if (!pattern) return;
+        // A file name the pattern writes for a frame reads back as that frame (frame numbers
+        // of files are not negative).
+        std::vector<int> probes = {0, 1, 7, 99999, 123456789, INT_MAX};
+        if (!frames.empty()) probes.insert(probes.end(), {frames.front(), frames.back()});
+        for (const int f : probes) {
+            const std::string name = pattern->fileFor(f).filename().string();
+            if (f >= 0 && pattern->frameOf(name) != f)
+                throw std::logic_error("frameOf(fileFor(" + std::to_string(f) + ")) is not " +
+                                       std::to_string(f) + ": '" + name + "'");
+        }
+        for (std::size_t i = 2; i < pieces.size(); ++i)
+            (void)pattern->frameOf(std::string(pieces[i]));
+        // The same pattern in a folder of a few files: each frame found has its file.
+        scene::FilePattern here = *pattern;
+        here.folder = dir;
+        for (const int f : scene::existingFrames(here))
+            if (!fs::is_regular_file(here.fileFor(f)))
+                throw std::logic_error("existingFrames() found a frame without its file");
+        if (!frames.empty()) {
+            scene::FileSequence seq;
+            seq.pattern = here;
+            seq.first = frames.front();
+            seq.last = frames.back();
+            seq.step = frames.size() > 1 ? frames[1] - frames[0] : 1;
+            seq.holdMissing = true;
+            seq.before = scene::Outside::Loop;
+            seq.after = scene::Outside::Blank;
+            (void)scene::missingFrames(seq, 8);
+            for (const long long f : {(long long)frames.front() - 1, (long long)frames.front(),
+                                      (long long)frames.back(), (long long)frames.back() + 1}) {
+                if (f < INT_MIN || f > INT_MAX) continue;
+                try {
+                    (void)scene::resolveSequenceFrame(seq, int(f), "fuzz");
+                } catch (const veil::Error&) {
+                    // No file of the sequence exists.
+                }
+            }
+        }
+        if (!refused.empty()) throw Error(refused);
+    });
+}
+
 const std::string& lastError() { return gLastError; }
 
 std::span<const Entry> entries() {
-    static constexpr std::array<Entry, 5> kEntries = {
-        Entry{"scene", sceneEntry}, Entry{"volume", volumeEntry}, Entry{"mesh", meshEntry},
-        Entry{"suite", suiteEntry}, Entry{"results", resultsEntry}};
+    static constexpr std::array<Entry, 7> kEntries = {
+        Entry{"scene", sceneEntry},  Entry{"volume", volumeEntry},   Entry{"mesh", meshEntry},
+        Entry{"suite", suiteEntry},  Entry{"results", resultsEntry}, Entry{"time", timeEntry},
+        Entry{"frames", framesEntry}};
     return kEntries;
 }
 

@@ -40,12 +40,26 @@ Outcome suiteEntry(std::span<const std::uint8_t> input);
 // results.json and go through regress::readReport.
 Outcome resultsEntry(std::span<const std::uint8_t> input);
 
+// The scene's time block and keys over frames: the bytes are a scene document (in a folder of
+// a few empty sequence files: seq.0001.vdb, f_1.vdb, ...) through parseAnimatedScene, then
+// sceneFrameRange, and at its ends, middle, default frame and one frame past each end the
+// cameras' checks, cameras and lights between keys, volumeFrames and sceneAtFrame (a missing
+// file at one frame is a veil::Error the others go on after), then the range's frames().
+Outcome timeEntry(std::span<const std::uint8_t> input);
+
+// Frame ranges and sequence patterns: the bytes up to the first NUL are a --frames text
+// (parseFrameRange, frames()), the next piece a file pattern (parseFilePattern), the rest file
+// names for FilePattern::frameOf. A file name fileFor() writes for a frame >= 0 must read back
+// as that frame; the pattern is also matched in a folder of a few files (existingFrames,
+// missingFrames, resolveSequenceFrame over the range).
+Outcome framesEntry(std::span<const std::uint8_t> input);
+
 struct Entry {
     std::string_view name; // the target's name: veil_fuzz_<name>, corpus/<name>/
     Outcome (*run)(std::span<const std::uint8_t>);
 };
 
-// scene, volume, mesh, suite, results.
+// scene, volume, mesh, suite, results, time, frames.
 std::span<const Entry> entries();
 
 // The message of the veil::Error behind the last Outcome::Rejected (for VEIL_FUZZ_VERBOSE

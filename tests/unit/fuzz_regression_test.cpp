@@ -90,6 +90,16 @@ TEST(FuzzRegression, ResultsFindingsAndSeedsLoadOrFailWithVeilError) {
     EXPECT_GT(replay("results", "corpus"), 0u);
 }
 
+TEST(FuzzRegression, TimeFindingsAndSeedsLoadOrFailWithVeilError) {
+    replay("time", "regressions");
+    EXPECT_GT(replay("time", "corpus"), 0u);
+}
+
+TEST(FuzzRegression, FramesFindingsAndSeedsLoadOrFailWithVeilError) {
+    replay("frames", "regressions");
+    EXPECT_GT(replay("frames", "corpus"), 0u);
+}
+
 // The seeds made from the repository's scenes and the hand-written meshes are valid inputs:
 // if they were rejected the fuzzers would spend their time on error paths only.
 TEST(FuzzRegression, ValidSeedsAreAccepted) {
@@ -109,7 +119,13 @@ TEST(FuzzRegression, ValidSeedsAreAccepted) {
                                                           {"mesh", "tri.gltf"},
                                                           {"mesh", "tri.glb"},
                                                           {"volume", "veil-small.vdb"},
-                                                          {"volume", "torus01.vdb"}}) {
+                                                          {"volume", "torus01.vdb"},
+                                                          {"time", "keys-linear.json"},
+                                                          {"time", "catmull-turntable.json"},
+                                                          {"time", "sequences.json"},
+                                                          {"frames", "range-hashes"},
+                                                          {"frames", "negative-unpadded"},
+                                                          {"frames", "houdini"}}) {
         std::ifstream in(kFuzzDir / "corpus" / target / name, std::ios::binary);
         ASSERT_TRUE(in) << target << "/" << name;
         const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in),
