@@ -2,18 +2,21 @@
 // The scattered-light cache baked on the GPU (src/fog/scattered_light_bake.h): the estimator of
 // the CPU bake, src/integrators/path_tracer.cpp VolumePathTracer::scatteredLight(), in single
 // precision. Per texel (one invocation each) paths start at the texel's centre in uniform random
-// directions; each path is the path tracer's transport: free paths by delta tracking against
-// one majorant for all volumes (the CPU's: the sum over volumes of density_scale x the grid's
-// largest value), emission by the null-collision estimator at every tentative collision, at a
-// real collision the volume chosen in proportion to its extinction, the weight times its albedo,
-// next-event estimation toward every light with the transmittance by ratio tracking (Russian
-// roulette below 0.1), Russian roulette on the weight from rouletteDepth events on, a new
-// direction from Henyey-Greenstein; a path leaving the volumes' box sees the sky (ambient).
-// A dispatch adds the samples [sampleBegin, sampleEnd) of the texels [cellBegin, cellBegin +
-// cellCount) to their sums (the accumulator) and writes the P1 terms of the samples so far:
-// mean radiance (rgb, a: luminance) and G = 3 x mean(Y (-d)). Random numbers: a PCG stream per
-// (seed, texel, sample) [ONeill14], so the result depends on neither the dispatch split nor the
-// device's scheduling.
+// directions; each path is the path tracer's transport: free paths by delta tracking, emission
+// by the null-collision estimator at every tentative collision, at a real collision the volume
+// chosen in proportion to its extinction, the weight times its albedo, next-event estimation
+// toward every light with the transmittance by ratio tracking (Russian roulette below 0.1),
+// Russian roulette on the weight from rouletteDepth events on, a new direction from
+// Henyey-Greenstein; a path leaving the volumes' box sees the sky (ambient). Unlike the CPU, whose
+// majorant is one for all space, the tracking runs against local majorants (src/fog/
+// majorant_grid.h): a DDA walks the cells of the majorant grid and the tentative collisions are
+// sampled per cell against its majorant [Novak18] (empty cells crossed at once), which leaves
+// both estimators unbiased. A dispatch adds the samples [sampleBegin, sampleEnd) of the texels
+// [cellBegin, cellBegin + cellCount) to their sums (the accumulator) and writes the P1 terms of
+// the samples so far: mean radiance (rgb, a: luminance) and G = 3 x mean(Y (-d)). Random
+// numbers: a PCG stream per (seed, texel, sample) [ONeill14], and each texel's sums add its
+// samples in order, so the result depends on neither the dispatch split nor the device's
+// scheduling.
 #include "volume_common.glsl"
 #include "cache_bake.h"
 #ifdef VEIL_VOLUME_EMISSION
@@ -33,7 +36,11 @@ uniform vec3 boxLo, boxHi; // the volumes' world box: the grid's and the paths' 
 uniform int cellBegin, cellCount;
 uniform int sampleBegin, sampleEnd;
 uniform uint seed;
-uniform float majorant;
+// The majorant grid over [boxLo, boxHi]: per cell a bound of the extinction, times
+// majorantScale (> 1: the R16F density textures round up to 2^-11 of the grid's values).
+layout(binding = VEIL_TEX_CACHE_MAJORANT) uniform sampler3D majorantGrid;
+uniform ivec3 majorantDims;
+uniform float majorantScale;
 uniform vec3 ambient; // render.ambient: what a path leaving the box sees
 uniform int maxBounces, rouletteDepth;
 // Lights (src/integrators/medium.cpp lightArrival()): type 0 directional, 1 point, 2 spot;
@@ -69,8 +76,6 @@ float uniform01() {
     word = (word >> 22u) ^ word;
     return float(word >> 8u) * (1.0 / 16777216.0);
 }
-
-float freePath() { return -log(1.0 - uniform01()) / majorant; }
 
 // ---- the medium ----
 // Extinction at world point p, per volume in sig[], and the emitted radiance per unit length.
@@ -124,21 +129,81 @@ bool boxInterval(vec3 o, vec3 d, out float t0, out float t1) {
     return t0 < t1;
 }
 
-// Ratio tracking [Novak14 sec. 4] from o along d up to tMax, with roulette below 0.1.
-float transmittance(vec3 o, vec3 d, float tMax) {
+// ---- the walk through the majorant grid's cells (3D DDA) ----
+struct Walk {
+    float t, tEnd;     // the ray parameter reached, and where the walk ends
+    ivec3 cell, step;  // the cell holding t; +-1 per axis (0: the ray runs parallel)
+    vec3 tNext, tDelta; // where the ray crosses the cell's next boundary per axis; per cell
+};
+
+// The walk along o + t d (unit d) over the part of [0, tMax] inside the box; false when empty.
+bool walkBegin(vec3 o, vec3 d, float tMax, out Walk w) {
     float t0, t1;
-    if (majorant <= 0.0 || !boxInterval(o, d, t0, t1)) return 1.0;
-    t1 = min(t1, tMax);
-    float tr = 1.0, t = t0;
+    if (!boxInterval(o, d, t0, t1) || t0 >= min(t1, tMax)) return false;
+    w.t = t0;
+    w.tEnd = min(t1, tMax);
+    vec3 size = (boxHi - boxLo) / vec3(majorantDims);
+    vec3 p = (o + d * t0 - boxLo) / size;
+    w.cell = clamp(ivec3(floor(p)), ivec3(0), majorantDims - 1);
+    for (int k = 0; k < 3; ++k) {
+        if (abs(d[k]) < 1e-20) {
+            w.step[k] = 0;
+            w.tDelta[k] = kFar;
+            w.tNext[k] = kFar;
+        } else {
+            w.step[k] = d[k] > 0.0 ? 1 : -1;
+            w.tDelta[k] = size[k] / abs(d[k]);
+            float toBound = d[k] > 0.0 ? float(w.cell[k] + 1) - p[k] : p[k] - float(w.cell[k]);
+            w.tNext[k] = t0 + max(toBound, 0.0) * w.tDelta[k];
+        }
+    }
+    return true;
+}
+
+// The next tentative collision of the walk: an exponential optical depth spent over the cells
+// at their majorants (mu: the majorant where it ends, at w.t); false when the walk ends first.
+bool walkNext(inout Walk w, out float mu) {
+    float tau = -log(1.0 - uniform01());
     for (;;) {
-        t += freePath();
-        if (t >= t1) return tr;
-        tr *= 1.0 - extinctionAt(o + d * t) / majorant;
+        float tExit = min(min(min(w.tNext.x, w.tNext.y), w.tNext.z), w.tEnd);
+        mu = texelFetch(majorantGrid, w.cell, 0).r * majorantScale;
+        float depth = mu * (tExit - w.t);
+        if (depth > tau) {
+            w.t += tau / mu;
+            return true;
+        }
+        tau -= depth;
+        w.t = tExit;
+        if (tExit >= w.tEnd) return false;
+        if (w.tNext.x <= w.tNext.y && w.tNext.x <= w.tNext.z) {
+            w.cell.x += w.step.x;
+            w.tNext.x += w.tDelta.x;
+        } else if (w.tNext.y <= w.tNext.z) {
+            w.cell.y += w.step.y;
+            w.tNext.y += w.tDelta.y;
+        } else {
+            w.cell.z += w.step.z;
+            w.tNext.z += w.tDelta.z;
+        }
+        if (any(lessThan(w.cell, ivec3(0))) || any(greaterThanEqual(w.cell, majorantDims)))
+            return false;
+    }
+}
+
+// Ratio tracking [Novak14 sec. 4] from o along d up to tMax against the cells' majorants, with
+// roulette below 0.1.
+float transmittance(vec3 o, vec3 d, float tMax) {
+    Walk w;
+    if (!walkBegin(o, d, tMax, w)) return 1.0;
+    float tr = 1.0, mu;
+    while (walkNext(w, mu)) {
+        tr *= 1.0 - extinctionAt(o + d * w.t) / mu;
         if (tr < 0.1) {
             if (uniform01() >= 0.5) return 0.0;
             tr *= 2.0;
         }
     }
+    return tr;
 }
 
 // ---- optics (integrators/medium.h) ----
@@ -188,23 +253,21 @@ vec3 tracePath(vec3 o, vec3 d) {
     int events = 0;
     float sig[VEIL_VOLUME_SLOTS];
     for (;;) {
-        float t0, t1;
-        bool inside = majorant > 0.0 && boxInterval(o, d, t0, t1);
+        Walk w;
         bool collided = false;
-        float t = t0, sigma = 0.0;
-        while (inside) {
-            t += freePath();
-            if (t >= t1) break;
-            vec3 p = o + d * t;
-            vec3 emitted;
-            sigma = localAt(p, sig, emitted);
-            radiance += weight * emitted / majorant;
-            if (uniform01() * majorant < sigma) {
-                o = p;
-                collided = true;
-                break;
+        float sigma = 0.0, mu;
+        if (walkBegin(o, d, kFar, w))
+            while (walkNext(w, mu)) {
+                vec3 p = o + d * w.t;
+                vec3 emitted;
+                sigma = localAt(p, sig, emitted);
+                radiance += weight * emitted / mu;
+                if (uniform01() * mu < sigma) {
+                    o = p;
+                    collided = true;
+                    break;
+                }
             }
-        }
         if (!collided) return radiance + weight * ambient;
         if (events >= maxBounces) return radiance; // the path ends in the medium
         // The scattering volume, in proportion to its extinction at o.

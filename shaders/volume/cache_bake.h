@@ -9,5 +9,6 @@
 #define VEIL_IMG_CACHE_FLUX 7     // rgba32f: P1 flux G (xyz)
 #define VEIL_CACHE_BAKE_GROUP 64  // invocations per work group (one texel each)
 #define VEIL_CACHE_MAX_LIGHTS 8   // as VEIL_MAX_LIGHTS
+#define VEIL_TEX_CACHE_MAJORANT 24 // r32f: majorant per cell (VEIL_TEX_VOLUME_LIGHT's unit)
 
 #endif

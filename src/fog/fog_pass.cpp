@@ -139,6 +139,8 @@ FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
                                   if (blackbody_) blackbody_.bind(VEIL_TEX_BLACKBODY);
                               }};
         if (emissive_) gpu.defines.push_back("VEIL_VOLUME_EMISSION 1");
+        for (const auto& e : volumes_)
+            gpu.coarsened = std::max(gpu.coarsened, e.gpu->stats().coarsened);
         scattered_ =
             std::make_unique<ScatteredLightCache>(scene, std::move(densities), std::move(gpu));
     }
@@ -329,12 +331,18 @@ void FogPass::prepareScatteredLight() {
     if (scattered_) scattered_->ensure();
 }
 
+void FogPass::setScatteredLightBudgetMs(double ms) {
+    if (scattered_) scattered_->setBudgetMs(ms);
+}
+
 double FogPass::scatteredLightBakeMs() const {
     return scattered_ && scattered_->bakes() > 0 ? scattered_->lastBakeSeconds() * 1e3 : -1.0;
 }
 
 bool FogPass::updateLightVolumesSlab(const pass::Context& targets, int slabTexels) {
-    if (scattered_) scattered_->ensure(); // bakes again after a light or volume edit
+    // Bakes again after a light or volume edit (a progressive bake in flight steps once per
+    // frame, in prepareScatteredLight()).
+    if (scattered_ && !scattered_->converging()) scattered_->ensure();
     glm::vec4 key;
     if (!active() || !lightVolumesStale(targets, key)) return false;
     if (!slab_.started || slab_.key != key) slab_ = {true, key, 0, 0};

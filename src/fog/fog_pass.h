@@ -127,6 +127,9 @@ public:
     // volume values changed since its last bake; the frame calls it before its timed passes
     // (frame/stages/fog_stage.h beginFrame), so that the bake is not booked as pass `fog`.
     void prepareScatteredLight();
+    // The cache's GPU bake runs at most this long per frame (ms; 0: to its end before the frame):
+    // the viewer's progressive bake (ScatteredLightCache::setBudgetMs).
+    void setScatteredLightBudgetMs(double ms);
     // Milliseconds of the cache's last bake; -1 without a cache or before its first bake.
     double scatteredLightBakeMs() const;
     const ScatteredLightCache* scatteredLightCache() const { return scattered_.get(); }

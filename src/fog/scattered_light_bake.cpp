@@ -54,6 +54,10 @@ ScatteredLightBake::ScatteredLightBake(gpu::ProgramManager& programs,
 void ScatteredLightBake::start(const scene::Scene& scene, const Setup& setup) {
     VEIL_CHECK(glm::all(glm::greaterThan(setup.dims, glm::ivec3(0))) && setup.samples > 0,
                "scattered-light cache: empty grid or no samples");
+    VEIL_CHECK(glm::all(glm::greaterThan(setup.majorantDims, glm::ivec3(0))) &&
+                   setup.majorants.size() == std::size_t(setup.majorantDims.x) *
+                                                 setup.majorantDims.y * setup.majorantDims.z,
+               "scattered-light cache: the majorant grid does not match its size");
     VEIL_CHECK(scene.lights.size() <= VEIL_CACHE_MAX_LIGHTS,
                "scattered-light cache: the GPU bake takes at most {} lights ({} in the scene)",
                VEIL_CACHE_MAX_LIGHTS, scene.lights.size());
@@ -67,6 +71,17 @@ void ScatteredLightBake::start(const scene::Scene& scene, const Setup& setup) {
         accumulator_ = gpu::Buffer();
         accumulator_.setStorage(cells_ * 2 * sizeof(glm::vec4), nullptr, 0);
     }
+    if (!majorants_ || majorants_.width() != setup.majorantDims.x ||
+        majorants_.height() != setup.majorantDims.y || majorants_.depth() != setup.majorantDims.z) {
+        majorants_ = gpu::Texture(GL_TEXTURE_3D);
+        majorants_
+            .storage3D(1, GL_R32F, setup.majorantDims.x, setup.majorantDims.y, setup.majorantDims.z)
+            .parameter(GL_TEXTURE_MIN_FILTER, GL_NEAREST)
+            .parameter(GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    }
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage3D(majorants_.id(), 0, 0, 0, 0, setup.majorantDims.x, setup.majorantDims.y,
+                        setup.majorantDims.z, GL_RED, GL_FLOAT, setup.majorants.data());
     next_ = {0, 0, 0};
 }
 
@@ -89,8 +104,9 @@ void ScatteredLightBake::dispatch(int cellBegin, int cellCount, int sampleBegin,
         .set("sampleBegin", sampleBegin)
         .set("sampleEnd", sampleEnd)
         .set("seed", unsigned(setup_.seed))
-        // A little above the CPU's: the R16F texels round up to 2^-11 of the grid's values.
-        .set("majorant", float(setup_.majorant * 1.001))
+        .set("majorantDims", setup_.majorantDims)
+        // The R16F texels round up to 2^-11 of the grid's values.
+        .set("majorantScale", 1.001f)
         .set("ambient", s.render.ambient)
         .set("maxBounces", setup_.maxBounces)
         .set("rouletteDepth", setup_.rouletteDepth)
@@ -109,6 +125,7 @@ void ScatteredLightBake::dispatch(int cellBegin, int cellCount, int sampleBegin,
                            std::cos(glm::radians(double(light.innerConeDegrees)))));
     }
     p.use();
+    majorants_.bind(VEIL_TEX_CACHE_MAJORANT);
     accumulator_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_CACHE_BAKE);
     glBindImageTexture(VEIL_IMG_CACHE_MEAN, mean_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(VEIL_IMG_CACHE_FLUX, flux_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
@@ -128,21 +145,26 @@ bool ScatteredLightBake::step(double budgetMs, int batch) {
     // watchdog), within the budget.
     const double target = std::clamp(budgetMs, 0.5, 100.0);
     batch = std::max(1, batch);
+    const std::size_t minCells = std::min(cells_, kMinDispatchCells);
     while (!done()) {
-        if (next_.cellBegin == 0)
-            next_.sampleEnd = std::min(setup_.samples, next_.sampleBegin + batch);
+        // Texel-samples the target allows (0: unknown before the first dispatch).
+        const double work = cellSamplesPerMs_ * target;
+        if (next_.cellBegin == 0) {
+            const double k = std::clamp(std::floor(work / double(cells_)), 1.0, double(batch));
+            next_.sampleEnd = std::min(setup_.samples, next_.sampleBegin + int(k));
+        }
         const int samples = next_.sampleEnd - next_.sampleBegin;
         const std::size_t left = cells_ - next_.cellBegin;
-        std::size_t count = VEIL_CACHE_BAKE_GROUP * 16;
-        if (cellSamplesPerMs_ > 0.0)
-            count = std::size_t(std::max(1.0, cellSamplesPerMs_ * target / samples));
+        std::size_t count = work > 0.0 ? std::size_t(work / samples) : minCells;
+        count = std::max(count, minCells);
         count = std::min(left, (count + VEIL_CACHE_BAKE_GROUP - 1) / VEIL_CACHE_BAKE_GROUP *
                                    VEIL_CACHE_BAKE_GROUP);
         const auto t0 = Clock::now();
         dispatch(int(next_.cellBegin), int(count), next_.sampleBegin, next_.sampleEnd);
         glFinish();
         const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-        cellSamplesPerMs_ = double(count) * samples / std::max(ms, 1e-3);
+        // Only a dispatch that fills the GPU tells its throughput (the tail of a pass may not).
+        if (count >= minCells) cellSamplesPerMs_ = double(count) * samples / std::max(ms, 1e-3);
         next_.cellBegin += count;
         if (next_.cellBegin >= cells_) {
             next_.cellBegin = 0;

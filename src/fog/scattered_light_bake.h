@@ -1,11 +1,12 @@
 // The scattered-light cache baked on the GPU (render.fog_scattered_light_bake gpu, docs/volumes.md
 // "Scattered-light cache"): shaders/volume/cache_bake.comp, the CPU bake's estimator
 // (integrators/path_tracer.h VolumePathTracer::scatteredLight) on the fog pass's density
-// textures (gpu_volume.h), one invocation per texel. One majorant for all volumes (the CPU
-// bake's), not one per brick. The work is split into dispatches of texels x samples: step()
-// runs dispatches for a time budget, so a bake can be spread over frames; the textures hold the
-// P1 terms of the samples so far after every step. Deterministic for a seed and sample count:
-// every path's random numbers are keyed by (seed, texel, sample), whatever the split.
+// textures (gpu_volume.h), one invocation per texel, tracked against local majorants (a grid of
+// them, majorant_grid.h) where the CPU has one for all space. The work is split into dispatches
+// of texels x samples: step() runs dispatches for a time budget, so a bake can be spread over
+// frames (the viewer's progressive bake); the textures hold the P1 terms of the samples so far
+// after every step. Deterministic for a seed and sample count: every path's random numbers are
+// keyed by (seed, texel, sample) and each texel adds its samples in order, whatever the split.
 #pragma once
 
 #include "gpu/objects.h"
@@ -35,17 +36,22 @@ public:
         glm::ivec3 dims{0};
         int samples = 0;
         std::uint32_t seed = 1;
-        double majorant = 0.0; // VolumePathTracer::majorant()
+        // The majorant grid over [lo, hi] (majorant_grid.h): extinction bounds, x fastest.
+        glm::ivec3 majorantDims{0};
+        std::vector<float> majorants;
         int maxBounces = 256, rouletteDepth = 8;
     };
     // Starts a bake of `scene`'s lights and ambient over `setup` (the textures are kept when
     // the grid is the same; their contents stand until the first step).
     void start(const scene::Scene& scene, const Setup& setup);
     // Dispatches until `budgetMs` of wall time (glFinish after each) has passed, at least one;
-    // true when every sample is in. A pass over the texels adds `batch` samples to each: a few
-    // where a bake is spread over frames (every texel's mean shows early), all of them where
-    // it runs to its end.
+    // true when every sample is in. A dispatch aims at min(budgetMs, 100) ms from the measured
+    // throughput: a pass of up to `batch` samples over every texel where that fits, else one
+    // sample over part of them, never fewer than kMinDispatchCells texels (a GPU needs that many
+    // invocations in flight; a smaller dispatch takes the time of its slowest paths whatever
+    // its size, so its throughput would shrink the next one further).
     bool step(double budgetMs, int batch);
+    static constexpr std::size_t kMinDispatchCells = 65536;
     bool done() const { return next_.sampleBegin >= setup_.samples; }
     // Texel-samples done over texel-samples to do.
     double fraction() const;
@@ -67,7 +73,7 @@ private:
     const scene::Scene* scene_ = nullptr;
     Setup setup_;
     std::size_t cells_ = 0;
-    gpu::Texture mean_{gpu::NoCreate}, flux_{gpu::NoCreate};
+    gpu::Texture mean_{gpu::NoCreate}, flux_{gpu::NoCreate}, majorants_{gpu::NoCreate};
     gpu::Buffer accumulator_{gpu::NoCreate};
     // The next dispatch: samples [sampleBegin, sampleEnd) of texels from cellBegin on.
     struct Cursor {

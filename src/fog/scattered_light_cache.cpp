@@ -4,6 +4,7 @@
 #include "base/log.h"
 #include "base/progress.h"
 #include "fog/gpu_volume.h"
+#include "fog/majorant_grid.h"
 #include "fog/scattered_light_bake.h"
 #include "integrators/path_tracer.h"
 
@@ -45,6 +46,12 @@ ScatteredLightCache::ScatteredLightCache(const scene::Scene& scene,
     if (!gpuBake) return;
     for (const auto& g : grids_)
         gridMax_.push_back(double(openvdb::tools::minMax(g->tree()).max()));
+    majorantDims_ = majorantDims(scene_, grids_, lo_, hi_);
+    std::size_t g = 0;
+    for (const auto& v : scene_.volumes)
+        if (v.procedural != "homogeneous" && g < grids_.size())
+            gridMajorants_.push_back(gridMajorants(*grids_[g++], v.transform, lo_, hi_,
+                                                   majorantDims_, coarseningMargin(gpu.coarsened)));
     bake_ = std::make_unique<ScatteredLightBake>(*gpu.programs, std::move(gpu.defines),
                                                  std::move(gpu.bindVolumes));
 }
@@ -65,44 +72,80 @@ std::vector<float> ScatteredLightCache::key() const {
     return k;
 }
 
-void ScatteredLightCache::ensure() {
-    std::vector<float> k = key();
-    if ((mean_ || bakes_ > 0) && k == bakedKey_) return;
-    const auto start = std::chrono::steady_clock::now();
+bool ScatteredLightCache::converging() const { return bake_ && started_ && !bake_->done(); }
+
+void ScatteredLightCache::startGpuBake() {
+    ScatteredLightBake::Setup setup;
+    setup.lo = lo_;
+    setup.hi = hi_;
+    setup.dims = dims_;
+    setup.samples = scene_.render.fogScatteredLightSamples;
+    setup.seed = scene_.render.seed;
+    // The grids' majorants times their density scales, summed over the volumes. A volume with
+    // an emission grid emits where its density may be 0: there its cells keep a majorant of
+    // 1/20 of its largest extinction, so that the null-collision estimator samples the emission.
+    setup.majorantDims = majorantDims_;
+    setup.majorants.assign(gridMajorants_.empty() ? 0 : gridMajorants_[0].size(), 0.0f);
+    std::size_t g = 0;
+    for (const auto& v : scene_.volumes) {
+        if (v.procedural == "homogeneous" || g >= gridMajorants_.size()) continue;
+        const float scale = std::max(0.0f, v.densityScale);
+        const float floor = v.emissionGrid.empty() ? 0.0f : 0.05f * scale * float(gridMax_[g]);
+        const std::vector<float>& m = gridMajorants_[g++];
+        for (std::size_t i = 0; i < m.size(); ++i)
+            if (m[i] >= 0.0f) setup.majorants[i] += std::max(scale * m[i], floor);
+    }
+    bake_->start(scene_, setup);
+}
+
+void ScatteredLightCache::bakeOnCpu() {
     const int samples = scene_.render.fogScatteredLightSamples;
     const std::size_t cells = std::size_t(dims_.x) * dims_.y * dims_.z;
-    // Named on the progress line of a long render (base/progress.h), with an estimate.
-    ProgressNote note(fmt::format("baking scattered-light cache on the {}: {} cells x {} paths",
-                                  bake_ ? "GPU" : "CPU", cells, samples));
-    if (bake_) {
-        ScatteredLightBake::Setup setup;
-        setup.lo = lo_;
-        setup.hi = hi_;
-        setup.dims = dims_;
-        setup.samples = samples;
-        setup.seed = scene_.render.seed;
-        // The CPU bake's majorant (VolumePathTracer): sum of density_scale x the grid's largest.
-        std::size_t g = 0;
-        for (const auto& v : scene_.volumes)
-            if (v.procedural != "homogeneous" && g < gridMax_.size())
-                setup.majorant += double(v.densityScale) * std::max(0.0, gridMax_[g++]);
-        bake_->start(scene_, setup);
+    ProgressNote note(fmt::format("baking scattered-light cache on the CPU: {} cells x {} paths",
+                                  cells, samples));
+    PathTracerSettings settings;
+    settings.seed = scene_.render.seed;
+    const VolumePathTracer tracer(scene_, grids_, settings);
+    const ScatteredLight s =
+        tracer.scatteredLight(lo_, hi_, dims_, samples, [&note](double done) { note.set(done); });
+    mean_ = makeFilteredTexture3D(dims_, GL_RGBA32F, GL_RGBA, &s.mean[0].x);
+    flux_ = makeFilteredTexture3D(dims_, GL_RGBA32F, GL_RGBA, &s.flux[0].x);
+}
+
+void ScatteredLightCache::ensure() {
+    std::vector<float> k = key();
+    const bool stale = !started_ || k != bakedKey_;
+    if (!stale && !converging()) return;
+    const auto start = std::chrono::steady_clock::now();
+    const int samples = scene_.render.fogScatteredLightSamples;
+    if (stale) {
+        // A new bake; one in flight is dropped (its paths were for other values). A failure
+        // leaves the cache stale, to be tried again.
+        started_ = false;
+        bakeSeconds_ = 0.0;
+        if (bake_)
+            startGpuBake();
+        else
+            bakeOnCpu();
+        bakedKey_ = std::move(k);
+        started_ = true;
+    }
+    if (bake_ && budgetMs_ > 0.0) {
+        bake_->step(budgetMs_, samples);
+    } else if (bake_) {
+        const std::size_t cells = std::size_t(dims_.x) * dims_.y * dims_.z;
+        ProgressNote note(fmt::format(
+            "baking scattered-light cache on the GPU: {} cells x {} paths", cells, samples));
         while (!bake_->step(250.0, samples)) // a quarter second between progress updates
             note.set(bake_->fraction());
-    } else {
-        PathTracerSettings settings;
-        settings.seed = scene_.render.seed;
-        const VolumePathTracer tracer(scene_, grids_, settings);
-        const ScatteredLight s = tracer.scatteredLight(lo_, hi_, dims_, samples,
-                                                       [&note](double done) { note.set(done); });
-        mean_ = makeFilteredTexture3D(dims_, GL_RGBA32F, GL_RGBA, &s.mean[0].x);
-        flux_ = makeFilteredTexture3D(dims_, GL_RGBA32F, GL_RGBA, &s.flux[0].x);
     }
-    seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    bakedKey_ = std::move(k);
+    bakeSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (converging()) return;
+    seconds_ = bakeSeconds_;
     ++bakes_;
-    log::info("scattered-light cache: {}x{}x{} texels x {} paths baked on the {} in {:.2f} s",
-              dims_.x, dims_.y, dims_.z, samples, bake_ ? "GPU" : "CPU", seconds_);
+    log::info("scattered-light cache: {}x{}x{} texels x {} paths baked on the {} in {:.2f} s{}",
+              dims_.x, dims_.y, dims_.z, samples, bake_ ? "GPU" : "CPU", seconds_,
+              bake_ && budgetMs_ > 0.0 ? " (progressive)" : "");
 }
 
 void ScatteredLightCache::bind(const gpu::Program& program) const {

@@ -4,9 +4,12 @@
 // fog_medium.glsl samples per march step. Baked by a compute shader (scattered_light_bake.h) or
 // by the CPU path tracer, per render.fog_scattered_light_bake (auto: the GPU on hardware, the
 // CPU on software renderers). The bake depends on the lights, the ambient (sky) radiance and the
-// volumes' values: ensure() bakes again when any of them changed since the last bake (a live
-// light edit in the viewer costs one bake). A bake names itself on the progress line of a long
-// render (base/progress.h), with an estimate.
+// volumes' values: ensure() bakes again when any of them changed since the last bake. The GPU
+// bake can be progressive (setBudgetMs(), the viewer: render.fog_scattered_light_budget_ms):
+// each ensure() then runs it for the budget and the frame draws with the paths so far, until
+// every texel has its samples; an edit meanwhile starts it again. Otherwise (`veil render`,
+// Python, the CPU bake) ensure() bakes to the end. A full bake names itself on the progress
+// line of a long render (base/progress.h), with an estimate.
 #pragma once
 
 #include "gpu/objects.h"
@@ -33,6 +36,7 @@ struct ScatteredLightGpu {
     gpu::ProgramManager* programs = nullptr;
     std::vector<std::string> defines;
     std::function<void(const gpu::Program&)> bindVolumes;
+    int coarsened = 0; // the most times a GPU copy of a grid was coarsened (its majorants' margin)
 };
 
 class ScatteredLightCache {
@@ -42,8 +46,14 @@ public:
                         ScatteredLightGpu gpu = {});
     ~ScatteredLightCache();
 
-    // Bakes if the scene's lights, ambient or volume values differ from the last bake's.
+    // Bakes if the scene's lights, ambient or volume values differ from the last bake's (or
+    // goes on with a progressive bake in flight).
     void ensure();
+    // Milliseconds of GPU bake per ensure() (0, the default: the whole bake in one ensure()).
+    void setBudgetMs(double ms) { budgetMs_ = ms; }
+    double budgetMs() const { return budgetMs_; }
+    // A progressive GPU bake that has not all its samples yet.
+    bool converging() const;
     // Binds the textures and sets scatteredLo / scatteredHi on `program`.
     void bind(const gpu::Program& program) const;
 
@@ -55,10 +65,13 @@ public:
     int bakes() const { return bakes_; }
     // Where the bakes run: true on the GPU (compute), false on the CPU (the path tracer).
     bool bakesOnGpu() const { return bake_ != nullptr; }
+    // Wall time of the last complete bake (a progressive one: the sum of its steps).
     double lastBakeSeconds() const { return seconds_; }
 
 private:
     std::vector<float> key() const;
+    void startGpuBake();
+    void bakeOnCpu();
 
     const scene::Scene& scene_;
     std::vector<openvdb::FloatGrid::ConstPtr> grids_;
@@ -67,9 +80,15 @@ private:
     gpu::Texture mean_{gpu::NoCreate}, flux_{gpu::NoCreate};
     std::vector<float> bakedKey_;
     std::unique_ptr<ScatteredLightBake> bake_; // the GPU bake, when chosen
-    std::vector<double> gridMax_;              // each grid's largest value (the majorant's terms)
+    std::vector<double> gridMax_;              // each grid's largest value
+    // The majorant grid (majorant_grid.h): its size and per grid the unscaled majorants.
+    glm::ivec3 majorantDims_{0};
+    std::vector<std::vector<float>> gridMajorants_;
     int bakes_ = 0;
-    double seconds_ = 0.0;
+    bool started_ = false;     // a bake began (bakedKey_ is its key)
+    double seconds_ = 0.0;     // of the last complete bake
+    double bakeSeconds_ = 0.0; // of the bake in flight so far
+    double budgetMs_ = 0.0;
 };
 
 } // namespace veil::volume

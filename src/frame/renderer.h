@@ -99,6 +99,11 @@ public:
     void invalidateFogLightVolumes() {
         if (stages_.fog) stages_.fog->fog().invalidateLightVolumes();
     }
+    // The fog's scattered-light cache bakes at most `ms` per frame on the GPU, converging over
+    // frames (the viewer); 0, the default, bakes it to the end before the frame.
+    void setScatteredLightBudgetMs(double ms) {
+        if (stages_.fog) stages_.fog->fog().setScatteredLightBudgetMs(ms);
+    }
     // Shadow map reuse (the viewer, docs/viewer.md "Slow drivers"): with it on and a shadow
     // technique whose maps do not depend on the camera (shadows::Technique::dependsOnCamera),
     // a frame skips the shadow passes when the maps of an earlier frame are still valid. They

@@ -33,7 +33,7 @@ constexpr int kPaths = 64;
 
 // A slab 1 x 0.5 x 1 (voxel 1/16, 2 voxels per texel: about 9 x 5 x 9 texels) lit by a sun
 // and a point light, emitting, under a sky: every term of the estimator.
-nlohmann::json bakeScene(const char* device, int seed) {
+nlohmann::json bakeScene(const char* device, int seed, bool torus = false) {
     nlohmann::json doc = nlohmann::json::parse(R"({
       "render": {"width": 8, "height": 8, "ambient": [0.10, 0.14, 0.20], "background": [0, 0, 0],
                  "fog_steps": 16, "fog_scattered_light": true, "fog_scattered_light_cell": 2},
@@ -44,6 +44,13 @@ nlohmann::json bakeScene(const char* device, int seed) {
       "volumes": [{"procedural": "box", "size": [1, 0.5, 1], "voxel_size": 0.0625,
                    "density_scale": 3, "albedo": 0.85, "anisotropy": 0.5,
                    "emission": [0.05, 0.02, 0.0]}]})");
+    if (torus) // a real grid: a torus of fog (values up to 100), densest in its core
+        doc["volumes"][0] = {{"path", (dataDir() / "vdb-torus-fog/torus01.vdb").string()},
+                             {"grid", "voxel_fog_density"},
+                             {"transform", {{"scale", 0.05}}},
+                             {"density_scale", 0.3},
+                             {"albedo", 0.9},
+                             {"anisotropy", 0.3}};
     doc["render"]["fog_scattered_light_samples"] = kPaths;
     doc["render"]["fog_scattered_light_bake"] = device;
     doc["render"]["seed"] = seed;
@@ -70,9 +77,11 @@ const glm::dvec3 kLum(0.2126, 0.7152, 0.0722);
 
 class ScatteredLightBakeTest : public GlTest {};
 
-TEST_F(ScatteredLightBakeTest, GpuBakeMatchesTheCpuBakeWithinMonteCarloError) {
-    const scene::Scene s = scene::parseScene(bakeScene("gpu", 1), sourceDir());
-    const GpuResult gpu = bakeOnGpu(info(), s);
+namespace {
+
+// The GPU bake (local majorants) against the CPU bake (one majorant) on `s`.
+void expectGpuMatchesCpu(const gpu::ContextInfo& info, const scene::Scene& s) {
+    const GpuResult gpu = bakeOnGpu(info, s);
     ASSERT_FALSE(gpu.cache.mean.empty());
     ASSERT_EQ(gpu.cache.samples, kPaths);
 
@@ -116,6 +125,18 @@ TEST_F(ScatteredLightBakeTest, GpuBakeMatchesTheCpuBakeWithinMonteCarloError) {
     }
 }
 
+} // namespace
+
+TEST_F(ScatteredLightBakeTest, GpuBakeMatchesTheCpuBakeWithinMonteCarloError) {
+    expectGpuMatchesCpu(info(), scene::parseScene(bakeScene("gpu", 1), sourceDir()));
+}
+
+// On a real grid, whose majorant grid has empty cells, sparse ones and dense ones, and paths
+// that cross many of them.
+TEST_F(ScatteredLightBakeTest, GpuBakeMatchesTheCpuBakeOnARealGrid) {
+    expectGpuMatchesCpu(info(), scene::parseScene(bakeScene("gpu", 2, true), sourceDir()));
+}
+
 // The same seed and sample count give the same cache bit for bit (another renderer, another
 // bake); another seed another one.
 TEST_F(ScatteredLightBakeTest, GpuBakeIsDeterministicForASeed) {
@@ -146,6 +167,75 @@ TEST_F(ScatteredLightBakeTest, PropertyChoosesTheDevice) {
         EXPECT_EQ(cache->bakesOnGpu(), std::string(device) == "gpu") << device;
         EXPECT_EQ(cache->bakes(), 1) << device;
     }
+}
+
+// The progressive bake (ScatteredLightCache::setBudgetMs, the viewer): a budget so small that
+// every frame runs one dispatch; the frames draw with the paths so far, come closer to the
+// full bake as they go, and end with the full bake's cache bit for bit (the same paths, each
+// texel adding them in order). An edit (the light's intensity) starts it again: the next frame
+// has few samples, and the end is the full bake of the edited scene.
+TEST_F(ScatteredLightBakeTest, ProgressiveBakeConvergesToTheFullBake) {
+    scene::Scene s = scene::parseScene(bakeScene("gpu", 5), sourceDir());
+    const GpuResult full = bakeOnGpu(info(), s);
+    ASSERT_FALSE(full.cache.mean.empty());
+
+    frame::Renderer r(s, info(), {0, 0, "", "blend"});
+    r.setScatteredLightBudgetMs(1e-3);
+    const volume::ScatteredLightCache* cache = r.fog()->scatteredLightCache();
+    ASSERT_TRUE(cache && cache->gpuBake());
+    auto error = [&full](const volume::ScatteredLight& c) { // mean |Y - Y_full|
+        double e = 0.0;
+        for (std::size_t i = 0; i < c.mean.size(); ++i)
+            e += std::abs(double(c.mean[i].w) - double(full.cache.mean[i].w));
+        return e / double(c.mean.size());
+    };
+    std::vector<std::pair<int, double>> errors; // per frame before the end: paths, error
+    int frames = 0;
+    do {
+        r.render();
+        ++frames;
+        const volume::ScatteredLight now = cache->gpuBake()->read();
+        if (now.samples > 0 && now.samples < kPaths) errors.emplace_back(now.samples, error(now));
+    } while (cache->converging() && frames < 10 * kPaths);
+    std::printf("progressive bake: %d frames, %d dispatches\n", frames,
+                cache->gpuBake()->dispatches());
+    ASSERT_GE(errors.size(), 2u);
+    std::printf("error against the full bake: %.5f at %d paths, %.5f at %d paths\n",
+                errors.front().second, errors.front().first, errors.back().second,
+                errors.back().first);
+    EXPECT_GT(frames, 4); // it did spread over frames
+    EXPECT_FALSE(cache->converging());
+    EXPECT_EQ(cache->bakes(), 1);
+    EXPECT_LT(errors.back().second, 0.5 * errors.front().second);
+    const volume::ScatteredLight done = cache->gpuBake()->read();
+    ASSERT_EQ(done.samples, kPaths);
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < done.mean.size(); ++i)
+        differ += done.mean[i] != full.cache.mean[i] || done.flux[i] != full.cache.flux[i];
+    EXPECT_EQ(differ, 0u);
+
+    // An edit: the light's intensity. The bake starts again and ends at the edited full bake.
+    s.lights[0].intensity *= 2.0f;
+    r.render();
+    EXPECT_TRUE(cache->converging());
+    EXPECT_LT(cache->gpuBake()->read().samples, kPaths);
+    frames = 0;
+    while (cache->converging() && frames < 10 * kPaths) {
+        r.render();
+        ++frames;
+    }
+    EXPECT_EQ(cache->bakes(), 2);
+    const GpuResult edited = bakeOnGpu(info(), s);
+    const volume::ScatteredLight after = cache->gpuBake()->read();
+    ASSERT_EQ(after.mean.size(), edited.cache.mean.size());
+    differ = 0;
+    std::size_t changed = 0;
+    for (std::size_t i = 0; i < after.mean.size(); ++i) {
+        differ += after.mean[i] != edited.cache.mean[i];
+        changed += after.mean[i] != done.mean[i];
+    }
+    EXPECT_EQ(differ, 0u);
+    EXPECT_GT(changed, after.mean.size() / 2);
 }
 
 } // namespace veil::test
