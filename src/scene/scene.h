@@ -145,6 +145,9 @@ struct RenderSettings {
     float fogScatteredLightCell = 4.0f;
     // Where the cache is baked: "gpu" (compute shader), "cpu" (the path tracer) or "auto".
     std::string fogScatteredLightBake = "auto";
+    // The viewer's progressive bake: GPU milliseconds per frame (0: the whole bake before the
+    // frame). `veil render` and Python bake the whole cache before the frame whatever it says.
+    float fogScatteredLightBudgetMs = 2.0f;
     float fogAmbient = 1.0f; // scale of the isotropic ambient (sky) in-scattering
     // GPU memory budget for all volumes (MiB); larger grids are coarsened or refused.
     int volumeBudgetMiB = 1024;

@@ -189,6 +189,14 @@ const std::vector<ValueDecl<RenderSettings>>& renderValueDecls() {
                     "where the scattered-light cache is baked: a compute shader (gpu), the path "
                     "tracer (cpu) or auto (the GPU on hardware, the CPU on software renderers)")
             .edited(ValueGroup::FogMarcher)
+            .real("fog_scattered_light_budget_ms", &R::fogScatteredLightBudgetMs, kNonNegative, 0.0,
+                  100.0,
+                  "the viewer's progressive bake: GPU milliseconds per frame for the scattered-"
+                  "light cache after a light, ambient or volume edit, frames drawing with the "
+                  "paths so far until all are in; 0 = the whole bake before the frame (veil "
+                  "render and Python always bake it whole)")
+            .edited(ValueGroup::FogMarcher)
+            .onEdit(EditEffect::Live)
             .real("fog_ambient", &R::fogAmbient, kNonNegative, 0.0, 4.0,
                   "scale of the fog's isotropic ambient (sky) in-scattering, render.ambient x "
                   "sigma_s x fog_ambient")

@@ -92,6 +92,15 @@ public:
     // One tile of the refinement in progress; true when that completed the frame (the display
     // then shows it). A failure is recorded as for renderFrame() and ends the refinement.
     bool refineStep();
+    // The progressive bake of the fog's scattered-light cache (off by default: each frame has
+    // the whole bake; the interactive window turns it on, scripted runs keep it off so that
+    // their frames do not depend on timing): after a light, ambient or volume edit each frame
+    // bakes for render.fog_scattered_light_budget_ms and draws with the paths so far.
+    void setProgressiveBake(bool on) { progressiveBake_ = on; }
+    bool progressiveBake() const { return progressiveBake_; }
+    // The cache is still converging: frames render in one piece meanwhile and each moves
+    // version() on, so that the window draws the next.
+    bool scatteredLightConverging() const;
     bool refining() const { return renderer_->refining(); }
     // The refinement's tile size in pixels (0: every frame in one piece, the default); a
     // change renders the frame again.
@@ -211,6 +220,7 @@ private:
     bool frameFailed_ = false;
     int refineTilePx_ = 0;
     double refineBudgetMs_ = 0.0;
+    bool progressiveBake_ = false;
     // The refinement's estimate (refineBudgetMs()): pass ms per pixel of the last tile step, and
     // what it holds for (renderer, techniques, frame size); < 0 = none.
     double refineMsPerPixel_ = -1.0;

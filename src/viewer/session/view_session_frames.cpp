@@ -2,6 +2,8 @@
 // tile sizes, and what the refinements did per UI frame.
 #include "viewer/session/view_session.h"
 
+#include "fog/scattered_light_cache.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -38,11 +40,23 @@ bool ViewSession::frameFailed(const Error& e) {
     return false;
 }
 
+bool ViewSession::scatteredLightConverging() const {
+    const volume::FogPass* fog = renderer_->fog();
+    const volume::ScatteredLightCache* cache = fog ? fog->scatteredLightCache() : nullptr;
+    return cache && cache->converging();
+}
+
 bool ViewSession::renderFrame(bool refine) {
     if (frameFailed_) return false; // until the next change: the error would only repeat
     try {
+        // The progressive bake (setProgressiveBake): every frame runs the cache's bake for the
+        // budget; while it converges frames come in one piece, and the version moves on after
+        // each so that the window draws the next (nothing else would ask for it).
+        renderer_->setScatteredLightBudgetMs(
+            progressiveBake_ ? scene_->render.fogScatteredLightBudgetMs : 0.0);
+        const bool converging = scatteredLightConverging();
         const int t = refineTilePx_;
-        if (refine && t > 0 && (width_ > t || height_ > t)) {
+        if (refine && !converging && t > 0 && (width_ > t || height_ > t)) {
             renderer_->beginRefinement(t);
             refineLog_.tilePx = t;
             refineLog_.tiles = renderer_->refinement().tiles;
@@ -68,6 +82,7 @@ bool ViewSession::renderFrame(bool refine) {
         renderer_->render();
         uiFramePixels_ += static_cast<long long>(width_) * height_;
         copyToDisplay();
+        if (scatteredLightConverging()) ++version_;
         return true;
     } catch (const Error& e) {
         return frameFailed(e);
@@ -108,6 +123,7 @@ bool ViewSession::refineStep() {
         copyToDisplay();
         refineLog_.complete = true;
         ++refineLog_.completed;
+        if (scatteredLightConverging()) ++version_; // the next frame goes on with the bake
         return true;
     } catch (const Error& e) {
         return frameFailed(e);

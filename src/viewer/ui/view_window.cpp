@@ -193,6 +193,7 @@ void runViewer(const ViewerOptions& o) {
                             : !scripted && window.info().softwareRenderer ? 128
                                                                           : 0);
     session.setRefineBudgetMs(o.refineBudgetMs >= 0.0 ? o.refineBudgetMs : scripted ? 0.0 : 100.0);
+    session.setProgressiveBake(!scripted);
 
     // The timeline of an animated scene (made again when another scene is opened).
     auto timeline = std::make_unique<session::TimelinePlayer>(session);
