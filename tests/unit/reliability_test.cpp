@@ -11,8 +11,8 @@
 #include "regress/suite.h"
 #include "scene/mesh.h"
 #include "scene/scene.h"
-#include "viewer/session/view_session.h"
 #include "support/test_support.h"
+#include "viewer/session/view_session.h"
 #include "viewer/view_script.h"
 #include "voxelize/triangles.h"
 
@@ -277,7 +277,11 @@ TEST(ReliabilityTest, ViewScriptsRefuseOverwritingThemselvesAndHugeSteps) {
     writeTextFile(script, R"([{"save_scene": ")" + script.string() + R"("}])");
     const std::string self = errorOf([&] { viewer::loadViewScript(script); });
     EXPECT_NE(self.find("would overwrite the script"), std::string::npos) << self;
-    writeTextFile(script, R"([{"screenshot": "s.json"}])"); // relative: the working folder's s.json
+    // A relative file is the script folder's: "s.json" is the script itself, another name not.
+    writeTextFile(script, R"([{"screenshot": "s.json"}])");
+    EXPECT_NE(errorOf([&] { viewer::loadViewScript(script); }).find("would overwrite the script"),
+              std::string::npos);
+    writeTextFile(script, R"([{"screenshot": "shot.json"}])");
     EXPECT_NO_THROW(viewer::loadViewScript(script));
     writeTextFile(script, R"([{"orbit": [1e300, 0]}])");
     const std::string huge = errorOf([&] { viewer::loadViewScript(script); });
