@@ -16,7 +16,9 @@
 
 namespace veil::gpu {
 
-// Root of the shader tree: $VEIL_SHADER_DIR if set, else the source tree's shaders/.
+// Root of the shader tree: $VEIL_SHADER_DIR if set, else an installed tree's
+// share/veil/shaders beside the executable (bin/../share/veil/shaders), else the source
+// tree's shaders/.
 std::filesystem::path shaderDirectory();
 
 struct ShaderSource {
