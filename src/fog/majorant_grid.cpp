@@ -1,5 +1,7 @@
 #include "fog/majorant_grid.h"
 
+#include "integrators/path_tracer.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -13,16 +15,7 @@ glm::ivec3 MajorantGrid::cellOf(const glm::dvec3& p) const {
 glm::ivec3 majorantDims(const scene::Scene& scene,
                         const std::vector<openvdb::FloatGrid::ConstPtr>& grids,
                         const glm::dvec3& lo, const glm::dvec3& hi) {
-    double voxel = 1e300;
-    std::size_t g = 0;
-    for (const auto& ref : scene.volumes) {
-        if (ref.procedural == "homogeneous" || g >= grids.size()) continue;
-        const openvdb::Vec3d v = grids[g++]->voxelSize();
-        const glm::dmat3 m(ref.transform);
-        voxel = std::min({voxel, glm::length(m[0]) * v.x(), glm::length(m[1]) * v.y(),
-                          glm::length(m[2]) * v.z()});
-    }
-    const double cell = std::max(8.0 * voxel, 1e-12);
+    const double cell = std::max(8.0 * finestVoxelSize(scene, grids), 1e-12);
     return glm::clamp(glm::ivec3(glm::ceil((hi - lo) / cell)), glm::ivec3(1),
                       glm::ivec3(kMajorantMaxCells));
 }

@@ -315,9 +315,8 @@ glm::dvec3 VolumePathTracer::surfaceIrradiance(const glm::dvec3& p, const glm::d
 // The cache's grid: fog_scattered_light_cell voxels of the finest volume per texel, over the
 // union of the volumes' bounds, at most kScatteredLightMaxTexels per axis (a coarser cell where the
 // bounds are larger).
-glm::ivec3 scatteredLightDims(const scene::Scene& scene,
-                              const std::vector<openvdb::FloatGrid::ConstPtr>& grids,
-                              const glm::dvec3& lo, const glm::dvec3& hi) {
+double finestVoxelSize(const scene::Scene& scene,
+                       const std::vector<openvdb::FloatGrid::ConstPtr>& grids) {
     double voxel = 1e300;
     std::size_t g = 0;
     for (const auto& ref : scene.volumes) {
@@ -327,6 +326,13 @@ glm::ivec3 scatteredLightDims(const scene::Scene& scene,
         voxel = std::min({voxel, glm::length(m[0]) * v.x(), glm::length(m[1]) * v.y(),
                           glm::length(m[2]) * v.z()});
     }
+    return voxel;
+}
+
+glm::ivec3 scatteredLightDims(const scene::Scene& scene,
+                              const std::vector<openvdb::FloatGrid::ConstPtr>& grids,
+                              const glm::dvec3& lo, const glm::dvec3& hi) {
+    const double voxel = finestVoxelSize(scene, grids);
     const double cell = std::max(voxel * double(scene.render.fogScatteredLightCell), 1e-12);
     const glm::dvec3 extent = hi - lo;
     return glm::clamp(glm::ivec3(glm::ceil(extent / cell)), glm::ivec3(2),

@@ -97,6 +97,11 @@ struct ScatteredLight {
     glm::dvec3 inscattered(const glm::dvec3& world, const glm::dvec3& toEye, double g) const;
 };
 
+// The smallest world-space voxel edge of the scene's grid volumes (`grids` in scene order,
+// without homogeneous fog), with each volume's transform; 1e300 without grids.
+double finestVoxelSize(const scene::Scene& scene,
+                       const std::vector<openvdb::FloatGrid::ConstPtr>& grids);
+
 // The cache's grid for `scene` over [lo, hi]: render.fog_scattered_light_cell voxels of the
 // finest grid per texel, at most kScatteredLightMaxTexels per axis, at least 2.
 constexpr int kScatteredLightMaxTexels = 128;
