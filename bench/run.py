@@ -296,6 +296,26 @@ def generated_scene(tool, group, tmp):
     return path, record
 
 
+def dataset_scene(group, tmp):
+    """A group with "frames_dir" renders files that are not in the repository (too large):
+    the environment variable it names holds their folder (e.g. the 60-frame EmberGen fire of
+    ../shared/datasets/third_party, bundled as an extra folder, bench/README.md). The group's
+    scene is copied to the run's temporary folder with each volume's file pattern moved into
+    that folder. Returns (scene path, error); the scene is None when the folder is missing."""
+    var = group["frames_dir"]
+    folder = os.environ.get(var, "")
+    if not folder or not os.path.isdir(folder):
+        return None, f"set {var} to the folder of the frames (bench/README.md)"
+    with open(os.path.join(ROOT, group["scene"])) as f:
+        scene = json.loads(re.sub(r"^\s*//.*$", "", f.read(), flags=re.M))
+    for v in scene["volumes"]:
+        v["path"] = os.path.join(os.path.abspath(folder), os.path.basename(v["path"]))
+    path = os.path.join(tmp, os.path.basename(group["scene"]))
+    with open(path, "w") as f:
+        json.dump(scene, f, indent=1)
+    return path, None
+
+
 def run_set(path, s, tools, args):
     started = datetime.datetime.now(datetime.timezone.utc)
     warm = s.get("clock_warmup_s", 20) if args.clock_warmup is None else args.clock_warmup
@@ -334,7 +354,16 @@ def run_set(path, s, tools, args):
                         + (f" FAILED {generated['error'][:300]}" if "error" in generated else ""))
                     for case in cases:
                         case["scene"] = scene_path
+                if "frames_dir" in group:
+                    scene_path, missing = dataset_scene(group, tmp)
+                    if missing:
+                        log(f"  skipped: {missing}")
+                    for case in cases:
+                        case["scene"] = scene_path
                 for case in cases:
+                    if "frames_dir" in group and case["scene"] is None:
+                        records.append({"name": case["name"], "error": missing})
+                        continue
                     if "generate" in group and case["scene"] is None:
                         records.append({"name": case["name"], "error": "generation failed"})
                         continue
