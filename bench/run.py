@@ -316,7 +316,7 @@ def dataset_scene(group, tmp):
     return path, None
 
 
-def run_set(path, s, tools, args):
+def run_set(path, s, tools, args, save=None):
     started = datetime.datetime.now(datetime.timezone.utc)
     warm = s.get("clock_warmup_s", 20) if args.clock_warmup is None else args.clock_warmup
     clock_warmup(tools["veil-bench"], warm)
@@ -392,6 +392,8 @@ def run_set(path, s, tools, args):
             if tool_name not in ("python", "veil-voxbench") and generated:
                 entry["generated"] = generated
             result["groups"].append(entry)
+            if save:
+                save(result)  # the groups so far survive a run stopped at its time limit
     if "driver" not in machine and machine.get("gl_version"):
         m = re.search(r"NVIDIA ([0-9.]+)|Mesa ([0-9.]+\S*)", machine["gl_version"])
         if m:
@@ -477,7 +479,14 @@ def main():
     os.environ.setdefault("VEIL_SHADER_DIR", os.path.join(ROOT, "shaders"))
     failed = 0
     for path, s in sets:
-        result = run_set(path, s, tools, args)
+        partial = os.path.join(out_dir, (args.name if args.name and len(sets) == 1 else
+                                         s["name"] + ".json") + ".partial")
+
+        def save(result, partial=partial):
+            with open(partial + ".tmp", "w") as f:
+                json.dump(dict(result, partial=True), f, indent=1)
+            os.replace(partial + ".tmp", partial)
+        result = run_set(path, s, tools, args, save)
         name = args.name if args.name and len(sets) == 1 else \
             f"{result['started'][:10]}-{slug(result['machine']['gpu'])}-{s['name']}.json"
         target = os.path.join(out_dir, name)
@@ -485,6 +494,8 @@ def main():
             json.dump(result, f, indent=1)
             f.write("\n")
         os.replace(target + ".tmp", target)
+        if os.path.exists(partial):
+            os.remove(partial)
         failed += sum(1 for g in result["groups"] for c in g["cases"] if "error" in c)
         print(report.set_section(result, heading="##"))
         log(f"wrote {target}")
