@@ -7,11 +7,11 @@
 #include "fog/fog_pass.h"
 #include "frame/renderer.h"
 #include "gpu/context.h"
+#include "grid/density_grid.h"
+#include "integrators/cpu_reference.h"
+#include "integrators/path_tracer.h"
 #include "scene/scene.h"
 #include "viewer/session/view_session.h"
-#include "integrators/cpu_reference.h"
-#include "grid/density_grid.h"
-#include "integrators/path_tracer.h"
 
 #include <chrono>
 #include <cmath>
@@ -20,11 +20,13 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <numbers>
 #include <string>
 #include <thread>
 #include <vector>
@@ -43,10 +45,15 @@ void usage() {
         "                                   difference (rgb rmse, max) as error_vs\n"
         "                  [--relight]      recompute the fog's light volumes every frame\n"
         "                  [--ppm out.ppm]  write the last frame as displayed (8-bit binary PPM)\n"
+        "                  [--pfm out.pfm]  write the last frame's linear radiance (float PFM)\n"
         "       veil-bench <scene.json> --pathtraced SPP SEED out.pfm [--width W] [--height H]\n"
         "                  [--set key=value]...  the CPU path tracer only (no GL): linear\n"
         "                                   radiance and out-stderr.pfm, all cores, with its\n"
-        "                                   time and samples per second in the JSON");
+        "                                   time and samples per second in the JSON\n"
+        "       veil-bench <scene.json> --surface-pathtraced SPP SEED out.pfm [--width W]\n"
+        "                  [--height H] [--set key=value]...  the path tracer's light on the\n"
+        "                                   first surface each pixel sees: base colour / pi x\n"
+        "                                   its irradiance (SPP paths), and out-stderr.pfm");
 }
 
 // Prints the result and writes it to `jsonPath` (atomically) when given; the exit status.
@@ -71,8 +78,8 @@ double wallMs(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// --viewer: the frames of `veil view` without its window (viewer/session/view_session.h): each frame is
-// ViewSession::renderFrame() (the renderer's passes and the copy into the shown image),
+// --viewer: the frames of `veil view` without its window (viewer/session/view_session.h): each
+// frame is ViewSession::renderFrame() (the renderer's passes and the copy into the shown image),
 // timed by GL timer queries per pass and by the CPU clock around the frame with glFinish;
 // the same CPU clock around Renderer::render() alone in the same run gives the viewer's
 // overhead as a ratio. Then the cost of the panel's edits: a volume's density (live), the
@@ -224,12 +231,112 @@ int pathTracedBench(const std::string& scenePath, const std::vector<std::string>
     return printResult(out, jsonPath);
 }
 
+// The nearest hit of a ray with the scene's triangles (world space): distance and the
+// triangle's unit normal facing the ray's origin, or false. Brute force: the scenes this
+// serves have a floor and a few objects.
+struct SurfaceHit {
+    double t = 1e300;
+    glm::dvec3 normal{0.0};
+    std::uint32_t material = 0;
+};
+bool intersectScene(const veil::scene::Scene& scene, const glm::dvec3& o, const glm::dvec3& d,
+                    double tMax, SurfaceHit& hit) {
+    bool found = false;
+    for (const auto& object : scene.objects) {
+        const auto& mesh = scene.meshes.at(object.mesh);
+        const glm::dmat4 m(object.transform);
+        auto world = [&](std::uint32_t i) {
+            return glm::dvec3(m * glm::dvec4(glm::dvec3(mesh.positions[i]), 1.0));
+        };
+        for (std::size_t k = 0; k + 2 < mesh.indices.size(); k += 3) {
+            // Moller-Trumbore.
+            const glm::dvec3 a = world(mesh.indices[k]), b = world(mesh.indices[k + 1]),
+                             c = world(mesh.indices[k + 2]);
+            const glm::dvec3 e1 = b - a, e2 = c - a, p = glm::cross(d, e2);
+            const double det = glm::dot(e1, p);
+            if (std::abs(det) < 1e-14) continue;
+            const glm::dvec3 s = o - a;
+            const double u = glm::dot(s, p) / det;
+            if (u < 0.0 || u > 1.0) continue;
+            const glm::dvec3 q = glm::cross(s, e1);
+            const double v = glm::dot(d, q) / det, t = glm::dot(e2, q) / det;
+            if (v < 0.0 || u + v > 1.0 || t <= 0.0 || t >= std::min(tMax, hit.t)) continue;
+            glm::dvec3 n = glm::normalize(glm::cross(e1, e2));
+            hit = {t, glm::dot(n, d) > 0.0 ? -n : n, object.material};
+            found = true;
+        }
+    }
+    return found;
+}
+
+// --surface-pathtraced: the reference for surfaces lit by the scattered-light cache. Per pixel,
+// the camera ray's first surface point (no volume in front of it is accounted for: the view
+// must see the surface through empty space), its Lambertian radiance base colour / pi x E with
+// E the path tracer's irradiance there (VolumePathTracer::surfaceIrradiance, cosine-weighted
+// paths with the tracer's own transport); pixels that see no surface are 0. All cores.
+int surfaceBench(const std::string& scenePath, const std::vector<std::string>& overrides, int width,
+                 int height, int spp, std::uint32_t seed, const std::string& pfm,
+                 const std::string& jsonPath) {
+    const veil::scene::Scene scene = veil::scene::loadScene(scenePath, overrides);
+    VEIL_CHECK(!scene.objects.empty(), "{}: --surface-pathtraced needs objects in the scene",
+               scenePath);
+    VEIL_CHECK(spp >= 2, "--surface-pathtraced: SPP must be at least 2 ({})", spp);
+    std::vector<openvdb::FloatGrid::ConstPtr> grids;
+    for (const auto& v : scene.volumes)
+        grids.push_back(v.procedural == "homogeneous" ? nullptr : veil::volume::loadVolume(v));
+    veil::volume::PathTracerSettings settings;
+    settings.seed = seed;
+    const veil::volume::VolumePathTracer tracer(scene, grids, settings);
+    veil::ImageF radiance(width, height, 3), error(width, height, 3);
+    const auto t0 = std::chrono::steady_clock::now();
+    std::atomic<int> nextRow{0}, surfacePixels{0};
+    auto work = [&] {
+        for (int y; (y = nextRow++) < height;)
+            for (int x = 0; x < width; ++x) {
+                const auto ray =
+                    veil::volume::cameraRay(scene.camera(), width, height, x + 0.5, y + 0.5);
+                SurfaceHit hit;
+                if (!intersectScene(scene, ray.origin, ray.direction, ray.length, hit)) continue;
+                const glm::dvec3 p = ray.origin + hit.t * ray.direction + 1e-6 * hit.normal;
+                glm::dvec3 se;
+                const glm::dvec3 e = tracer.surfaceIrradiance(
+                    p, hit.normal, spp, std::uint64_t(y) * std::uint64_t(width) + x, &se);
+                const glm::dvec3 albedo(scene.materials.at(hit.material).baseColor);
+                for (int c = 0; c < 3; ++c) {
+                    radiance.at(x, y, c) = float(albedo[c] / std::numbers::pi * e[c]);
+                    error.at(x, y, c) = float(albedo[c] / std::numbers::pi * se[c]);
+                }
+                ++surfacePixels;
+            }
+    };
+    std::vector<std::thread> threads;
+    for (unsigned i = 0; i < std::max(1u, std::thread::hardware_concurrency()); ++i)
+        threads.emplace_back(work);
+    for (auto& t : threads)
+        t.join();
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    writePfm(pfm, radiance);
+    const std::string stem = pfm.substr(0, pfm.size() - (pfm.ends_with(".pfm") ? 4 : 0));
+    writePfm(stem + "-stderr.pfm", error);
+    nlohmann::json out{{"scene", scenePath},
+                       {"width", width},
+                       {"height", height},
+                       {"spp", spp},
+                       {"seed", seed},
+                       {"seconds", s},
+                       {"surface_pixels", int(surfacePixels)},
+                       {"threads", std::thread::hardware_concurrency()},
+                       {"pfm", pfm}};
+    return printResult(out, jsonPath);
+}
+
 } // namespace
 
 int main(int argc, char** argv) try {
-    std::string scenePath, jsonPath, oit, errorVs, ppmPath, pfmPath;
+    std::string scenePath, jsonPath, oit, errorVs, ppmPath, pfmPath, framePfmPath;
     int width = 1920, height = 1080, frames = 100, warmup = 20, cpuFogW = 0, cpuFogH = 0;
     int ptSpp = 0;
+    bool surface = false;
     std::uint32_t ptSeed = 1;
     bool relight = false;
     bool viewer = false;
@@ -262,7 +369,10 @@ int main(int argc, char** argv) try {
             errorVs = next();
         else if (a == "--ppm")
             ppmPath = next();
-        else if (a == "--pathtraced") {
+        else if (a == "--pfm")
+            framePfmPath = next();
+        else if (a == "--pathtraced" || a == "--surface-pathtraced") {
+            surface = a == "--surface-pathtraced";
             ptSpp = std::stoi(next());
             ptSeed = std::uint32_t(std::stoul(next()));
             pfmPath = next();
@@ -282,6 +392,8 @@ int main(int argc, char** argv) try {
         return 2;
     }
     VEIL_CHECK(frames > 0 && warmup >= 0, "--frames must be > 0 and --warmup >= 0");
+    if (ptSpp > 0 && surface)
+        return surfaceBench(scenePath, overrides, width, height, ptSpp, ptSeed, pfmPath, jsonPath);
     if (ptSpp > 0)
         return pathTracedBench(scenePath, overrides, width, height, ptSpp, ptSeed, pfmPath,
                                jsonPath);
@@ -352,6 +464,10 @@ int main(int argc, char** argv) try {
     if (!ppmPath.empty()) {
         writePpm(ppmPath, renderer.readLdr());
         out["ppm"] = ppmPath;
+    }
+    if (!framePfmPath.empty()) {
+        writePfm(framePfmPath, renderer.readHdr()); // RGB of the RGBA radiance
+        out["pfm"] = framePfmPath;
     }
     if (cpuFogW > 0 && cpuFogH > 0) {
         // The CPU reference of the fog on the same camera (src/integrators/cpu_reference.h).
