@@ -71,6 +71,9 @@ CONDITIONS = [
 REGIONS = [("backlit-rim", "backlit, g 0.85: the lit rim alone (blocks > 1.2x the sky)",
             "backlit", 1.2)]
 SINGLE = ["render.fog_scattered_light=false", "render.fog_ambient=1", "render.fog_octaves=1"]
+# The cache frames bake the whole cache before the frame (as `veil render`; the viewer's
+# progressive bake would draw a partial one).
+FULL_BAKE = ["render.fog_scattered_light_budget_ms=0"]
 QUICK_CACHE = ["render.fog_scattered_light_samples=4", "render.fog_scattered_light_cell=8"]
 # The error each condition must stay within (mean relative error over 4x4 blocks); the floor's
 # is the surface target (docs/volumes.md "Surfaces lit by the cache"). The reference's noise
@@ -206,7 +209,7 @@ class Packer:
                 re.fullmatch(r"(gpu-.*\.(pfm|json)|ref-.*\.pfm)", n)
                 and not re.search(r"-s\d+-\d+", n)))
             tmp = os.path.join(self.out, ".validation.tgz.tmp")
-            with tarfile.open(tmp, "w:gz") as tar:
+            with tarfile.open(tmp, "w:gz", compresslevel=1) as tar:
                 for n in names:
                     tar.add(os.path.join(self.work, n), arcname=f"validation/{n}")
             os.replace(tmp, os.path.join(self.out, "validation.tgz"))
@@ -301,7 +304,7 @@ def render(args):
 
     def gpu_frames():
         for name, _, scene, sets, _, _ in conds:
-            for variant, vsets in (("cache", extra), ("single", SINGLE)):
+            for variant, vsets in (("cache", FULL_BAKE + extra), ("single", SINGLE)):
                 stem = os.path.join(work, f"gpu-{name}-{variant}")
                 if os.path.exists(stem + ".pfm") and os.path.exists(stem + ".json"):
                     continue
