@@ -158,6 +158,11 @@ void Renderer::sceneValuesChanged() {
 
 void Renderer::replaceVolumes(const std::vector<const volume::GridConversion*>& converted,
                               const std::string& camera) {
+    uploadVolumes(converted);
+    showUploaded(camera);
+}
+
+void Renderer::uploadVolumes(const std::vector<const volume::GridConversion*>& converted) {
     VEIL_CHECK(stages_.fog && stages_.fog->fog().gridVolumeCount() == converted.size(),
                "frame: {} volume conversions for a frame with {} grid volumes", converted.size(),
                stages_.fog ? stages_.fog->fog().gridVolumeCount() : 0);
@@ -165,6 +170,10 @@ void Renderer::replaceVolumes(const std::vector<const volume::GridConversion*>& 
     volume::FogPass& fog = stages_.fog->fog();
     for (std::size_t i = 0; i < converted.size(); ++i)
         fog.replaceVolume(i, *converted[i]);
+}
+
+void Renderer::showUploaded(const std::string& camera) {
+    volume::FogPass& fog = stages_.fog->fog();
     // The light views hold the volumes (frame_setup.cpp buildStages).
     glm::vec3 lo, hi;
     scene_.bounds(lo, hi);

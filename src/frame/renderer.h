@@ -165,6 +165,13 @@ public:
     // fit its volume.
     void replaceVolumes(const std::vector<const volume::GridConversion*>& converted,
                         const std::string& camera);
+    // replaceVolumes() in two steps, so that the next frame's upload overlaps this frame's
+    // render: uploadVolumes() after render() and before the image is read back (the copies
+    // queue behind the frame's commands; the scene's volume entries already hold the next
+    // frame's), then showUploaded() before the next render(): the camera, the shadow bounds
+    // and the recomputation of the light volumes and shadow maps.
+    void uploadVolumes(const std::vector<const volume::GridConversion*>& converted);
+    void showUploaded(const std::string& camera);
 
     // The stages in frame order, by name ("shadows", "depth", "ao", "opaque", "fog",
     // "transparency", "tonemap"; docs/architecture.md "Adding a stage" shows how to write one).

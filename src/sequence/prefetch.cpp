@@ -2,6 +2,7 @@
 #include "sequence/prefetch.h"
 
 #include "base/error.h"
+#include "fog/fog_pass.h"
 #include "frame/renderer.h"
 #include "grid/density_grid.h"
 #include "grid/vdb_file.h"
@@ -99,16 +100,16 @@ bool sameStructure(const scene::Scene& current, const scene::Scene& next) {
 
 // The conversion of every grid volume of the prepared frame, made ahead for `max3D` (with its
 // temperature channel where the volume has one), in scene order; false when one is missing.
-bool conversionsOf(const PreparedFrame& p, int max3D,
-                   std::vector<const volume::GridConversion*>& out) {
+bool conversionsOf(const scene::Scene& scene, const std::vector<volume::PreloadedGrid>& grids,
+                   int max3D, std::vector<const volume::GridConversion*>& out) {
     out.clear();
-    for (const scene::VolumeRef& v : p.scene.volumes) {
+    for (const scene::VolumeRef& v : scene.volumes) {
         if (v.procedural == "homogeneous") continue;
-        const auto g = std::find_if(p.grids.begin(), p.grids.end(), [&](const auto& x) {
+        const auto g = std::find_if(grids.begin(), grids.end(), [&](const auto& x) {
             return x.path == v.path && x.grid == v.grid && x.converted && x.max3D == max3D &&
                    x.channel == v.temperatureGrid;
         });
-        if (g == p.grids.end() || !v.emissionGrid.empty()) return false;
+        if (g == grids.end() || !v.emissionGrid.empty()) return false;
         out.push_back(g->converted.get());
     }
     return !out.empty();
@@ -123,6 +124,13 @@ void advanceScene(scene::Scene& current, const scene::Scene& next) {
         current.lights[i] = next.lights[i];
     for (std::size_t i = 0; i < next.cameras.size(); ++i)
         current.cameras[i] = next.cameras[i];
+}
+
+// The bytes GpuVolume::replace() sends for `c`: half-float texels, the 32-bit indirection
+// table and the neighbourhood means.
+std::size_t uploadBytes(const volume::GridConversion& c) {
+    return c.values.size() * 2 + c.channel.size() * 2 + c.table.size() * 4 +
+           c.neighbourhood.mean.size() * 4;
 }
 
 double msSince(std::chrono::steady_clock::time_point t) {
@@ -154,6 +162,12 @@ FramePrefetcher::~FramePrefetcher() {
 std::size_t FramePrefetcher::peakBytes() const {
     std::lock_guard lock(mutex_);
     return peakBytes_;
+}
+
+bool replaceableBy(const scene::Scene& current, const scene::Scene& next,
+                   const std::vector<volume::PreloadedGrid>& grids, int max3D,
+                   std::vector<const volume::GridConversion*>& out) {
+    return sameStructure(current, next) && conversionsOf(next, grids, max3D, out);
 }
 
 std::vector<volume::PreloadedGrid> readStaticGrids(const scene::AnimatedScene& scene) {
@@ -284,18 +298,44 @@ RangeRenderer::RangeRenderer(const gpu::ContextInfo& context, frame::RendererOpt
 
 RangeRenderer::~RangeRenderer() = default;
 
+bool RangeRenderer::upload(PreparedFrame& p) {
+    if (p.uploaded) return true;
+    if (!renderer_ || !replaceableBy(current_, p.scene, p.grids, max3D_, conversions_))
+        return false;
+    const auto start = std::chrono::steady_clock::now();
+    // The volume entries first: the upload places the data with the new frame's transforms.
+    // The camera and lights follow in next(), after the current frame's image is read back.
+    for (std::size_t i = 0; i < p.scene.volumes.size(); ++i)
+        current_.volumes[i] = p.scene.volumes[i];
+    renderer_->uploadVolumes(conversions_);
+    for (const volume::GridConversion* c : conversions_)
+        uploadedBytes_ += uploadBytes(*c);
+    uploads_ += conversions_.size();
+    lastUploadMs_ = msSince(start);
+    p.uploaded = true;
+    p.grids.clear(); // copied into the staging buffer
+    return true;
+}
+
 frame::Renderer& RangeRenderer::next(PreparedFrame& p) {
-    if (renderer_ && sameStructure(current_, p.scene) && conversionsOf(p, max3D_, conversions_)) {
+    if (p.uploaded || upload(p)) {
         advanceScene(current_, p.scene);
-        renderer_->replaceVolumes(conversions_, options_.camera);
+        renderer_->showUploaded(options_.camera);
         ++reused_;
     } else {
+        const auto start = std::chrono::steady_clock::now();
         renderer_.reset();
         current_ = std::move(p.scene);
         // The frame's grids come from the read-ahead (grid/grid_preload.h).
         const volume::PreloadedGridScope preloaded(p.grids);
         renderer_ = std::make_unique<frame::Renderer>(current_, context_, options_);
         ++built_;
+        if (const volume::FogPass* fog = renderer_->fog())
+            for (const volume::GpuVolumeStats& s : fog->stats()) {
+                uploadedBytes_ += s.gpuBytes;
+                ++uploads_;
+            }
+        lastUploadMs_ = msSince(start);
     }
     p.grids.clear(); // uploaded
     return *renderer_;

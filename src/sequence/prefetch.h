@@ -38,6 +38,7 @@ struct PreparedFrame {
     double convertMs = 0.0; // wall time of the GPU conversion on the worker
     std::size_t bytes = 0;  // memory of its grids and their conversions
     std::uint64_t activeVoxels = 0;
+    bool uploaded = false; // RangeRenderer::upload() put its volumes on the GPU already
 };
 
 // GPU conversions of the grids that do not change with the frame (readStaticGrids()), made
@@ -72,6 +73,15 @@ private:
 PreparedFrame prepareFrame(const scene::AnimatedScene& scene, int frame,
                            const std::vector<volume::PreloadedGrid>& staticGrids, int max3D,
                            StaticConversions* conversions = nullptr);
+
+// Whether a renderer built on `current` can show `next` by replacing its volumes' data
+// (frame::Renderer::replaceVolumes): the same structure (the same volumes, lights and cameras,
+// file volumes only, no baked scattered-light cache) and, among `grids`, a conversion made
+// ahead for `max3D` of every grid volume of `next` (with its temperature channel), put into
+// `out` in scene order.
+bool replaceableBy(const scene::Scene& current, const scene::Scene& next,
+                   const std::vector<volume::PreloadedGrid>& grids, int max3D,
+                   std::vector<const volume::GridConversion*>& out);
 
 // File volumes that do not change with the frame, read once (errors thrown at once).
 std::vector<volume::PreloadedGrid> readStaticGrids(const scene::AnimatedScene& scene);
@@ -126,8 +136,20 @@ public:
 
     // The renderer for frame `p` (its scene and grids are taken; p.grids is emptied).
     frame::Renderer& next(PreparedFrame& p);
+    // The first half of next() for a frame that can reuse the renderer, called while the
+    // current frame is still rendering (after its render(), before its image is read back):
+    // uploads p's volumes into the renderer's textures (Renderer::uploadVolumes; the copies
+    // run on the GPU after the current frame's commands) and marks p uploaded; next(p) then
+    // only switches the camera and lights. False (nothing done) when p needs a new renderer.
+    bool upload(PreparedFrame& p);
     int built() const { return built_; }   // renderers built so far
     int reused() const { return reused_; } // frames that replaced volumes only
+    // Volume uploads from host memory so far: grid volumes built or replaced, their texels'
+    // bytes as sent (half floats, the indirection table, the neighbourhood means), and the
+    // wall time of the last frame's upload calls (ms; building: the whole construction).
+    std::size_t uploads() const { return uploads_; }
+    std::size_t uploadedBytes() const { return uploadedBytes_; }
+    double lastUploadMs() const { return lastUploadMs_; }
 
 private:
     gpu::ContextInfo context_;
@@ -137,6 +159,8 @@ private:
     std::unique_ptr<frame::Renderer> renderer_;
     std::vector<const volume::GridConversion*> conversions_;
     int built_ = 0, reused_ = 0;
+    std::size_t uploads_ = 0, uploadedBytes_ = 0;
+    double lastUploadMs_ = 0.0;
 };
 
 } // namespace veil::sequence

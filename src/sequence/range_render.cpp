@@ -7,7 +7,7 @@
 #include "grid/grid_preload.h"
 #include "io/image_io.h"
 #include "scene/timeline.h"
-#include "sequence/prefetch.h"
+#include "sequence/range_player.h"
 
 #include <algorithm>
 #include <cctype>
@@ -68,7 +68,11 @@ nlohmann::json RangeResult::json() const {
                       {"read_ms", f.readMs},
                       {"convert_ms", f.convertMs},
                       {"setup_ms", f.setupMs},
+                      {"upload_ms", f.uploadMs},
+                      {"uploaded_ahead", f.uploadedAhead},
+                      {"uploaded_bytes", f.uploadedBytes},
                       {"render_ms", f.renderMs},
+                      {"ahead_ms", f.aheadMs},
                       {"gpu_ms", f.gpuMs},
                       {"write_ms", f.writeMs},
                       {"active_voxels", f.activeVoxels}});
@@ -82,8 +86,11 @@ nlohmann::json RangeResult::json() const {
             {"peak_read_ahead_bytes", peakReadAheadBytes},
             {"times", "read_ms, convert_ms on a worker thread, overlapping earlier frames; "
                       "wait_ms: the render thread waiting for them; setup_ms: the renderer "
-                      "built (first frame, or a frame of another structure) or its volumes "
-                      "replaced, with the grids' upload; render_ms: render() to glFinish"}};
+                      "built (first frame, or a frame of another structure, with its upload) "
+                      "or the camera and lights switched; upload_ms: the frame's volume "
+                      "uploads, made while the previous frame rendered when uploaded_ahead; "
+                      "render_ms: render() to glFinish; ahead_ms: taking and uploading the "
+                      "next frame while this one renders"}};
 }
 
 RangeResult renderRange(const scene::AnimatedScene& scene, const RangeJob& job,
@@ -120,54 +127,53 @@ RangeResult renderRange(const scene::AnimatedScene& scene, const RangeJob& job,
 
     GLint max3D = 0; // the workers convert the grids for this GPU
     glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3D);
-    FramePrefetcher prefetcher(
-        scene, todo, std::size_t(scene.timeline.time.prefetchBudgetMiB) << 20, job.threads, max3D);
+    RangePlayer player(scene, todo, context, job.options,
+                       std::size_t(scene.timeline.time.prefetchBudgetMiB) << 20, job.threads,
+                       max3D);
     const auto renderStart = Clock::now();
     int rendered = 0;
-    RangeRenderer frames(context, job.options, max3D);
     for (std::size_t i = 0; i < todo.size(); ++i) {
         if (job.stop && job.stop->load()) {
             result.interrupted = true;
             break;
         }
+        const PlayedFrame played = player.step();
         FrameTimes t;
-        auto mark = Clock::now();
-        PreparedFrame p = prefetcher.take();
-        t.waitMs = msSince(mark);
-        VEIL_CHECK(p.error.empty(), "{}", p.error);
-        t.frame = p.frame;
-        t.readMs = p.readMs;
-        t.convertMs = p.convertMs;
-        t.activeVoxels = p.activeVoxels;
-        t.notes = p.notes;
-        t.output = outputFor(job.output, p.frame, single);
-
-        mark = Clock::now();
-        frame::Renderer* renderer = &frames.next(p);
-        t.setupMs = msSince(mark);
-        mark = Clock::now();
-        renderer->render();
-        glFinish();
-        t.renderMs = msSince(mark);
+        t.frame = played.frame;
+        t.waitMs = played.waitMs;
+        t.readMs = played.readMs;
+        t.convertMs = played.convertMs;
+        t.setupMs = played.setupMs;
+        t.uploadMs = played.uploadMs;
+        t.uploadedAhead = played.uploadedAhead;
+        t.uploadedBytes = played.uploadedBytes;
+        t.renderMs = played.renderMs;
+        t.aheadMs = played.aheadMs;
+        t.activeVoxels = played.activeVoxels;
+        t.notes = played.notes;
+        t.output = outputFor(job.output, played.frame, single);
+        const frame::Renderer* renderer = played.renderer;
         for (const auto& pass : renderer->passTimes())
             t.gpuMs += pass.milliseconds;
 
-        mark = Clock::now();
-        capture::writeFrame(
-            t.output, *renderer,
-            {job.scenePath, context.renderer, job.half, {{"veil:frame", std::to_string(p.frame)}}});
+        const auto mark = Clock::now();
+        capture::writeFrame(t.output, *renderer,
+                            {job.scenePath,
+                             context.renderer,
+                             job.half,
+                             {{"veil:frame", std::to_string(played.frame)}}});
         t.writeMs = msSince(mark);
         result.frames.push_back(std::move(t));
         ++rendered;
 
         progress.done++;
-        progress.frame = p.frame;
+        progress.frame = played.frame;
         const double elapsed = std::chrono::duration<double>(Clock::now() - renderStart).count();
         progress.framesPerSecond = rendered / std::max(elapsed, 1e-9);
         progress.secondsLeft = double(todo.size() - i - 1) / progress.framesPerSecond;
         if (job.progress) job.progress(progress);
     }
-    result.peakReadAheadBytes = prefetcher.peakBytes();
+    result.peakReadAheadBytes = player.peakReadAheadBytes();
     result.wallSeconds = std::chrono::duration<double>(Clock::now() - start).count();
     return result;
 }

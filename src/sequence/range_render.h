@@ -1,6 +1,6 @@
 // Rendering a scene's frames into numbered images in one process and one GL context: grids of
 // the next frames are read and converted on worker threads (prefetch.h) while the current
-// frame renders;
+// frame renders, and the next frame's volumes are uploaded behind it (range_player.h);
 // every image is written atomically (temporary file + rename), so an interrupted range leaves
 // complete frames only, and a resumed one skips the frames whose image is complete.
 #pragma once
@@ -52,10 +52,15 @@ struct FrameTimes {
     double waitMs = 0.0;    // waiting for the workers (read not done in time)
     double readMs = 0.0;    // resolving and reading the grids (on a worker)
     double convertMs = 0.0; // converting them into the GPU's arrays (on a worker)
-    double setupMs = 0.0;   // renderer: programs, upload of the converted grids
-    double renderMs = 0.0;  // render() to glFinish
-    double gpuMs = 0.0;     // sum of the pass timers
-    double writeMs = 0.0;   // read-back and writing the image
+    double setupMs = 0.0;   // renderer: programs, or the camera and lights switched
+    double uploadMs = 0.0;  // the volumes' upload calls (during the previous frame's render
+                            // when uploadedAhead; else part of setupMs)
+    bool uploadedAhead = false;
+    std::size_t uploadedBytes = 0;
+    double renderMs = 0.0; // render() to glFinish (without the next frame's upload calls)
+    double aheadMs = 0.0;  // taking and uploading the next frame while this one renders
+    double gpuMs = 0.0;    // sum of the pass timers
+    double writeMs = 0.0;  // read-back and writing the image
     std::uint64_t activeVoxels = 0;
     std::vector<std::string> notes;
 };

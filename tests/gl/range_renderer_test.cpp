@@ -2,11 +2,14 @@
 // scene's structure replace only the volumes' data, camera and lights, and each image equals a
 // renderer built for that frame alone, bit for bit, with a temperature emission channel, a
 // shadow-casting light and a turntable camera; a frame of another structure (the volume gone)
-// builds a new renderer.
+// builds a new renderer. Played with the next frame's upload behind the current frame's render
+// (sequence/range_player.h), the images are the same, and the upload counters count each
+// frame's volume data once.
 #include "frame/renderer.h"
 #include "gl_fixture.h"
 #include "scene/timeline.h"
 #include "sequence/prefetch.h"
+#include "sequence/range_player.h"
 #include "support/test_support.h"
 
 #include <fmt/format.h>
@@ -103,6 +106,49 @@ TEST_F(RangeRendererTest, FrameOfAnotherStructureBuildsANewRenderer) {
     }
     EXPECT_EQ(range.built(), 2);
     EXPECT_EQ(range.reused(), 1);
+}
+
+// The bytes of frame `frame`'s grid conversions as the upload sends them (half-float texels,
+// 32-bit indirection entries), from a conversion made here.
+static std::size_t frameUploadBytes(const scene::AnimatedScene& scene, int frame, int max3D) {
+    const sequence::PreparedFrame p = sequence::prepareFrame(scene, frame, {}, max3D);
+    std::size_t bytes = 0;
+    for (const auto& g : p.grids)
+        if (g.converted)
+            bytes += g.converted->values.size() * 2 + g.converted->channel.size() * 2 +
+                     g.converted->table.size() * 4;
+    return bytes;
+}
+
+TEST_F(RangeRendererTest, UploadsBehindThePreviousRenderEqualRenderersBuiltAlone) {
+    const scene::AnimatedScene scene = fireRange("loop", "loop.json");
+    GLint max3D = 0;
+    glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3D);
+    const std::vector<int> frames = {1, 2, 3, 4};
+    for (const bool overlap : {true, false}) {
+        SCOPED_TRACE(overlap ? "overlapped" : "serial");
+        sequence::RangePlayer player(scene, frames, info(), {}, std::size_t(1) << 30, 2, max3D,
+                                     overlap);
+        std::size_t replacedBytes = 0;
+        for (int f : frames) {
+            const sequence::PlayedFrame played = player.step();
+            EXPECT_EQ(played.frame, f);
+            // Read back after the next frame's volumes went up.
+            EXPECT_TRUE(samePixels(played.renderer->readHdr(), alone(info(), scene, f)))
+                << "frame " << f;
+            EXPECT_EQ(played.uploadedAhead, overlap && f > 1) << "frame " << f;
+            EXPECT_EQ(played.uploads, 1u) << "frame " << f;
+            if (f > 1) {
+                EXPECT_EQ(played.uploadedBytes, frameUploadBytes(scene, f, max3D)) << f;
+                replacedBytes += played.uploadedBytes;
+            }
+        }
+        EXPECT_TRUE(player.done());
+        EXPECT_EQ(player.renderers().built(), 1);
+        EXPECT_EQ(player.renderers().uploads(), frames.size());
+        EXPECT_GT(replacedBytes, 0u);
+    }
+    VEIL_EXPECT_NO_GL_ERROR();
 }
 
 } // namespace veil::test
