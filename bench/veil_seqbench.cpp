@@ -1,17 +1,25 @@
 // veil-seqbench: plays a scene's frame range the way `veil render --frames` does, without
 // writing images, and measures where a frame's time goes. Worker threads read and convert the
 // next frames (sequence/prefetch.h; the conversion itself multithreaded with TBB) while the
-// render thread uploads and renders the current one. Reported per frame (median, mean):
+// render thread renders the current one and, behind its render, uploads the next frame's
+// volumes (sequence/range_player.h). Reported per frame (median, mean):
 //   read_ms, convert_ms  on a worker, overlapping earlier frames;
 //   wait_ms              the render thread waiting for the workers;
-//   setup_ms             the frame's renderer (sequence/range_render.h RangeRenderer: built
-//                        for the first frame, then its volumes' data replaced) with the
-//                        upload of the converted grids;
-//   render_ms            render() to glFinish;
-// end to end: frames / wall seconds of the whole loop. Then, on the distinct frames alone:
-// the upload of a frame's conversion into new textures (GpuVolume, glFinish) and into the
-// textures of the previous distinct frame (GpuVolume::replace, as a range's frames upload; only
-// frames after the first), and the CPU conversion cost per
+//   setup_ms             the frame's renderer (sequence/prefetch.h RangeRenderer: built for
+//                        the first frame, then the camera and lights switched; with
+//                        --serial-upload also the upload of its volumes);
+//   upload_ms            the frame's volume upload calls (staging buffer, texture copies
+//                        queued), made during the previous frame's render unless
+//                        --serial-upload; uploaded_mb its bytes;
+//   render_ms            render() to glFinish, without the next frame's upload calls;
+//   ahead_ms             taking and uploading the next frame while the GPU renders;
+//   frame_ms             one frame's whole time on the render thread.
+// end to end: frames / wall seconds of the whole loop. --scrub-back N then shows the N frames
+// before the range's last one again, last first (as the viewer's timeline scrubbing back),
+// reported under "scrub_back" with the same fields and the number of volume uploads. Then, on
+// the distinct frames alone: the upload of a frame's conversion into new textures (GpuVolume,
+// glFinish) and into the textures of the previous distinct frame (GpuVolume::replace, as a
+// range's frames upload; only frames after the first), and the CPU conversion cost per
 // million active voxels with all threads and with one. Links the core only (no OpenImageIO,
 // no VTK), like veil-bench. bench/run.py runs it for the sequence-playback set.
 #include "base/atomic_file.h"
@@ -23,7 +31,7 @@
 #include "grid/grid_preload.h"
 #include "scene/timeline.h"
 #include "sequence/prefetch.h"
-#include "sequence/range_render.h"
+#include "sequence/range_player.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -53,9 +61,13 @@ double msSince(Clock::time_point t) {
 void usage() {
     std::puts("usage: veil-seqbench <scene.json> --frames A-B[:S] [--repeat N] [--width W]\n"
               "                     [--height H] [--threads T] [--warmup N] [--set key=value]...\n"
-              "                     [--oit NAME] [--json out.json]\n"
-              "  --repeat N   play the range N times (a longer run over the same files)\n"
-              "  --threads T  prefetch workers (default 2); TBB uses every core inside each");
+              "                     [--oit NAME] [--serial-upload] [--scrub-back N]\n"
+              "                     [--json out.json]\n"
+              "  --repeat N        play the range N times (a longer run over the same files)\n"
+              "  --threads T       prefetch workers (default 2); TBB uses every core inside each\n"
+              "  --serial-upload   upload each frame's volumes right before its render, not\n"
+              "                    during the previous frame's render\n"
+              "  --scrub-back N    then show the N frames before the last one again, last first");
 }
 
 nlohmann::json stats(std::vector<double> v) {
@@ -70,8 +82,28 @@ nlohmann::json stats(std::vector<double> v) {
 struct Args {
     std::string scene, frames, json, oit;
     std::vector<std::string> overrides;
-    int repeat = 1, width = 1920, height = 1080, threads = 2, warmup = 2;
+    int repeat = 1, width = 1920, height = 1080, threads = 2, warmup = 2, scrubBack = 0;
+    bool serialUpload = false;
 };
+
+using Samples = std::map<std::string, std::vector<double>>;
+
+// One played frame's times into `t`.
+void record(const veil::sequence::PlayedFrame& f, double frameMs, Samples& t) {
+    t["wait_ms"].push_back(f.waitMs);
+    t["read_ms"].push_back(f.readMs);
+    t["convert_ms"].push_back(f.convertMs);
+    t["setup_ms"].push_back(f.setupMs);
+    t["upload_ms"].push_back(f.uploadMs);
+    t["uploaded_mb"].push_back(double(f.uploadedBytes) / 1048576.0);
+    t["render_ms"].push_back(f.renderMs);
+    t["ahead_ms"].push_back(f.aheadMs);
+    t["frame_ms"].push_back(frameMs);
+    double gpu = 0.0;
+    for (const auto& pass : f.renderer->passTimes())
+        gpu += pass.milliseconds;
+    t["gpu_passes_ms"].push_back(gpu);
+}
 
 int run(const Args& a) {
     using namespace veil;
@@ -93,40 +125,40 @@ int run(const Args& a) {
         glFinish();
     }
 
-    std::map<std::string, std::vector<double>> t;
+    // The frames shown again when scrubbing back: those before the last, last first.
+    std::vector<int> scrub;
+    for (int i = int(frames.size()) - 2; i >= 0 && int(scrub.size()) < a.scrubBack; --i)
+        scrub.push_back(frames[std::size_t(i)]);
+    std::vector<int> played = frames;
+    played.insert(played.end(), scrub.begin(), scrub.end());
+
+    Samples t, back;
     std::vector<double> activeVoxels;
-    const auto start = Clock::now();
+    auto start = Clock::now();
+    double wallS = 0.0, scrubWallS = 0.0;
     int built = 0, reused = 0;
+    std::size_t scrubUploads = 0;
     {
-        sequence::RangeRenderer renderers(context.info(), options, max3D);
-        sequence::FramePrefetcher prefetcher(
-            scene, frames, std::size_t(scene.timeline.time.prefetchBudgetMiB) << 20, a.threads,
-            max3D);
-        for (std::size_t i = 0; i < frames.size(); ++i) {
-            auto mark = Clock::now();
-            sequence::PreparedFrame p = prefetcher.take();
-            t["wait_ms"].push_back(msSince(mark));
-            VEIL_CHECK(p.error.empty(), "{}", p.error);
-            t["read_ms"].push_back(p.readMs);
-            t["convert_ms"].push_back(p.convertMs);
-            activeVoxels.push_back(double(p.activeVoxels));
-            mark = Clock::now();
-            frame::Renderer& renderer = renderers.next(p);
-            glFinish();
-            t["setup_ms"].push_back(msSince(mark));
-            mark = Clock::now();
-            renderer.render();
-            glFinish();
-            t["render_ms"].push_back(msSince(mark));
-            double gpu = 0.0;
-            for (const auto& pass : renderer.passTimes())
-                gpu += pass.milliseconds;
-            t["gpu_passes_ms"].push_back(gpu);
+        sequence::RangePlayer player(scene, played, context.info(), options,
+                                     std::size_t(scene.timeline.time.prefetchBudgetMiB) << 20,
+                                     a.threads, max3D, !a.serialUpload);
+        for (std::size_t i = 0; i < played.size(); ++i) {
+            if (i == frames.size()) {
+                wallS = std::chrono::duration<double>(Clock::now() - start).count();
+                start = Clock::now();
+            }
+            const auto mark = Clock::now();
+            const sequence::PlayedFrame f = player.step();
+            const bool scrubbing = i >= frames.size();
+            record(f, msSince(mark), scrubbing ? back : t);
+            if (scrubbing) scrubUploads += f.uploads;
+            if (!scrubbing) activeVoxels.push_back(double(f.activeVoxels));
         }
-        built = renderers.built();
-        reused = renderers.reused();
+        const double s = std::chrono::duration<double>(Clock::now() - start).count();
+        (scrub.empty() ? wallS : scrubWallS) = s;
+        built = player.renderers().built();
+        reused = player.renderers().reused();
     }
-    const double wallS = std::chrono::duration<double>(Clock::now() - start).count();
 
     // The distinct frames alone: upload, and the CPU conversion per million active voxels.
     std::vector<double> uploadMs, convertPerM, convertPerM1, uploadGBs, replaceMs, replaceGBs;
@@ -180,6 +212,8 @@ int run(const Args& a) {
     out["renderer"] = info.renderer;
     out["gl_version"] = info.version;
     out["timer"] = info.softwareRenderer ? "glFinish + CPU clock" : "GL_TIME_ELAPSED";
+    out["upload"] = a.serialUpload ? "serial: before each frame's render"
+                                   : "overlapped: during the previous frame's render";
     out["renderers_built"] = built;
     out["frames_reusing_the_renderer"] = reused;
     out["wall_s"] = wallS;
@@ -187,13 +221,19 @@ int run(const Args& a) {
     out["active_voxels"] = stats(activeVoxels);
     for (const auto& [k, v] : t)
         out["per_frame"][k] = stats(v);
-    // Shares of the render thread's frame (wait + setup + render) and of the workers' work.
-    const double wait = out["per_frame"]["wait_ms"]["mean"],
-                 setup = out["per_frame"]["setup_ms"]["mean"],
-                 render = out["per_frame"]["render_ms"]["mean"];
-    const double frameMs = wait + setup + render;
-    out["render_thread_share"] = {
-        {"wait", wait / frameMs}, {"setup_upload", setup / frameMs}, {"render", render / frameMs}};
+    // Shares of the render thread's frame.
+    const double frameMs = out["per_frame"]["frame_ms"]["mean"];
+    for (const char* k : {"wait_ms", "setup_ms", "upload_ms", "render_ms", "ahead_ms"})
+        out["render_thread_share"][std::string(k).substr(0, std::strlen(k) - 3)] =
+            out["per_frame"][k]["mean"].get<double>() / frameMs;
+    if (!scrub.empty()) {
+        out["scrub_back"]["frames"] = scrub;
+        out["scrub_back"]["volume_uploads"] = scrubUploads;
+        out["scrub_back"]["wall_s"] = scrubWallS;
+        out["scrub_back"]["fps"] = double(scrub.size()) / scrubWallS;
+        for (const auto& [k, v] : back)
+            out["scrub_back"]["per_frame"][k] = stats(v);
+    }
     out["distinct_frames"] = {
         {"upload_ms", stats(uploadMs)},
         {"upload_gb_per_s", stats(uploadGBs)},
@@ -203,13 +243,25 @@ int run(const Args& a) {
         {"convert_ms_per_million_active_voxels_1_thread", stats(convertPerM1)}};
     // bench/run.py's pass list: the stages' means as "passes" so a group's metric can pick one.
     nlohmann::json passes = nlohmann::json::array();
-    for (const char* k : {"wait_ms", "read_ms", "convert_ms", "setup_ms", "render_ms"})
+    for (const char* k :
+         {"wait_ms", "read_ms", "convert_ms", "setup_ms", "upload_ms", "render_ms", "ahead_ms"})
         passes.push_back({{"name", std::string(k).substr(0, std::strlen(k) - 3)},
                           {"median_ms", out["per_frame"][k]["median"]},
                           {"min_ms", out["per_frame"][k]["min"]},
                           {"max_ms", out["per_frame"][k]["max"]}});
     passes.push_back(
         {{"name", "frame"}, {"median_ms", 1000.0 / out["end_to_end_fps"].get<double>()}});
+    if (!scrub.empty()) {
+        const auto& b = out["scrub_back"]["per_frame"];
+        passes.push_back({{"name", "scrub_back_frame"},
+                          {"median_ms", b["frame_ms"]["median"]},
+                          {"min_ms", b["frame_ms"]["min"]},
+                          {"max_ms", b["frame_ms"]["max"]}});
+        passes.push_back({{"name", "scrub_back_upload"},
+                          {"median_ms", b["upload_ms"]["median"]},
+                          {"min_ms", b["upload_ms"]["min"]},
+                          {"max_ms", b["upload_ms"]["max"]}});
+    }
     out["passes"] = passes;
     out["total_median_ms"] = 1000.0 / out["end_to_end_fps"].get<double>(); // run.py's "frame"
     const std::string text = out.dump(2);
@@ -246,6 +298,10 @@ int main(int argc, char** argv) {
                 a.threads = std::stoi(next());
             else if (s == "--warmup")
                 a.warmup = std::stoi(next());
+            else if (s == "--scrub-back")
+                a.scrubBack = std::stoi(next());
+            else if (s == "--serial-upload")
+                a.serialUpload = true;
             else if (s == "--set")
                 a.overrides.push_back(next());
             else if (s == "--json")
@@ -264,7 +320,7 @@ int main(int argc, char** argv) {
             return 2;
         }
     }
-    if (a.scene.empty() || a.frames.empty() || a.width < 1 || a.height < 1) {
+    if (a.scene.empty() || a.frames.empty() || a.width < 1 || a.height < 1 || a.scrubBack < 0) {
         usage();
         return 2;
     }
