@@ -47,6 +47,7 @@ void withRendererContext(py::handle renderer,
 void bindScene(py::module_& m);
 void bindImages(py::module_& m);   // read_image, write_image, compare, heat_map, tonemap
 void bindRenderer(py::module_& m); // Renderer, techniques
+void bindFrames(py::module_& m);   // Renderer.frames()'s iterator
 void bindData(py::module_& m);     // vdb_info, export_vti, voxelize, Suite
 
 } // namespace veil::python

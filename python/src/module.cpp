@@ -17,6 +17,7 @@ PYBIND11_MODULE(_veil, m) {
     veil::python::bindScene(m);
     veil::python::bindImages(m);
     veil::python::bindRenderer(m);
+    veil::python::bindFrames(m);
     veil::python::bindData(m);
     m.attr("__name__") = name;
 }

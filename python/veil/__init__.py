@@ -203,9 +203,47 @@ class Renderer(_veil._Renderer):
         return Frame(rgba=out["rgba"], ldr=out["ldr"], depth=out["depth"],
                      report=out["report"], aovs=extra)
 
+    def frames(self, scene: _Union["Scene", str, _os.PathLike, dict],
+               first: _Optional[int] = None, last: _Optional[int] = None, step: int = 1,
+               width: _Optional[int] = None, height: _Optional[int] = None,
+               oit: _Optional[str] = None, threads: int = 2):
+        """An iterator of (frame number, Frame) over frames first..last (step) of an animated
+        scene (default: the scene's whole range; first alone: that frame), rendered as
+        `veil render --frames` renders them: one renderer for the range, worker threads
+        (`threads`) reading and converting the next frames' grids, each later frame of the
+        same structure replacing only the volumes' data, camera and lights, its upload made
+        while the previous frame renders. Each Frame equals a frame rendered alone.
+        len() gives the number of frames. frame.report holds the frame's passes and its
+        times: wait_ms, read_ms, convert_ms, setup_ms, upload_ms (uploaded_ahead: during the
+        previous frame's render), render_ms, uploaded_bytes.
+
+            for number, frame in renderer.frames("datasets/scenes/fire-sequence.json", 1, 48):
+                veil.write_image(f"out.{number:04d}.exr", frame.rgb)
+        """
+        frames = _veil._Frames(self, scene, first, last, step, width, height, oit, threads)
+        return _FrameIterator(frames)
+
     def techniques(self) -> list:
         """techniques() with availability on this renderer's driver."""
         return self._techniques()
+
+
+class _FrameIterator:
+    """Renderer.frames(): (frame number, Frame) for each frame of the range."""
+
+    def __init__(self, frames):
+        self._frames = frames
+
+    def __iter__(self):
+        return self
+
+    def __next__(self):
+        number, out = next(self._frames)
+        return number, Frame(rgba=out["rgba"], ldr=out["ldr"], depth=out["depth"],
+                             report=out["report"])
+
+    def __len__(self):
+        return len(self._frames)
 
 
 def techniques(renderer: _Optional["Renderer"] = None) -> list:
