@@ -279,11 +279,19 @@ def render(args):
     if os.path.exists(mpath):
         with open(mpath) as f:
             old = json.load(f)
-        if old.get("size") == size:
-            manifest["conditions"] = old.get("conditions", {})
+        if old.get("size") != size:
+            raise SystemExit(f"cache_validation: {work} holds a {old.get('size')}x"
+                             f"{old.get('size')} run, not {size}x{size}: give another --work "
+                             "(or remove it)")
+        manifest["conditions"] = old.get("conditions", {})
     for name, label, scene, sets, bg, kind in conds:
         manifest["conditions"].setdefault(name, {}).update(
             {"label": label, "scene": scene, "set": sets, "background": list(bg), "kind": kind})
+    commit = os.path.join(ROOT, ".gpu", "commit.json")  # bench/gpu-bundle.sh's, on the GPU machine
+    if os.path.exists(commit):
+        with open(commit) as f:
+            manifest["bundle"] = json.load(f)
+    manifest["cpus"] = os.cpu_count()
     manifest["regions"] = [{"name": r[0], "label": r[1], "of": r[2], "above_background": r[3]}
                            for r in REGIONS]
 
@@ -393,6 +401,7 @@ def render(args):
             log(f"reference {best[1]}: FAILED")
             break
     gpu.join()
+    manifest["elapsed_s"] = round(elapsed(), 1)
     save_manifest()
     for e in errors:
         log(f"error: {e}")
