@@ -103,6 +103,7 @@ nlohmann::json statusJson(const session::ViewSession& session, const DebugView& 
                         {"width", r.width()},
                         {"height", r.height()},
                         {"overrides", session.overrides()},
+                        {"frames_replaced", session.framesReplaced()},
                         {"renderer", session.context().renderer}};
     const session::ViewSession::RefineLog& log = session.refineLog();
     j["refinement"] = {{"tile_px", session.refineTilePx()},

@@ -2,6 +2,8 @@
 // in a real window on Xvfb: scrubbing to a frame and looping past the last frame show images
 // equal, bit for bit, to `veil render --frame N` of the same scene; a missing middle frame is
 // an error the viewer shows (status) while it keeps the last frame and goes on to the next.
+// The frames after the first replace only the volumes' data, camera and lights in the
+// viewer's renderer (ViewSession::showFrame), with the same images.
 #include "io/image_io.h"
 #include "support/test_support.h"
 
@@ -98,6 +100,8 @@ TEST(ViewTimelineTest, ScrubAndLoopEqualRenderFrame) {
     EXPECT_FALSE(same(r1, r3)); // the frames differ (camera and fire)
     const nlohmann::json status = readJson(d / "status.json");
     EXPECT_TRUE(hasOverride(status, "time.frame=3")) << status.dump();
+    // 3, 1, 4 and the played frames, each without a renderer built.
+    EXPECT_GE(status["frames_replaced"].get<int>(), 4) << status.dump();
     EXPECT_TRUE(same(d / "looped.png", r3));
     EXPECT_TRUE(status["errors"].empty()) << status.dump();
 }

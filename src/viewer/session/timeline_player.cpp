@@ -124,8 +124,7 @@ void TimelinePlayer::update(ViewSession& session, double dtSeconds, bool scripte
             status_ =
                 fmt::format("frame {} failed ({}); showing frame {}", target_, p->error, shown_);
         } else {
-            const volume::PreloadedGridScope preloaded(p->grids);
-            if (session.set(fmt::format("time.frame={}", target_))) {
+            if (session.showFrame(target_, p->grids)) {
                 shown_ = target_;
                 failed_ = INT32_MIN;
                 status_ = fmt::format("frame {}", shown_);

@@ -1,11 +1,12 @@
 // The viewer's timeline (play, pause, step, scrub, loop, fps) over an animated scene's frames:
 // file sequences, camera keys and turntables, light keys (scene/timeline.h). Frames are
 // streamed by a FrameCache (frame_cache.h) on a background thread; update() shows the frame
-// aimed at once it is ready, by setting time.frame in the ViewSession while the frame's
-// grids and their GPU conversions are in a PreloadedGridScope (grid/grid_preload.h), so the
-// UI thread only uploads. Until then the last frame stays shown and status() says so; a frame
-// that cannot be loaded (a missing or corrupt file) is recorded as the session's error, the
-// last frame stays and the timeline keeps going.
+// aimed at once it is ready (ViewSession::showFrame: a frame of the same structure replaces
+// only the volumes' data, camera and lights in the renderer; another builds the renderer
+// with the frame's grids and GPU conversions preloaded), so the UI thread only uploads. Until then
+// the last frame stays shown and status() says so; a frame that cannot be loaded (a missing or
+// corrupt file) is recorded as the session's error, the last frame stays and the timeline keeps
+// going.
 #pragma once
 
 #include "scene/timeline.h"

@@ -9,6 +9,7 @@
 #include "oit/technique.h"
 #include "scene/json_text.h"
 #include "scene/scene_values.h"
+#include "sequence/prefetch.h"
 #include "shadows/technique.h"
 
 #include <fmt/format.h>
@@ -290,6 +291,38 @@ bool ViewSession::set(const std::string& keyValue) {
         }
         overrides_ = std::move(next);
         frameFailed_ = false;
+        return succeed("set " + keyValue);
+    } catch (const Error& e) {
+        return record(e.what());
+    }
+}
+
+bool ViewSession::showFrame(int frame, const std::vector<volume::PreloadedGrid>& grids) {
+    const std::string keyValue = fmt::format("time.frame={}", frame);
+    try {
+        std::vector<std::string> next = overrides_;
+        addOverride(next, keyValue);
+        const std::unique_ptr<scene::Scene> parsed = loadWithDefaults(scenePath_, next);
+        std::vector<const volume::GridConversion*> converted;
+        if (!sequence::replaceableBy(*scene_, *parsed, grids, context_.max3DTextureSize,
+                                     converted)) {
+            const volume::PreloadedGridScope preloaded(grids);
+            return set(keyValue);
+        }
+        // Element by element: the fog pass keeps pointers to the volume entries.
+        scene::Scene& s = *scene_;
+        for (std::size_t i = 0; i < s.volumes.size(); ++i)
+            s.volumes[i] = parsed->volumes[i];
+        for (std::size_t i = 0; i < s.lights.size(); ++i)
+            s.lights[i] = parsed->lights[i];
+        for (std::size_t i = 0; i < s.cameras.size(); ++i)
+            s.cameras[i] = parsed->cameras[i];
+        renderer_->replaceVolumes(converted, cameraName_);
+        adoptCamera(false);
+        overrides_ = std::move(next);
+        frameFailed_ = false;
+        ++rebuilds_; // the error view's reference follows the new frame
+        ++framesReplaced_;
         return succeed("set " + keyValue);
     } catch (const Error& e) {
         return record(e.what());

@@ -19,6 +19,7 @@
 #include "frame/renderer.h"
 #include "gpu/context.h"
 #include "gpu/objects.h"
+#include "grid/grid_preload.h"
 #include "scene/scene.h"
 #include "scene/scene_values.h"
 
@@ -69,7 +70,13 @@ public:
 
     // Each returns false (and records the error) when the change could not be made; the
     // session then keeps what it had.
-    bool set(const std::string& keyValue);               // "key=value" (--set syntax)
+    bool set(const std::string& keyValue); // "key=value" (--set syntax)
+    // set("time.frame=N") for the timeline, with `grids` the frame's read-ahead (its
+    // conversions made for this GPU): a frame of the same structure replaces only the
+    // volumes' data, camera and lights in the renderer (frame::Renderer::replaceVolumes, as
+    // `veil render --frames`; the image equals a renderer built for the frame); another one
+    // builds the renderer with the grids preloaded.
+    bool showFrame(int frame, const std::vector<volume::PreloadedGrid>& grids);
     bool open(const std::filesystem::path& path);        // another scene or .vdb
     bool selectOit(const std::string& name);             // render.oit = {"type": name}
     bool selectShadows(const std::string& name);         // render.shadows = {"type": name}
@@ -183,6 +190,8 @@ public:
     // error view's reference, must follow).
     std::uint64_t rebuilds() const { return rebuilds_; }
     std::uint64_t valueChanges() const { return valueChanges_; }
+    // Timeline frames shown by replacing the volumes' data (showFrame) rather than rebuilding.
+    std::uint64_t framesReplaced() const { return framesReplaced_; }
     // The scene document as read from the .json (null for a bare .vdb), before overrides.
     const nlohmann::json& sourceDocument() const { return sourceDoc_; }
 
@@ -237,7 +246,7 @@ private:
     long long uiFramePixels_ = 0;  // per-pixel pass pixels since then
     bool uiFrameRefines_ = false;  // a refinement ran (begun or stepped) in this UI frame
     double uiFrameMs_ = 0.0;       // its pass times
-    std::uint64_t version_ = 0, rebuilds_ = 0, valueChanges_ = 0;
+    std::uint64_t version_ = 0, rebuilds_ = 0, valueChanges_ = 0, framesReplaced_ = 0;
     nlohmann::json sourceDoc_;
 };
 
