@@ -113,7 +113,9 @@ FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
             throw Error(fmt::format("{}: {}", where, e.what()));
         }
         if (scene.render.fogScatteredLight) densities.push_back(grid ? grid : loadVolume(ref));
-        Entry e{&ref, std::move(gpuVolume), gpu::Texture(gpu::NoCreate), glm::mat4(1.0f)};
+        Entry e{&ref, std::move(gpuVolume)};
+        e.source = ref.path;
+        e.sourceGrid = ref.grid;
         used += e.gpu->stats().gpuBytes;
         log::info("volume '{}': {} active voxels, {} ({} bricks), {:.2f} MiB on the GPU, grid "
                   "{:.2f} MiB",
@@ -201,6 +203,17 @@ void FogPass::replaceVolume(std::size_t i, const GridConversion& converted) {
     e.gpu->replace(converted, e.ref->transform);
     fitLightVolume(e);
     invalidateLightVolumes();
+    // The scattered-light cache bakes again only for another file or grid (a static volume
+    // under a moving camera keeps it); the grid comes from the frame's read-ahead
+    // (PreloadedGridScope) where there is one.
+    if (scattered_ && (e.ref->path != e.source || e.ref->grid != e.sourceGrid)) {
+        int coarsened = 0;
+        for (const auto& v : volumes_)
+            coarsened = std::max(coarsened, v.gpu->stats().coarsened);
+        scattered_->replaceGrid(i, loadVolume(*e.ref), coarsened);
+        e.source = e.ref->path;
+        e.sourceGrid = e.ref->grid;
+    }
 }
 
 FogPass::~FogPass() = default;

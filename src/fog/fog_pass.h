@@ -112,7 +112,10 @@ public:
     // channel where the volume has one). Programs stay, and the volume's textures where the new
     // data fits them (GpuVolume::replace()); its light transmittance volume is fitted
     // to the new bounds (reallocated only when its size changes) and recomputed at the next
-    // frame. Throws veil::Error when the conversion is of another kind.
+    // frame. With the scattered-light cache, a volume whose file or grid name changed hands
+    // its grid (loadVolume: the PreloadedGridScope's where one is alive) to the cache, which
+    // bakes again (ScatteredLightCache::replaceGrid); the same file keeps the cache. Throws
+    // veil::Error when the conversion is of another kind.
     void replaceVolume(std::size_t i, const GridConversion& converted);
     // Widens [lo, hi] to the world bounds of every grid volume (the shadow views must hold the
     // media they attenuate and the fog samples they shade; global fog has no bounds).
@@ -167,6 +170,8 @@ private:
         std::unique_ptr<GpuVolume> gpu;
         gpu::Texture light{gpu::NoCreate}; // R16F transmittance toward the primary light
         glm::mat4 lightToWorld{1.0f};
+        std::filesystem::path source; // the file and grid the data came from
+        std::string sourceGrid;
     };
     std::vector<Entry> volumes_;
     void fitLightVolume(Entry& e);

@@ -6,6 +6,7 @@
 #include "fog/gpu_volume.h"
 #include "fog/majorant_grid.h"
 #include "fog/scattered_light_bake.h"
+#include "integrators/medium.h"
 #include "integrators/path_tracer.h"
 
 #include "shaders/common/bindings.h"
@@ -33,34 +34,52 @@ bool softwareRenderer() {
 ScatteredLightCache::ScatteredLightCache(const scene::Scene& scene,
                                          std::vector<openvdb::FloatGrid::ConstPtr> grids,
                                          ScatteredLightGpu gpu)
-    : scene_(scene), grids_(std::move(grids)) {
-    PathTracerSettings settings;
-    const VolumePathTracer tracer(scene_, grids_, settings);
-    tracer.worldBounds(lo_, hi_);
-    VEIL_CHECK(glm::all(glm::lessThan(lo_, hi_)),
-               "scattered-light cache: the volumes have no bounds");
-    dims_ = scatteredLightDims(scene_, grids_, lo_, hi_);
+    : scene_(scene), grids_(std::move(grids)), coarsened_(gpu.coarsened) {
     const std::string& device = scene_.render.fogScatteredLightBake;
     const bool gpuBake =
         gpu.programs && (device == "gpu" || (device == "auto" && !softwareRenderer()));
-    if (!gpuBake) return;
+    if (gpuBake)
+        bake_ = std::make_unique<ScatteredLightBake>(*gpu.programs, std::move(gpu.defines),
+                                                     std::move(gpu.bindVolumes));
+    layout();
+}
+
+void ScatteredLightCache::layout() {
+    // The path tracer's medium (its bounds; it loads the emission channels, from the frame's
+    // read-ahead where a PreloadedGridScope is alive).
+    const Medium medium(scene_, grids_, "path tracer", false);
+    medium.worldBounds(lo_, hi_);
+    VEIL_CHECK(glm::all(glm::lessThan(lo_, hi_)),
+               "scattered-light cache: the volumes have no bounds");
+    dims_ = scatteredLightDims(scene_, grids_, lo_, hi_);
+    if (!bake_) return;
+    gridMax_.clear();
     for (const auto& g : grids_)
         gridMax_.push_back(double(openvdb::tools::minMax(g->tree()).max()));
     majorantDims_ = majorantDims(scene_, grids_, lo_, hi_);
+    gridMajorants_.clear();
     std::size_t g = 0;
     for (const auto& v : scene_.volumes)
         if (v.procedural != "homogeneous" && g < grids_.size())
             gridMajorants_.push_back(gridMajorants(*grids_[g++], v.transform, lo_, hi_,
-                                                   majorantDims_, coarseningMargin(gpu.coarsened)));
-    bake_ = std::make_unique<ScatteredLightBake>(*gpu.programs, std::move(gpu.defines),
-                                                 std::move(gpu.bindVolumes));
+                                                   majorantDims_, coarseningMargin(coarsened_)));
+}
+
+void ScatteredLightCache::replaceGrid(std::size_t i, openvdb::FloatGrid::ConstPtr grid,
+                                      int coarsened) {
+    VEIL_CHECK(i < grids_.size() && grid, "scattered-light cache: no grid volume {} to replace", i);
+    if (grids_[i] == grid && coarsened_ == coarsened) return; // the same data: no new bake
+    grids_[i] = std::move(grid);
+    coarsened_ = coarsened;
+    layout(); // now, while the caller's read-ahead scope holds the frame's grids
+    ++dataVersion_;
 }
 
 ScatteredLightCache::~ScatteredLightCache() = default;
 
 std::vector<float> ScatteredLightCache::key() const {
     std::vector<float> k{scene_.render.ambient.x, scene_.render.ambient.y, scene_.render.ambient.z,
-                         float(scene_.render.seed)};
+                         float(scene_.render.seed), float(dataVersion_)};
     for (const auto& l : scene_.lights) {
         k.insert(k.end(), {float(l.type), l.color.x, l.color.y, l.color.z, l.intensity,
                            l.direction.x, l.direction.y, l.direction.z, l.position.x, l.position.y,

@@ -46,9 +46,17 @@ public:
                         ScatteredLightGpu gpu = {});
     ~ScatteredLightCache();
 
-    // Bakes if the scene's lights, ambient or volume values differ from the last bake's (or
-    // goes on with a progressive bake in flight).
+    // Bakes if the scene's lights, ambient or volume values differ from the last bake's, or a
+    // grid was replaced (or goes on with a progressive bake in flight). The camera is no part
+    // of the bake: frames that only move it keep the cache.
     void ensure();
+    // Frame ranges (FogPass::replaceVolume): grid volume `i` (scene order) now has the data of
+    // `grid`, its GPU copy coarsened `coarsened` times at most. Another grid than the one the
+    // cache holds makes the next ensure() bake again, over the bounds and majorants of the new
+    // grids (computed here), exactly as a cache built on them would (the same grid: nothing). A GPU
+    // bake keeps its textures: a progressive bake starts from the previous frame's values, each
+    // texel replaced by the new frame's as its first paths come in.
+    void replaceGrid(std::size_t i, openvdb::FloatGrid::ConstPtr grid, int coarsened);
     // Milliseconds of GPU bake per ensure() (0, the default: the whole bake in one ensure()).
     void setBudgetMs(double ms) { budgetMs_ = ms; }
     double budgetMs() const { return budgetMs_; }
@@ -70,6 +78,7 @@ public:
 
 private:
     std::vector<float> key() const;
+    void layout(); // bounds, texel grid and (GPU bake) majorants of grids_
     void startGpuBake();
     void bakeOnCpu();
 
@@ -84,6 +93,8 @@ private:
     // The majorant grid (majorant_grid.h): its size and per grid the unscaled majorants.
     glm::ivec3 majorantDims_{0};
     std::vector<std::vector<float>> gridMajorants_;
+    int coarsened_ = 0;   // ScatteredLightGpu::coarsened
+    int dataVersion_ = 0; // grids replaced with other data (part of the key)
     int bakes_ = 0;
     bool started_ = false;     // a bake began (bakedKey_ is its key)
     double seconds_ = 0.0;     // of the last complete bake

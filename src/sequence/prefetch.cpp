@@ -81,11 +81,12 @@ void convertAhead(PreparedFrame& p, int max3D, const std::vector<volume::Preload
 
 // Whether a renderer built on `current` can take the frame `next` by replacing its volumes'
 // data (Renderer::replaceVolumes): the same volumes (names, grids, emission; file volumes
-// only), lights and cameras, no baked scattered-light cache (it holds the grids it baked).
+// only), lights and cameras. A scattered-light cache follows (FogPass::replaceVolume): baked
+// again when a volume's file, a light or the ambient changed, kept when only the camera moved.
 bool sameStructure(const scene::Scene& current, const scene::Scene& next) {
     if (current.volumes.size() != next.volumes.size() ||
         current.lights.size() != next.lights.size() ||
-        current.cameras.size() != next.cameras.size() || next.render.fogScatteredLight)
+        current.cameras.size() != next.cameras.size())
         return false;
     for (std::size_t i = 0; i < next.volumes.size(); ++i) {
         const scene::VolumeRef& a = current.volumes[i];
@@ -307,6 +308,7 @@ bool RangeRenderer::upload(PreparedFrame& p) {
     // The camera and lights follow in next(), after the current frame's image is read back.
     for (std::size_t i = 0; i < p.scene.volumes.size(); ++i)
         current_.volumes[i] = p.scene.volumes[i];
+    const volume::PreloadedGridScope preloaded(p.grids); // a scattered-light cache's grids
     renderer_->uploadVolumes(conversions_);
     for (const volume::GridConversion* c : conversions_)
         uploadedBytes_ += uploadBytes(*c);

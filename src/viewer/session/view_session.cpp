@@ -317,6 +317,7 @@ bool ViewSession::showFrame(int frame, const std::vector<volume::PreloadedGrid>&
             s.lights[i] = parsed->lights[i];
         for (std::size_t i = 0; i < s.cameras.size(); ++i)
             s.cameras[i] = parsed->cameras[i];
+        const volume::PreloadedGridScope preloaded(grids); // a scattered-light cache's grids
         renderer_->replaceVolumes(converted, cameraName_);
         adoptCamera(false);
         overrides_ = std::move(next);
