@@ -113,9 +113,8 @@ FogPass::FogPass(const scene::Scene& scene, gpu::ProgramManager& programs,
             throw Error(fmt::format("{}: {}", where, e.what()));
         }
         if (scene.render.fogScatteredLight) densities.push_back(grid ? grid : loadVolume(ref));
-        Entry e{&ref, std::move(gpuVolume)};
-        e.source = ref.path;
-        e.sourceGrid = ref.grid;
+        Entry e{
+            .ref = &ref, .gpu = std::move(gpuVolume), .source = ref.path, .sourceGrid = ref.grid};
         used += e.gpu->stats().gpuBytes;
         log::info("volume '{}': {} active voxels, {} ({} bricks), {:.2f} MiB on the GPU, grid "
                   "{:.2f} MiB",
