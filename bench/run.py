@@ -105,6 +105,7 @@ def expand_cases(group):
             if key not in c and key in group:
                 c[key] = group[key]
         c["set"] = list(group.get("set", [])) + list(c.get("set", []))
+        c["quick_set"] = list(group.get("quick_set", [])) + list(c.get("quick_set", []))
         c["options"] = list(group.get("options", [])) + list(c.get("options", []))
         c["args"] = list(group.get("args", [])) + list(c.get("args", []))
         cases.append(c)
@@ -146,7 +147,7 @@ def bench_case(tool, case, metric, tmp):
            "--warmup", str(case.get("warmup", 8))]
     if case.get("oit"):
         cmd += ["--oit", case["oit"]]
-    for s in case["set"]:
+    for s in case["set"] + (case["quick_set"] if QUICK else []):
         cmd += ["--set", s]
     cmd += case["options"] + ["--json", out]
     if QUICK:

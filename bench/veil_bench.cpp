@@ -10,6 +10,7 @@
 #include "grid/density_grid.h"
 #include "integrators/cpu_reference.h"
 #include "integrators/path_tracer.h"
+#include "scattered_light_bench.h"
 #include "scene/scene.h"
 #include "viewer/session/view_session.h"
 
@@ -44,6 +45,9 @@ void usage() {
         "                                   NAME (e.g. reference) and report the HDR\n"
         "                                   difference (rgb rmse, max) as error_vs\n"
         "                  [--relight]      recompute the fog's light volumes every frame\n"
+        "                  [--light-drag DEG] turn the first light DEG degrees every frame\n"
+        "                                   with the progressive scattered-light bake\n"
+        "                  [--converge]     with --light-drag: the cache's error after the drag\n"
         "                  [--ppm out.ppm]  write the last frame as displayed (8-bit binary PPM)\n"
         "                  [--pfm out.pfm]  write the last frame's linear radiance (float PFM)\n"
         "       veil-bench <scene.json> --pathtraced SPP SEED out.pfm [--width W] [--height H]\n"
@@ -338,7 +342,8 @@ int main(int argc, char** argv) try {
     int ptSpp = 0;
     bool surface = false;
     std::uint32_t ptSeed = 1;
-    bool relight = false;
+    bool relight = false, converge = false;
+    double dragDegrees = 0.0;
     bool viewer = false;
     std::vector<std::string> overrides;
     for (int i = 1; i < argc; ++i) {
@@ -361,6 +366,10 @@ int main(int argc, char** argv) try {
             overrides.push_back(next());
         else if (a == "--relight")
             relight = true;
+        else if (a == "--light-drag")
+            dragDegrees = std::stod(next());
+        else if (a == "--converge")
+            converge = true;
         else if (a == "--json")
             jsonPath = next();
         else if (a == "--viewer")
@@ -397,6 +406,10 @@ int main(int argc, char** argv) try {
     if (ptSpp > 0)
         return pathTracedBench(scenePath, overrides, width, height, ptSpp, ptSeed, pfmPath,
                                jsonPath);
+    VEIL_CHECK(!converge || dragDegrees != 0.0, "--converge needs --light-drag DEG");
+    if (dragDegrees != 0.0)
+        return veil::bench::lightDragBench({scenePath, oit, jsonPath, overrides, width, height,
+                                            frames, warmup, dragDegrees, converge});
     if (viewer) return viewerBench(scenePath, overrides, width, height, frames, warmup, jsonPath);
     const veil::scene::Scene scene = veil::scene::loadScene(scenePath, overrides);
     veil::gpu::HeadlessContext context;
