@@ -4,7 +4,7 @@
 // ScatteredLightCache::replaceGrid), kept when only the camera moved (a turntable over a static
 // volume), and every frame equal bit for bit to a renderer built for that frame alone (the GPU
 // bake is deterministic for its seed and sample count: a bake of the replaced grids equals a
-// fresh one).
+// fresh one); with the viewer's progressive bake a frame with new data restarts the bake.
 #include "fog/fog_pass.h"
 #include "fog/scattered_light_cache.h"
 #include "frame/renderer.h"
@@ -55,7 +55,8 @@ scene::AnimatedScene fireRange(const std::string& path, const std::string& name)
            {"temperature_grid", "temperature"},
            {"temperature_scale", 1100},
            {"temperature_offset", 900}}}}};
-    const fs::path file = writeTextFile(outputSubdir("scattered_light_sequence") / name, doc.dump());
+    const fs::path file =
+        writeTextFile(outputSubdir("scattered_light_sequence") / name, doc.dump());
     return scene::loadAnimatedScene(file, {});
 }
 
@@ -130,6 +131,41 @@ TEST_F(ScatteredLightSequenceTest, NewVolumeDataBakesAgainAsAFreshRenderer) {
     for (std::size_t i = 0; i < frames.size(); ++i)
         EXPECT_TRUE(samePixels(p.images[i], alone(info(), scene, frames[i])))
             << "frame " << frames[i];
+    VEIL_EXPECT_NO_GL_ERROR();
+}
+
+// The viewer's rule (progressive bake, render.fog_scattered_light_budget_ms): a frame with new
+// data restarts the bake, which runs one step per frame and ends in the frame's still render
+// bit for bit; a frame where only the camera moved keeps the converged cache.
+TEST_F(ScatteredLightSequenceTest, ProgressiveBakeRestartsOnNewDataOnly) {
+    GLint max3D = 0;
+    glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3D);
+    for (const bool sequence : {true, false}) {
+        const scene::AnimatedScene scene =
+            sequence ? fireRange("embergen_fire_a_#.vdb", "progressive-sequence.json")
+                     : fireRange("embergen_fire_a_4.vdb", "progressive-turntable.json");
+        const std::vector<int> frames = {2, 3};
+        sequence::FramePrefetcher prefetcher(scene, frames, std::size_t(1) << 30, 1, max3D);
+        sequence::RangeRenderer range(info(), {}, max3D);
+        for (int f : frames) {
+            sequence::PreparedFrame p = prefetcher.take();
+            ASSERT_TRUE(p.error.empty()) << p.error;
+            frame::Renderer& r = range.next(p);
+            r.setScatteredLightBudgetMs(0.001); // one dispatch (one path per texel) a frame
+            r.render();
+            const volume::ScatteredLightCache* cache = r.fog()->scatteredLightCache();
+            // The first frame bakes; the second only with new data.
+            EXPECT_EQ(cache->converging(), f == 2 || sequence) << "frame " << f;
+            int steps = 1;
+            while (cache->converging() && steps < 100) {
+                r.render();
+                ++steps;
+            }
+            EXPECT_FALSE(cache->converging());
+            EXPECT_EQ(cache->bakes(), f == 2 || !sequence ? 1 : 2) << "frame " << f;
+            EXPECT_TRUE(samePixels(r.readHdr(), alone(info(), scene, f))) << "frame " << f;
+        }
+    }
     VEIL_EXPECT_NO_GL_ERROR();
 }
 
