@@ -4,8 +4,8 @@
 #include "base/log.h"
 #include "base/progress.h"
 #include "fog/gpu_volume.h"
-#include "fog/majorant_grid.h"
 #include "fog/scattered_light_bake.h"
+#include "integrators/majorant_grid.h"
 #include "integrators/medium.h"
 #include "integrators/path_tracer.h"
 

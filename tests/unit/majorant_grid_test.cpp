@@ -1,13 +1,13 @@
-// The scattered-light bake's local majorants (src/fog/majorant_grid.h) against the grid they
-// bound: on the Disney cloud (a real grid, placed by a rotation and a scale as a scene entry
+// The scattered-light bake's local majorants (src/integrators/majorant_grid.h) against the grid
+// they bound: on the Disney cloud (a real grid, placed by a rotation and a scale as a scene entry
 // places it) no trilinear sample of the grid (OpenVDB's BoxSampler, the CPU's sampler; the GPU
 // filters the same voxels) exceeds the majorant of the cell it falls in: samples near every
 // leaf node's faces, where a neighbouring node's values reach in, and uniform ones over the
 // whole box. With the footprint margin taken away (0 instead of 1 voxel) samples near the faces
 // exceed their cells' majorants. Also: the majorants are local (well below the grid's largest
 // value on average).
-#include "fog/majorant_grid.h"
 #include "grid/density_grid.h"
+#include "integrators/majorant_grid.h"
 #include "support/test_support.h"
 
 #include <gtest/gtest.h>

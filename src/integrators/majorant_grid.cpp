@@ -1,4 +1,4 @@
-#include "fog/majorant_grid.h"
+#include "integrators/majorant_grid.h"
 
 #include "integrators/path_tracer.h"
 
