@@ -14,8 +14,8 @@ glm::ivec3 MajorantGrid::cellOf(const glm::dvec3& p) const {
 
 glm::ivec3 majorantDims(const scene::Scene& scene,
                         const std::vector<openvdb::FloatGrid::ConstPtr>& grids,
-                        const glm::dvec3& lo, const glm::dvec3& hi) {
-    const double cell = std::max(8.0 * finestVoxelSize(scene, grids), 1e-12);
+                        const glm::dvec3& lo, const glm::dvec3& hi, double voxelsPerCell) {
+    const double cell = std::max(voxelsPerCell * finestVoxelSize(scene, grids), 1e-12);
     return glm::clamp(glm::ivec3(glm::ceil((hi - lo) / cell)), glm::ivec3(1),
                       glm::ivec3(kMajorantMaxCells));
 }

@@ -1,9 +1,10 @@
 // Local majorants of the extinction for the scattered-light cache's GPU bake
-// (shaders/volume/cache_bake.comp): a coarse world-space grid over the volumes' box whose cells
-// bound the extinction anywhere in them, so that delta and ratio tracking sample their tentative
-// collisions cell by cell against the cell's majorant (a DDA through the cells) instead of one
-// majorant for all space (piecewise-constant majorants, [Novak18]). Empty cells (majorant 0) are
-// crossed without a collision, dense cells keep a tight bound.
+// (shaders/volume/cache_bake.comp) and the CPU path tracer (path_tracer.h, which tightens them
+// from its dense grid copies, dense_grid.h): a coarse world-space grid over the volumes' box whose
+// cells bound the extinction anywhere in them, so that delta and ratio tracking sample their
+// tentative collisions cell by cell against the cell's majorant (a DDA through the cells) instead
+// of one majorant for all space (piecewise-constant majorants, [Novak18]). Empty cells (majorant 0)
+// are crossed without a collision, dense cells keep a tight bound.
 //
 // A grid's cell majorant is the largest value of every leaf node (8^3 voxels: the bricks of
 // the GPU's atlas, fog/gpu_volume.h) or active tile whose trilinear footprint reaches the cell:
@@ -36,12 +37,12 @@ struct MajorantGrid {
     }
 };
 
-// Cells of about one leaf node (8 voxels) of the finest grid per axis over [lo, hi], at most
-// kMajorantMaxCells per axis, at least 1.
+// Cells of about one leaf node (`voxelsPerCell`, 8, voxels) of the finest grid per axis over
+// [lo, hi], at most kMajorantMaxCells per axis, at least 1.
 inline constexpr int kMajorantMaxCells = 128;
 glm::ivec3 majorantDims(const scene::Scene& scene,
                         const std::vector<openvdb::FloatGrid::ConstPtr>& grids,
-                        const glm::dvec3& lo, const glm::dvec3& hi);
+                        const glm::dvec3& lo, const glm::dvec3& hi, double voxelsPerCell = 8.0);
 
 // The footprint margin, in voxels of the original grid, of a GPU copy coarsened `levels` times
 // (grid/grid_conversion.cpp coarsen(): each level takes the mean of 2^3 voxels, its centre

@@ -2,6 +2,7 @@
 
 #include "base/error.h"
 #include "integrators/emission.h"
+#include "integrators/majorant_grid.h"
 
 #include <openvdb/tools/Count.h>
 
@@ -10,6 +11,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <numbers>
 
 namespace veil::volume {
@@ -30,6 +32,79 @@ glm::dvec3 scatter(const glm::dvec3& d, double g, Pcg32& rng) {
 }
 
 double freePath(double majorant, Pcg32& rng) { return -std::log(1.0 - rng.uniform()) / majorant; }
+
+// Tentative collisions along o + t d on [0, tMax) against the majorant grid's piecewise-constant
+// majorants [Novak18]: a DDA through the cells [Amanatides87] spends an exponential optical
+// depth over them, so the collisions are those of a Poisson process whose rate is each cell's
+// majorant (empty cells are crossed at once). One uniform per collision, as one global majorant.
+class MajorantWalk {
+public:
+    // Over the part of [0, tMax) inside the grid's box.
+    MajorantWalk(const MajorantGrid& grid, const glm::dvec3& o, const glm::dvec3& d, double tMax)
+        : t(0.0), values_(grid.values.data()), t1_(tMax) {
+        double inv[3];
+        for (int a = 0; a < 3; ++a) {
+            inv[a] = 1.0 / d[a]; // +-inf along an axis the ray does not move on
+            double ta = (grid.lo[a] - o[a]) * inv[a], tb = (grid.hi[a] - o[a]) * inv[a];
+            if (d[a] == 0.0) {
+                ta = o[a] < grid.lo[a] || o[a] > grid.hi[a] ? 1e300 : -1e300;
+                tb = -ta;
+            }
+            t = std::max(t, std::min(ta, tb));
+            t1_ = std::min(t1_, std::max(ta, tb));
+        }
+        if (!(t < t1_)) {
+            t1_ = -1.0; // misses the box: next() is false
+            return;
+        }
+        const glm::dvec3 size = (grid.hi - grid.lo) / glm::dvec3(grid.dims);
+        const glm::ivec3 cell = glm::clamp(glm::ivec3(glm::floor((o + d * t - grid.lo) / size)),
+                                           glm::ivec3(0), grid.dims - 1);
+        const std::ptrdiff_t stride[3] = {1, grid.dims.x,
+                                          std::ptrdiff_t(grid.dims.x) * grid.dims.y};
+        index_ = cell.x + cell.y * stride[1] + cell.z * stride[2];
+        for (int a = 0; a < 3; ++a) {
+            if (d[a] == 0.0) continue; // never leaves the cell along this axis
+            const bool up = d[a] > 0.0;
+            step_[a] = up ? stride[a] : -stride[a];
+            left_[a] = up ? grid.dims[a] - 1 - cell[a] : cell[a];
+            next_[a] = (grid.lo[a] + (cell[a] + (up ? 1 : 0)) * size[a] - o[a]) * inv[a];
+            delta_[a] = size[a] * std::abs(inv[a]);
+        }
+    }
+
+    // Moves t to the next tentative collision (majorant: its cell's); false past t1.
+    bool next(Pcg32& rng) {
+        if (t1_ < 0.0) return false;
+        double tau = -std::log(1.0 - rng.uniform());
+        for (;;) {
+            const double m = values_[index_];
+            const int a =
+                next_[0] < next_[1] ? (next_[0] < next_[2] ? 0 : 2) : (next_[1] < next_[2] ? 1 : 2);
+            const double exit = std::min(next_[a], t1_);
+            const double length = std::max(0.0, exit - t);
+            if (m > 0.0 && tau < m * length) {
+                t += tau / m;
+                majorant = m;
+                return true;
+            }
+            tau -= m * length;
+            t = std::max(t, exit);
+            if (exit >= t1_ || left_[a]-- == 0) return false; // past t1 or out of the grid
+            index_ += step_[a];
+            next_[a] += delta_[a];
+        }
+    }
+
+    double t, majorant = 0.0;
+
+private:
+    const float* values_;
+    double t1_;
+    std::ptrdiff_t index_ = 0, step_[3] = {0, 0, 0};
+    int left_[3] = {0, 0, 0}; // cells left along each axis's direction
+    double next_[3] = {1e300, 1e300, 1e300}, delta_[3] = {1e300, 1e300, 1e300};
+};
 
 // Russian roulette on a weight: survives with probability q = min(max component, 1), so a
 // weight of 1 (albedo 1) is never cut and energy is conserved path by path.
@@ -127,6 +202,61 @@ VolumePathTracer::VolumePathTracer(const scene::Scene& scene,
     for (const Medium::Volume& v : medium_.volumes()) {
         const auto range = openvdb::tools::minMax(v.grid->tree());
         majorant_ += double(v.ref->densityScale) * std::max(0.0, double(range.max()));
+        dense_.emplace_back(*v.grid, v.worldToObject);
+    }
+    buildMajorants();
+}
+
+void VolumePathTracer::buildMajorants() {
+    medium_.worldBounds(majorants_.lo, majorants_.hi);
+    if (medium_.volumes().empty() || majorant_ <= 0.0 || !settings_.localMajorants) {
+        majorants_.dims = glm::ivec3(1); // one majorant for all space
+        majorants_.values.assign(1, float(majorant_));
+        return;
+    }
+    std::vector<openvdb::FloatGrid::ConstPtr> grids;
+    for (const Medium::Volume& v : medium_.volumes())
+        grids.push_back(v.grid);
+    majorants_.dims = majorantDims(scene_, grids, majorants_.lo, majorants_.hi, 4.0);
+    const std::size_t n = std::size_t(majorants_.dims.x) * majorants_.dims.y * majorants_.dims.z;
+    std::vector<double> sum(n, 0.0);
+    for (const Medium::Volume& v : medium_.volumes()) {
+        const double scale = std::max(0.0, double(v.ref->densityScale));
+        // One voxel of margin: the CPU samples the grid itself, trilinearly (majorant_grid.h).
+        std::vector<float> m = gridMajorants(*v.grid, v.ref->transform, majorants_.lo,
+                                             majorants_.hi, majorants_.dims, 1.0);
+        // Tighter where the dense copy holds every voxel a cell's samples read: the largest of
+        // those voxels rather than of their leaf nodes.
+        const DenseGrid& dense = dense_[std::size_t(&v - medium_.volumes().data())];
+        const glm::dvec3 size = (majorants_.hi - majorants_.lo) / glm::dvec3(majorants_.dims);
+        tbb::parallel_for(0, majorants_.dims.z, [&](int z) {
+            for (int y = 0; y < majorants_.dims.y; ++y)
+                for (int x = 0; x < majorants_.dims.x; ++x) {
+                    const glm::dvec3 a = majorants_.lo + glm::dvec3(x, y, z) * size;
+                    float tight;
+                    float& c = m[(std::size_t(z) * majorants_.dims.y + y) * majorants_.dims.x + x];
+                    if (c > 0.0f && dense.maxOver(a, a + size, tight)) c = std::min(c, tight);
+                }
+        });
+        for (std::size_t i = 0; i < n; ++i)
+            sum[i] += scale * std::max(0.0, double(m[i]));
+        if (v.channel.empty()) continue;
+        // An emission grid emits where the density may be 0: the cells of the volume's box keep
+        // 1/20 of the one global majorant, so the null-collision estimator samples its emission.
+        const glm::ivec3 c0 = majorants_.cellOf(v.lo), c1 = majorants_.cellOf(v.hi);
+        for (int z = c0.z; z <= c1.z; ++z)
+            for (int y = c0.y; y <= c1.y; ++y)
+                for (int x = c0.x; x <= c1.x; ++x) {
+                    double& c =
+                        sum[(std::size_t(z) * majorants_.dims.y + y) * majorants_.dims.x + x];
+                    c = std::max(c, 0.05 * majorant_);
+                }
+    }
+    // Rounded up to float: a cell's value bounds every sample in it.
+    majorants_.values.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const float f = float(sum[i]);
+        majorants_.values[i] = double(f) < sum[i] ? std::nextafter(f, 1e30f) : f;
     }
 }
 
@@ -135,7 +265,12 @@ VolumePathTracer::Local VolumePathTracer::localAt(Medium::Lookup& lookup, const 
     Local m;
     const std::vector<Medium::Volume>& volumes = medium_.volumes();
     for (std::size_t i = 0; i < volumes.size(); ++i) {
-        const Medium::Point point = medium_.sample(lookup, i, p);
+        const Medium::Volume& v = volumes[i];
+        Medium::Point point;
+        if (!v.channel.empty() || !dense_[i].valid())
+            point = medium_.sample(lookup, i, p);
+        else if (!glm::any(glm::lessThan(p, v.lo)) && !glm::any(glm::greaterThan(p, v.hi)))
+            point.density = dense_[i].sample(p, lookup.density[i]); // Medium::sample's density
         const double density = std::max(0.0, point.density);
         const double sigma = double(volumes[i].ref->densityScale) * density;
         if (perVolume) (*perVolume)[i] = sigma;
@@ -146,23 +281,14 @@ VolumePathTracer::Local VolumePathTracer::localAt(Medium::Lookup& lookup, const 
     return m;
 }
 
-bool VolumePathTracer::bounds(const glm::dvec3& o, const glm::dvec3& d, double& t0,
-                              double& t1) const {
-    if (!medium_.interval(o, d, t0, t1)) return false;
-    t0 = std::max(t0, 0.0);
-    return t0 < t1;
-}
-
 double VolumePathTracer::transmittance(Medium::Lookup& lookup, const glm::dvec3& o,
                                        const glm::dvec3& d, double tMax, Pcg32& rng) const {
-    double t0, t1;
-    if (majorant_ <= 0.0 || !bounds(o, d, t0, t1)) return 1.0;
-    t1 = std::min(t1, tMax);
-    double tr = 1.0, t = t0;
+    if (majorant_ <= 0.0) return 1.0;
+    MajorantWalk walk(majorants_, o, d, tMax);
+    double tr = 1.0;
     for (;;) {
-        t += freePath(majorant_, rng);
-        if (t >= t1) return tr;
-        tr *= 1.0 - localAt(lookup, o + d * t, nullptr).sigma / majorant_;
+        if (!walk.next(rng)) return tr;
+        tr *= 1.0 - localAt(lookup, o + d * walk.t, nullptr).sigma / walk.majorant;
         if (tr < 0.1) {
             if (rng.uniform() >= 0.5) return 0.0;
             tr *= 2.0;
@@ -177,18 +303,13 @@ glm::dvec3 VolumePathTracer::trace(Medium::Lookup& lookup, glm::dvec3 o, glm::dv
     int events = 0;
     const auto& lights = scene_.lights;
     for (;;) {
-        double t0 = 0.0, t1 = -1.0;
-        bool inside = majorant_ > 0.0 && bounds(o, d, t0, t1);
-        if (events == 0) t1 = std::min(t1, tMax);
         bool collided = false;
-        double t = t0;
-        while (inside) {
-            t += freePath(majorant_, rng);
-            if (t >= t1) break;
-            const glm::dvec3 p = o + d * t;
+        MajorantWalk walk(majorants_, o, d, events == 0 ? tMax : 1e300);
+        while (majorant_ > 0.0 && walk.next(rng)) {
+            const glm::dvec3 p = o + d * walk.t;
             const Local m = localAt(lookup, p, &perVolume);
-            radiance += weight * m.emission / majorant_;
-            if (rng.uniform() * majorant_ < m.sigma) {
+            radiance += weight * m.emission / walk.majorant;
+            if (rng.uniform() * walk.majorant < m.sigma) {
                 o = p;
                 collided = true;
                 break;

@@ -4,19 +4,28 @@
 //
 // Light transport in the scene's density volumes (the medium of medium.h, as the CPU fog
 // reference's, cpu_reference.h), from the same camera rays (pixel centres):
-//   - free paths by delta (Woodcock) tracking against a constant majorant, the sum over volumes
-//     of density_scale x the grid's largest value [Woodcock65; Novak18 sec. 3.2];
+//   - free paths by delta (Woodcock) tracking against local majorants [Woodcock65; Novak18]:
+//     a majorant grid (majorant_grid.h) of cells of 4 voxels of the finest grid over the
+//     volumes' box, each the sum over volumes of density_scale x the largest voxel trilinear
+//     samples in it read (from the dense copy of dense_grid.h; the leaf nodes' largest values
+//     where it has none), walked cell by cell by a DDA that spends an exponential optical depth
+//     over them (empty cells are crossed at once); with PathTracerSettings::localMajorants off,
+//     one cell: the sum over volumes of density_scale x the grid's largest value (the same
+//     estimator with more null collisions, the tracer's before local majorants);
 //   - at a real collision the volume is chosen in proportion to its extinction, the path weight
 //     is multiplied by its albedo (RGB) and a direction is drawn from its Henyey-Greenstein
 //     phase function [Henyey41] by inverting its CDF;
 //   - next-event estimation toward every light at every scattering event, the transmittance by
-//     ratio tracking [Novak14 sec. 4] (unbiased, with Russian roulette below 0.1);
+//     ratio tracking [Novak14 sec. 4] against the same majorants (unbiased, with Russian
+//     roulette below 0.1);
 //   - a path that leaves the volumes after at least one scattering event sees the ambient
 //     radiance render.ambient from every direction (a uniform sky); leaving before any, the
 //     background render.background;
 //   - emission (radiance per unit length: volume `emission` x density, or the emission or
 //     blackbody temperature grid of emission.h, loaded by the medium) by the null-collision
-//     estimator: weight x emission / majorant at every tentative collision;
+//     estimator: weight x emission / majorant at every tentative collision (a volume with an
+//     emission grid keeps 1/20 of the one global majorant in its box's cells, where its
+//     density may be 0 and it still emits);
 //   - at most max_bounces scattering events (1 = single scattering), Russian roulette on the
 //     path weight from roulette_depth on.
 // Every sample's random numbers come from a PCG32 stream [ONeill14] keyed by (seed, pixel,
@@ -29,6 +38,8 @@
 
 #include "base/image.h"
 #include "base/properties.h"
+#include "integrators/dense_grid.h"
+#include "integrators/majorant_grid.h"
 #include "integrators/medium.h"
 #include "integrators/pcg32.h"
 #include "scene/scene.h"
@@ -49,6 +60,9 @@ struct PathTracerSettings {
     std::uint32_t seed = 1;
     int rouletteDepth = 8;
     int batch = 16; // samples per pixel per progressive pass
+    // Delta and ratio tracking against the majorant grid's cells; off: one majorant for all
+    // space (the estimator before local majorants, kept to compare with).
+    bool localMajorants = true;
 };
 
 // render.pathtraced.* (spp, max_bounces, seed, roulette_depth, batch).
@@ -125,7 +139,10 @@ public:
     PathTracedImage render(const scene::Camera& camera, int width, int height,
                            const std::function<bool(int)>& progress = {}) const;
 
+    // The largest extinction anywhere (the sum over volumes of density_scale x the grid's
+    // largest value) and the local majorants tracking uses.
     double majorant() const { return majorant_; }
+    const MajorantGrid& majorants() const { return majorants_; }
 
     // The scattered-light cache (ScatteredLight above) on a dims grid over [lo, hi] (TBB over
     // texels; each texel's random numbers are keyed by (settings.seed, texel, sample), so it
@@ -155,7 +172,7 @@ private:
     };
     Local localAt(Medium::Lookup& lookup, const glm::dvec3& p,
                   std::vector<double>* perVolume) const;
-    bool bounds(const glm::dvec3& o, const glm::dvec3& d, double& t0, double& t1) const;
+    void buildMajorants();
     double transmittance(Medium::Lookup& lookup, const glm::dvec3& o, const glm::dvec3& d,
                          double tMax, Pcg32& rng) const;
     // escapeSeesAmbient: a path leaving before any scattering sees render.ambient (the sky),
@@ -167,6 +184,8 @@ private:
     PathTracerSettings settings_;
     Medium medium_;
     double majorant_ = 0.0;
+    MajorantGrid majorants_;
+    std::vector<DenseGrid> dense_; // per volume: its density as an array (dense_grid.h)
 };
 
 } // namespace veil::volume
