@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <cstring>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace veil::volume {
@@ -133,8 +134,30 @@ std::size_t GpuVolume::stageHalf(const std::vector<float>& texels) {
     return at;
 }
 
+namespace {
+
+// The texture bytes of `c`'s frame at its allocated sizes.
+std::size_t frameBytes(const GridConversion& c, int max3D) {
+    auto texels = [](const glm::ivec3& s) { return std::size_t(s.x) * s.y * s.z; };
+    const std::size_t data = texels(GpuVolume::allocatedSize(c.dataSize, !c.stats.dense, max3D));
+    std::size_t bytes = data * 2;
+    if (!c.channel.empty()) bytes += data * 2 * std::size_t(c.channelComponents);
+    if (!c.stats.dense) bytes += texels(GpuVolume::allocatedSize(c.tableSize, false, max3D)) * 4;
+    if (!c.neighbourhood.mean.empty()) bytes += texels(c.neighbourhood.size) * 4;
+    return bytes;
+}
+
+} // namespace
+
 void GpuVolume::replace(const GridConversion& c, const glm::mat4& objectToWorld) {
     VEIL_CHECK(!c.values.empty(), "density grid conversion holds no data");
+    if (!c.gpuKey.empty() && c.gpuHoldBytes > 0)
+        for (const std::unique_ptr<Frame>& f : frames_)
+            if (f->key == c.gpuKey) { // held: shown again without an upload
+                ++reshown_;
+                show(f.get(), objectToWorld);
+                return;
+            }
     // The texels go through the staging buffer: glTextureSubImage3D then returns at once and
     // the GPU copies them in order with the commands before and after (the previous frame's
     // render), instead of the driver copying (and converting) client memory before returning.
@@ -161,11 +184,68 @@ void GpuVolume::replace(const GridConversion& c, const glm::mat4& objectToWorld)
     const std::size_t values = stageHalf(c.values);
     const std::size_t channel = stageHalf(c.channel);
     const std::size_t table = stage(c.table.data(), c.table.size() * 4);
+    Frame* f = frameFor(c);
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, staging_.id());
-    upload(c, objectToWorld, reinterpret_cast<const void*>(values),
-           reinterpret_cast<const void*>(channel), reinterpret_cast<const void*>(table));
+    upload(*f, c, reinterpret_cast<const void*>(values), reinterpret_cast<const void*>(channel),
+           reinterpret_cast<const void*>(table));
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
     uploaded_ = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    show(f, objectToWorld);
+}
+
+GpuVolume::Frame* GpuVolume::frameFor(const GridConversion& c) {
+    GLint max3D = 0;
+    glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3D);
+    const std::size_t need = frameBytes(c, max3D), budget = c.gpuHoldBytes;
+    // Frames nobody asks for again (no key) go first, then the least recently shown, until
+    // the held bytes and the new frame's fit the budget.
+    std::stable_sort(frames_.begin(), frames_.end(), [](const auto& a, const auto& b) {
+        return std::make_pair(!a->key.empty(), a->lastShown) <
+               std::make_pair(!b->key.empty(), b->lastShown);
+    });
+    std::size_t held = 0;
+    for (const std::unique_ptr<Frame>& f : frames_)
+        held += f->bytes;
+    std::vector<std::unique_ptr<Frame>> dropped;
+    std::size_t n = 0;
+    for (; n < frames_.size() && (frames_[n]->key.empty() || held + need > budget); ++n) {
+        held -= frames_[n]->bytes;
+        dropped.push_back(std::move(frames_[n]));
+    }
+    frames_.erase(frames_.begin(), frames_.begin() + std::ptrdiff_t(n));
+    // A dropped frame's textures are reused, one of the new data size where there is one.
+    const glm::ivec3 size = allocatedSize(c.dataSize, !c.stats.dense, max3D);
+    std::unique_ptr<Frame> f;
+    for (std::unique_ptr<Frame>& d : dropped)
+        if (!f && d->data && d->data.width() == size.x && d->data.height() == size.y &&
+            d->data.depth() == size.z)
+            f = std::move(d);
+    for (std::unique_ptr<Frame>& d : dropped)
+        if (!f && d) f = std::move(d);
+    if (!f) f = std::make_unique<Frame>();
+    f->key = !c.gpuKey.empty() && need <= budget ? c.gpuKey : std::string();
+    f->bytes = need;
+    frames_.push_back(std::move(f));
+    shown_ = frames_.back().get(); // the shown frame may have been dropped
+    return shown_;
+}
+
+void GpuVolume::show(Frame* f, const glm::mat4& objectToWorld) {
+    shown_ = f;
+    f->lastShown = ++shownCount_;
+    indexToWorld_ = objectToWorld * f->gridToWorld;
+    worldToIndex_ = glm::inverse(indexToWorld_);
+    voxelSize_ = std::max({glm::length(glm::vec3(indexToWorld_[0])),
+                           glm::length(glm::vec3(indexToWorld_[1])),
+                           glm::length(glm::vec3(indexToWorld_[2]))});
+    stats_ = f->stats;
+    stats_.heldFrames = frames_.size();
+    stats_.heldBytes = 0;
+    for (const std::unique_ptr<Frame>& h : frames_)
+        stats_.heldBytes += h->bytes;
+    stats_.uploads = uploads_;
+    stats_.uploadedBytes = uploadedBytes_;
+    stats_.reshown = reshown_;
 }
 
 void GpuVolume::upload(const GridConversion& c, const glm::mat4& objectToWorld) {
@@ -173,63 +253,65 @@ void GpuVolume::upload(const GridConversion& c, const glm::mat4& objectToWorld) 
     std::vector<std::uint16_t> values(c.values.size()), channel(c.channel.size());
     toHalf(c.values, values.data());
     toHalf(c.channel, channel.data());
-    upload(c, objectToWorld, values.data(), channel.data(), c.table.data());
+    Frame* f = frameFor(c);
+    upload(*f, c, values.data(), channel.data(), c.table.data());
+    show(f, objectToWorld);
 }
 
-void GpuVolume::upload(const GridConversion& c, const glm::mat4& objectToWorld, const void* values,
-                       const void* channel, const void* table) {
+void GpuVolume::upload(Frame& f, const GridConversion& c, const void* values, const void* channel,
+                       const void* table) {
     if (c.stats.coarsened > 0)
         log::warn("grid '{}': {}; coarsened to voxel size x{} ({:.1f} MiB)", c.name,
                   c.coarsenedBecause, 1 << c.stats.coarsened, c.stats.gpuBytes / 1048576.0);
-    stats_ = c.stats;
-    indexToWorld_ = objectToWorld * c.indexToWorld;
-    worldToIndex_ = glm::inverse(indexToWorld_);
-    voxelSize_ = std::max({glm::length(glm::vec3(indexToWorld_[0])),
-                           glm::length(glm::vec3(indexToWorld_[1])),
-                           glm::length(glm::vec3(indexToWorld_[2]))});
-    indexMin_ = c.indexMin;
-    indexMax_ = c.indexMax;
-    leafOrigin_ = c.leafOrigin;
-    bricksPerAxis_ = c.bricksPerAxis;
+    ++uploads_;
+    uploadedBytes_ += c.values.size() * 2 + c.channel.size() * 2 + c.table.size() * 4 +
+                      c.neighbourhood.mean.size() * 4;
+    f.stats = c.stats;
+    f.gridToWorld = c.indexToWorld;
+    f.indexMin = c.indexMin;
+    f.indexMax = c.indexMax;
+    f.leafOrigin = c.leafOrigin;
+    f.bricksPerAxis = c.bricksPerAxis;
     GLint max3D = 0;
     glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3D);
     const glm::ivec3 size = allocatedSize(c.dataSize, !c.stats.dense, max3D);
-    ensureTexture(data_, size, GL_R16F);
-    write(data_, c.dataSize, GL_RED, GL_HALF_FLOAT, values);
-    channelComponents_ = c.channel.empty() ? 0 : c.channelComponents;
-    if (channelComponents_ > 0) {
-        ensureTexture(channel_, size, densityFormat(channelComponents_));
-        write(channel_, c.dataSize, channelComponents_ == 4 ? GL_RGBA : GL_RED, GL_HALF_FLOAT,
+    ensureTexture(f.data, size, GL_R16F);
+    write(f.data, c.dataSize, GL_RED, GL_HALF_FLOAT, values);
+    f.channelComponents = c.channel.empty() ? 0 : c.channelComponents;
+    if (f.channelComponents > 0) {
+        ensureTexture(f.channel, size, densityFormat(f.channelComponents));
+        write(f.channel, c.dataSize, f.channelComponents == 4 ? GL_RGBA : GL_RED, GL_HALF_FLOAT,
               channel);
     } else {
-        channel_ = gpu::Texture(gpu::NoCreate);
+        f.channel = gpu::Texture(gpu::NoCreate);
     }
     // GL's default border colour is 0: cells outside the array read 0, so its size is exact.
-    neighbourhood_ = gpu::Texture(gpu::NoCreate);
+    f.neighbourhood = gpu::Texture(gpu::NoCreate);
     if (!c.neighbourhood.mean.empty()) {
         GLint unpack = 0;
         glGetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &unpack);
         glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
-        neighbourhood_ = makeFilteredTexture3D(c.neighbourhood.size, GL_R32F, GL_RED,
-                                               c.neighbourhood.mean.data(), GL_CLAMP_TO_BORDER);
+        f.neighbourhood = makeFilteredTexture3D(c.neighbourhood.size, GL_R32F, GL_RED,
+                                                c.neighbourhood.mean.data(), GL_CLAMP_TO_BORDER);
         glBindBuffer(GL_PIXEL_UNPACK_BUFFER, GLuint(unpack));
-        neighbourhoodOrigin_ = c.neighbourhood.origin;
+        f.neighbourhoodOrigin = c.neighbourhood.origin;
     }
     if (c.stats.dense) {
-        indirection_ = gpu::Texture(gpu::NoCreate);
+        f.indirection = gpu::Texture(gpu::NoCreate);
         return;
     }
     // Entries past the table are never fetched: the marcher tests indexMin/indexMax first.
-    ensureTexture(indirection_, allocatedSize(c.tableSize, false, max3D), GL_R32UI, true);
-    write(indirection_, c.tableSize, GL_RED_INTEGER, GL_UNSIGNED_INT, table);
+    ensureTexture(f.indirection, allocatedSize(c.tableSize, false, max3D), GL_R32UI, true);
+    write(f.indirection, c.tableSize, GL_RED_INTEGER, GL_UNSIGNED_INT, table);
 }
 
 void GpuVolume::worldBounds(glm::vec3& lo, glm::vec3& hi) const {
     lo = glm::vec3(1e30f);
     hi = glm::vec3(-1e30f);
     for (int c = 0; c < 8; ++c) {
-        const glm::vec3 p((c & 1) ? indexMax_.x : indexMin_.x, (c & 2) ? indexMax_.y : indexMin_.y,
-                          (c & 4) ? indexMax_.z : indexMin_.z);
+        const glm::vec3 p((c & 1) ? indexMax().x : indexMin().x,
+                          (c & 2) ? indexMax().y : indexMin().y,
+                          (c & 4) ? indexMax().z : indexMin().z);
         const glm::vec3 w = glm::vec3(indexToWorld_ * glm::vec4(p, 1.0f));
         lo = glm::min(lo, w);
         hi = glm::max(hi, w);

@@ -17,6 +17,8 @@
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
+#include <memory>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -49,27 +51,38 @@ public:
     // The next frame of a range: the same as constructing from `converted`, but the data,
     // channel and indirection textures are kept where their allocated size (the conversion's
     // rounded up, allocatedSize()) is unchanged, and only their texels are uploaded.
+    //
+    // Frames held on the GPU: a conversion with a key (GridConversion::gpuKey) keeps its
+    // textures under that key, with the other held frames, while their texture bytes (allocated
+    // sizes) fit GridConversion::gpuHoldBytes. A conversion whose key is held shows those
+    // textures again: nothing is uploaded (stats().reshown counts it) and the image is the
+    // same as after its upload. Otherwise the least recently shown frames are dropped until
+    // the new one fits, and the new frame takes the textures of a dropped one (reallocated
+    // only where its size differs); a frame larger than the budget alone, or without a key,
+    // is shown but not held. With gpuHoldBytes 0 every frame uploads into the one set of
+    // textures, as without keys.
     void replace(const GridConversion& converted, const glm::mat4& objectToWorld);
 
+    // Of the shown frame, with the held frames and upload counters of the volume.
     const GpuVolumeStats& stats() const { return stats_; }
-    const gpu::Texture& data() const { return data_; } // atlas or dense R16F
+    const gpu::Texture& data() const { return shown_->data; } // atlas or dense R16F
     // The conversion's second channel (emission), same layout as data(); null if none. R16F
     // (1 component) or RGBA16F (4: RGB and 0).
-    const gpu::Texture& channel() const { return channel_; }
-    int channelComponents() const { return channelComponents_; }
-    const gpu::Texture& indirection() const { return indirection_; } // R32UI (bricks only)
+    const gpu::Texture& channel() const { return shown_->channel; }
+    int channelComponents() const { return shown_->channelComponents; }
+    const gpu::Texture& indirection() const { return shown_->indirection; } // R32UI (bricks)
     // The mean density per 8^3-voxel cell (grid/neighbourhood.h), R32F, trilinear, zero
     // border; cell (0,0,0) of the texture is cell neighbourhoodOrigin() of the grid. Null unless
     // the conversion had GpuVolumeOptions::neighbourhood.
-    const gpu::Texture& neighbourhood() const { return neighbourhood_; }
-    glm::ivec3 neighbourhoodOrigin() const { return neighbourhoodOrigin_; }
+    const gpu::Texture& neighbourhood() const { return shown_->neighbourhood; }
+    glm::ivec3 neighbourhoodOrigin() const { return shown_->neighbourhoodOrigin; }
     const glm::mat4& worldToIndex() const { return worldToIndex_; }
     const glm::mat4& indexToWorld() const { return indexToWorld_; }
     // Index-space bounds of the stored data, voxel centres at integer coordinates.
-    glm::vec3 indexMin() const { return indexMin_; }
-    glm::vec3 indexMax() const { return indexMax_; }
-    glm::ivec3 leafOrigin() const { return leafOrigin_; } // index of leaf (0,0,0) of the table
-    glm::ivec3 bricksPerAxis() const { return bricksPerAxis_; }
+    glm::vec3 indexMin() const { return shown_->indexMin; }
+    glm::vec3 indexMax() const { return shown_->indexMax; }
+    glm::ivec3 leafOrigin() const { return shown_->leafOrigin; } // leaf (0,0,0) of the table
+    glm::ivec3 bricksPerAxis() const { return shown_->bricksPerAxis; }
     // World-space axis-aligned bounds.
     void worldBounds(glm::vec3& lo, glm::vec3& hi) const;
     float voxelSize() const { return voxelSize_; } // world units (largest axis)
@@ -85,12 +98,32 @@ public:
     static glm::ivec3 allocatedSize(const glm::ivec3& texels, bool atlas, int max3D);
 
 private:
+    // One frame's textures and the values the shaders take with them.
+    struct Frame {
+        std::string key; // held under it; empty: not held (the next frame takes the textures)
+        std::uint64_t lastShown = 0;
+        std::size_t bytes = 0; // allocated texture bytes
+        GpuVolumeStats stats;  // the conversion's
+        gpu::Texture data{gpu::NoCreate}, indirection{gpu::NoCreate}, channel{gpu::NoCreate};
+        gpu::Texture neighbourhood{gpu::NoCreate};
+        glm::ivec3 neighbourhoodOrigin{0};
+        int channelComponents = 0;
+        glm::mat4 gridToWorld{1.0f}; // the conversion's index-to-world
+        glm::vec3 indexMin{0.0f}, indexMax{0.0f};
+        glm::ivec3 leafOrigin{0}, bricksPerAxis{0};
+    };
+
     void upload(const GridConversion& converted, const glm::mat4& objectToWorld);
-    // The textures (kept where their size fits) and uniforms of `converted`, its texels read
-    // from `values`, `channel` and `table` (client memory, or offsets into the bound unpack
-    // buffer).
-    void upload(const GridConversion& converted, const glm::mat4& objectToWorld, const void* values,
-                const void* channel, const void* table);
+    // The textures (kept where their size fits) and values of `converted` in `f`, its texels
+    // read from `values`, `channel` and `table` (client memory, or offsets into the bound
+    // unpack buffer).
+    void upload(Frame& f, const GridConversion& converted, const void* values, const void* channel,
+                const void* table);
+    // `f` shown with `objectToWorld`; the statistics updated.
+    void show(Frame* f, const glm::mat4& objectToWorld);
+    // The frame `converted` is uploaded into: held frames dropped (least recently shown first)
+    // until it fits its budget, their textures reused for it.
+    Frame* frameFor(const GridConversion& converted);
     // Copies `bytes` to the staging buffer (a pixel unpack buffer, persistently mapped and grown
     // when needed) at the next free offset, which it returns.
     std::size_t stage(const void* data, std::size_t bytes);
@@ -98,17 +131,15 @@ private:
     std::size_t stageHalf(const std::vector<float>& texels);
 
     GpuVolumeStats stats_;
-    gpu::Texture data_{gpu::NoCreate}, indirection_{gpu::NoCreate}, channel_{gpu::NoCreate};
-    gpu::Texture neighbourhood_{gpu::NoCreate};
+    std::vector<std::unique_ptr<Frame>> frames_; // held frames and the shown one
+    Frame* shown_ = nullptr;
+    std::uint64_t shownCount_ = 0;
+    std::size_t uploads_ = 0, uploadedBytes_ = 0, reshown_ = 0;
     gpu::Buffer staging_{gpu::NoCreate};
     void* stagingMap_ = nullptr;
     std::size_t stagingUsed_ = 0;
     GLsync uploaded_ = nullptr; // the last upload's reads from the staging buffer
-    glm::ivec3 neighbourhoodOrigin_{0};
-    int channelComponents_ = 0;
     glm::mat4 worldToIndex_{1.0f}, indexToWorld_{1.0f};
-    glm::vec3 indexMin_{0.0f}, indexMax_{0.0f};
-    glm::ivec3 leafOrigin_{0}, bricksPerAxis_{0};
     float voxelSize_ = 1.0f;
 };
 

@@ -24,6 +24,12 @@ struct GpuVolumeStats {
     bool dense = false;
     int coarsened = 0;              // times the voxel size was doubled to fit the budget
     std::uint64_t activeVoxels = 0; // openvdb::Index64 (gpu_volume.h checks)
+    // Not the conversion's but the GpuVolume's (fog/gpu_volume.h): the frames it holds on the
+    // GPU and their texture bytes (allocated sizes, the shown frame included), and since it was
+    // made: uploads from host memory with their bytes as sent, and frames shown again from
+    // the held textures (no upload).
+    std::size_t heldFrames = 0, heldBytes = 0;
+    std::size_t uploads = 0, uploadedBytes = 0, reshown = 0;
 };
 
 } // namespace veil::volume

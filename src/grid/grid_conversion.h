@@ -40,6 +40,12 @@ struct GridConversion {
     // The mean density of every 8^3-voxel cell (the depth-aware octaves' texture, R32F), with
     // GpuVolumeOptions::neighbourhood only (else empty).
     NeighbourhoodMean neighbourhood;
+    // Holding the uploaded frame on the GPU (GpuVolume keeps several frames' textures, least
+    // recently shown dropped first): `gpuKey` names the data (file, grid, channel, options;
+    // sequence/prefetch.cpp makes it), empty: not held; `gpuHoldBytes` is the texture memory
+    // the volume may hold frames in (render.sequence_gpu_cache_mib; 0: none).
+    std::string gpuKey;
+    std::size_t gpuHoldBytes = 0;
 
     // Host memory the arrays hold.
     std::size_t bytes() const {
