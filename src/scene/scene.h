@@ -151,6 +151,10 @@ struct RenderSettings {
     float fogAmbient = 1.0f; // scale of the isotropic ambient (sky) in-scattering
     // GPU memory budget for all volumes (MiB); larger grids are coarsened or refused.
     int volumeBudgetMiB = 1024;
+    // Frame ranges: GPU memory for the grid volumes' frames held on the GPU (MiB, shared
+    // equally by the grid volumes; fog/gpu_volume.h): a frame shown again is not uploaded.
+    // 0: none held.
+    int sequenceGpuCacheMiB = 1024;
     // Memory for procedural geometry (particle clouds): larger clouds are refused before
     // anything is allocated, with the estimate in the message.
     int geometryBudgetMiB = 2048;

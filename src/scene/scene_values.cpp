@@ -203,6 +203,11 @@ const std::vector<ValueDecl<RenderSettings>>& renderValueDecls() {
             .edited(ValueGroup::FogMarcher)
             .integer("volume_budget_mib", &R::volumeBudgetMiB, 1, 1 << 20,
                      "GPU memory for all volumes, MiB (larger grids: volume_over_budget)")
+            .integer("sequence_gpu_cache_mib", &R::sequenceGpuCacheMiB, 0, 1 << 20,
+                     "frame ranges, the viewer's timeline: GPU memory for volume frames kept "
+                     "uploaded, shared by the grid volumes, MiB; a frame shown again uploads "
+                     "nothing; 0 = none kept",
+                     "docs/sequences.md")
             .choice("volume_over_budget", &R::volumeOverBudget, {"coarsen", "refuse"},
                     "what volumes over volume_budget_mib get: coarsened grids or an error")
             .integer("geometry_budget_mib", &R::geometryBudgetMiB, 1, 1 << 20,

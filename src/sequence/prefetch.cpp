@@ -10,6 +10,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
+#include <utility>
 
 namespace veil::sequence {
 
@@ -19,14 +21,31 @@ namespace {
 // left by the volumes before it). A procedural volume before a file one leaves the rest to the
 // renderer (its size is known only once built); so does a conversion that fails, whose error
 // the renderer then gives with the volume's place in the scene.
-// `grid` converted, with `channel` (a temperature grid) as its emission channel when given.
+// `grid` converted, with `channel` (a temperature grid) as its emission channel when given,
+// to be held on the GPU under `key` within `holdBytes` (GridConversion::gpuKey).
 std::shared_ptr<const volume::GridConversion> convert(const openvdb::FloatGrid& grid,
                                                       const openvdb::FloatGrid::Ptr& channel,
                                                       const volume::GpuVolumeOptions& options,
-                                                      int max3D) {
+                                                      int max3D, const std::string& key,
+                                                      std::size_t holdBytes) {
     auto c = std::make_shared<volume::GridConversion>(volume::convertGrid(grid, options, max3D));
     if (channel) volume::addChannel(*c, {channel});
+    c->gpuKey = key;
+    c->gpuHoldBytes = holdBytes;
     return c;
+}
+
+// What the conversion of `v`'s grid with `options` for `max3D` is made of, the key its frame
+// is held under on the GPU (fog/gpu_volume.h): the file (with its size and modification time:
+// a file written again is new data), the grid, its temperature channel, the options.
+std::string gpuKey(const scene::VolumeRef& v, const volume::GpuVolumeOptions& o, int max3D) {
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(v.path, ec);
+    const auto time = std::filesystem::last_write_time(v.path, ec).time_since_epoch().count();
+    return fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}|{}",
+                       std::filesystem::absolute(v.path, ec).string(), v.grid, v.temperatureGrid,
+                       size, time, o.budgetBytes, o.refuseOverBudget, o.denseVoxelLimit,
+                       o.neighbourhood, max3D);
 }
 
 bool sameOptions(const volume::GpuVolumeOptions& a, const volume::GpuVolumeOptions& b) {
@@ -37,6 +56,12 @@ bool sameOptions(const volume::GpuVolumeOptions& a, const volume::GpuVolumeOptio
 void convertAhead(PreparedFrame& p, int max3D, const std::vector<volume::PreloadedGrid>& statics,
                   StaticConversions* conversions) {
     std::size_t used = 0;
+    // The frames held on the GPU: render.sequence_gpu_cache_mib shared by the grid volumes.
+    const std::size_t grids = std::size_t(
+        std::count_if(p.scene.volumes.begin(), p.scene.volumes.end(),
+                      [](const scene::VolumeRef& v) { return v.procedural != "homogeneous"; }));
+    const std::size_t holdBytes =
+        (std::size_t(p.scene.render.sequenceGpuCacheMiB) << 20) / std::max<std::size_t>(grids, 1);
     for (const scene::VolumeRef& v : p.scene.volumes) {
         if (v.procedural == "homogeneous") continue;
         if (!v.procedural.empty()) return;
@@ -66,8 +91,10 @@ void convertAhead(PreparedFrame& p, int max3D, const std::vector<volume::Preload
             conversions && std::any_of(statics.begin(), statics.end(),
                                        [&](const auto& s) { return s.value == g->value; });
         try {
-            g->converted = isStatic ? conversions->get(*g->value, channel, options, max3D)
-                                    : convert(*g->value, channel, options, max3D);
+            const std::string key = gpuKey(v, options, max3D);
+            g->converted =
+                isStatic ? conversions->get(*g->value, channel, options, max3D, key, holdBytes)
+                         : convert(*g->value, channel, options, max3D, key, holdBytes);
         } catch (const Error&) {
             return;
         }
@@ -127,11 +154,16 @@ void advanceScene(scene::Scene& current, const scene::Scene& next) {
         current.cameras[i] = next.cameras[i];
 }
 
-// The bytes GpuVolume::replace() sends for `c`: half-float texels, the 32-bit indirection
-// table and the neighbourhood means.
-std::size_t uploadBytes(const volume::GridConversion& c) {
-    return c.values.size() * 2 + c.channel.size() * 2 + c.table.size() * 4 +
-           c.neighbourhood.mean.size() * 4;
+// The uploads from host memory of `r`'s grid volumes so far and their bytes as sent
+// (GpuVolumeStats: a frame held on the GPU and shown again uploads nothing).
+std::pair<std::size_t, std::size_t> volumeUploads(const frame::Renderer& r) {
+    std::pair<std::size_t, std::size_t> n{0, 0};
+    if (const volume::FogPass* fog = r.fog())
+        for (const volume::GpuVolumeStats& s : fog->stats()) {
+            n.first += s.uploads;
+            n.second += s.uploadedBytes;
+        }
+    return n;
 }
 
 double msSince(std::chrono::steady_clock::time_point t) {
@@ -192,13 +224,14 @@ std::vector<volume::PreloadedGrid> readStaticGrids(const scene::AnimatedScene& s
 
 std::shared_ptr<const volume::GridConversion>
 StaticConversions::get(const openvdb::FloatGrid& grid, const openvdb::FloatGrid::Ptr& channel,
-                       const volume::GpuVolumeOptions& options, int max3D) {
+                       const volume::GpuVolumeOptions& options, int max3D, const std::string& key,
+                       std::size_t holdBytes) {
     const std::lock_guard lock(mutex_); // the first frames' workers wait for one conversion
     for (const Item& i : items_)
         if (i.grid == &grid && i.channel == channel.get() && i.max3D == max3D &&
             sameOptions(i.options, options))
             return i.converted;
-    auto c = convert(grid, channel, options, max3D);
+    auto c = convert(grid, channel, options, max3D, key, holdBytes);
     items_.push_back({&grid, channel.get(), options, max3D, c});
     return c;
 }
@@ -309,10 +342,11 @@ bool RangeRenderer::upload(PreparedFrame& p) {
     for (std::size_t i = 0; i < p.scene.volumes.size(); ++i)
         current_.volumes[i] = p.scene.volumes[i];
     const volume::PreloadedGridScope preloaded(p.grids); // a scattered-light cache's grids
+    const auto before = volumeUploads(*renderer_);
     renderer_->uploadVolumes(conversions_);
-    for (const volume::GridConversion* c : conversions_)
-        uploadedBytes_ += uploadBytes(*c);
-    uploads_ += conversions_.size();
+    const auto after = volumeUploads(*renderer_);
+    uploads_ += after.first - before.first;
+    uploadedBytes_ += after.second - before.second;
     lastUploadMs_ = msSince(start);
     p.uploaded = true;
     p.grids.clear(); // copied into the staging buffer

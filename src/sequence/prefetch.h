@@ -46,11 +46,13 @@ struct PreparedFrame {
 class StaticConversions {
 public:
     // The conversion of static grid `grid` (with `channel`, a temperature grid, as its
-    // emission channel when not null) with `options` for `max3D`, made on first use.
+    // emission channel when not null) with `options` for `max3D`, made on first use (held on
+    // the GPU under `key` within `holdBytes`: GridConversion::gpuKey).
     std::shared_ptr<const volume::GridConversion> get(const openvdb::FloatGrid& grid,
                                                       const openvdb::FloatGrid::Ptr& channel,
                                                       const volume::GpuVolumeOptions& options,
-                                                      int max3D);
+                                                      int max3D, const std::string& key = {},
+                                                      std::size_t holdBytes = 0);
     std::size_t conversions() const; // made so far (tests)
 
 private:
@@ -144,9 +146,10 @@ public:
     bool upload(PreparedFrame& p);
     int built() const { return built_; }   // renderers built so far
     int reused() const { return reused_; } // frames that replaced volumes only
-    // Volume uploads from host memory so far: grid volumes built or replaced, their texels'
-    // bytes as sent (half floats, the indirection table, the neighbourhood means), and the
-    // wall time of the last frame's upload calls (ms; building: the whole construction).
+    // Volume uploads from host memory so far: grid volumes built or replaced (a frame held on
+    // the GPU and shown again is none: fog/gpu_volume.h), their texels' bytes as sent (half
+    // floats, the indirection table, the neighbourhood means), and the wall time of the last
+    // frame's upload calls (ms; building: the whole construction).
     std::size_t uploads() const { return uploads_; }
     std::size_t uploadedBytes() const { return uploadedBytes_; }
     double lastUploadMs() const { return lastUploadMs_; }

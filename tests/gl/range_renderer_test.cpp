@@ -4,7 +4,8 @@
 // shadow-casting light and a turntable camera; a frame of another structure (the volume gone)
 // builds a new renderer. Played with the next frame's upload behind the current frame's render
 // (sequence/range_player.h), the images are the same, and the upload counters count each
-// frame's volume data once.
+// frame's volume data once. Frames held on the GPU (render.sequence_gpu_cache_mib) shown again
+// upload nothing and give the same images; with the budget 0 every frame uploads.
 #include "frame/renderer.h"
 #include "gl_fixture.h"
 #include "scene/timeline.h"
@@ -28,7 +29,8 @@ class RangeRendererTest : public GlTest {};
 
 // The fire frames 1-4 glowing (temperature emission), a shadow-casting key, a turntable;
 // 48x40 and few steps: cheap on llvmpipe.
-scene::AnimatedScene fireRange(const std::string& after, const std::string& name) {
+scene::AnimatedScene fireRange(const std::string& after, const std::string& name,
+                               int gpuCacheMiB = -1) {
     nlohmann::json volume = {
         {"name", "fire"},
         {"path", (dataDir() / "vdb-embergen-fire-seq" / "embergen_fire_a_#.vdb").string()},
@@ -39,7 +41,7 @@ scene::AnimatedScene fireRange(const std::string& after, const std::string& name
         {"temperature_offset", 900},
         {"after", after}};
     if (after == "blank") volume["frames"] = {1, 2};
-    const nlohmann::json doc = {
+    nlohmann::json doc = {
         {"render", {{"width", 48}, {"height", 40}, {"fog_steps", 40}, {"shadows", "opaque"}}},
         {"cameras",
          {{{"position", {0, -62, -98}},
@@ -48,6 +50,7 @@ scene::AnimatedScene fireRange(const std::string& after, const std::string& name
            {"turntable", {{"frames", 8}, {"start_frame", 1}}}}}},
         {"lights", {{{"type", "directional"}, {"direction", {-0.4, 0.5, -0.75}}}}},
         {"volumes", {volume}}};
+    if (gpuCacheMiB >= 0) doc["render"]["sequence_gpu_cache_mib"] = gpuCacheMiB;
     const fs::path file = writeTextFile(outputSubdir("range_renderer") / name, doc.dump());
     return scene::loadAnimatedScene(file, {});
 }
@@ -147,6 +150,34 @@ TEST_F(RangeRendererTest, UploadsBehindThePreviousRenderEqualRenderersBuiltAlone
         EXPECT_EQ(player.renderers().built(), 1);
         EXPECT_EQ(player.renderers().uploads(), frames.size());
         EXPECT_GT(replacedBytes, 0u);
+    }
+    VEIL_EXPECT_NO_GL_ERROR();
+}
+
+TEST_F(RangeRendererTest, HeldFramesShownAgainUploadNothing) {
+    GLint max3D = 0;
+    glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3D);
+    // Frames 3 and 2 again, as the viewer's timeline scrubbing back.
+    const std::vector<int> frames = {1, 2, 3, 4, 3, 2};
+    for (const int cacheMiB : {-1, 0}) {
+        SCOPED_TRACE(cacheMiB < 0 ? "default budget" : "budget 0");
+        const scene::AnimatedScene scene =
+            fireRange("loop", cacheMiB < 0 ? "held.json" : "held0.json", cacheMiB);
+        sequence::RangePlayer player(scene, frames, info(), {}, std::size_t(1) << 30, 2, max3D);
+        std::vector<gpu::ImageF> images;
+        for (std::size_t i = 0; i < frames.size(); ++i) {
+            const sequence::PlayedFrame played = player.step();
+            ASSERT_EQ(played.frame, frames[i]);
+            images.push_back(played.renderer->readHdr());
+            const bool again = i >= 4;
+            EXPECT_EQ(played.uploads, again && cacheMiB < 0 ? 0u : 1u) << "frame " << i;
+            EXPECT_EQ(played.uploadedBytes == 0, again && cacheMiB < 0) << "frame " << i;
+        }
+        EXPECT_EQ(player.renderers().built(), 1);
+        EXPECT_FALSE(samePixels(images[2], images[1]));
+        EXPECT_TRUE(samePixels(images[4], images[2])) << "frame 3 shown again";
+        EXPECT_TRUE(samePixels(images[5], images[1])) << "frame 2 shown again";
+        EXPECT_TRUE(samePixels(images[5], alone(info(), scene, 2)));
     }
     VEIL_EXPECT_NO_GL_ERROR();
 }
