@@ -6,6 +6,7 @@
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/text.h"
+#include "fog/fog_pass.h"
 
 #include <fmt/format.h>
 
@@ -105,6 +106,16 @@ nlohmann::json statusJson(const session::ViewSession& session, const DebugView& 
                         {"overrides", session.overrides()},
                         {"frames_replaced", session.framesReplaced()},
                         {"renderer", session.context().renderer}};
+    // Volume uploads from host memory, and timeline frames shown again from the frames held on
+    // the GPU without one (render.sequence_gpu_cache_mib, fog/gpu_volume.h).
+    std::size_t uploads = 0, reshown = 0;
+    if (const volume::FogPass* fog = r.fog())
+        for (const volume::GpuVolumeStats& v : fog->stats()) {
+            uploads += v.uploads;
+            reshown += v.reshown;
+        }
+    j["volume_uploads"] = uploads;
+    j["volume_frames_reshown"] = reshown;
     const session::ViewSession::RefineLog& log = session.refineLog();
     j["refinement"] = {{"tile_px", session.refineTilePx()},
                        {"tiles", log.tiles},

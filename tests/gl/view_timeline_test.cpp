@@ -102,6 +102,8 @@ TEST(ViewTimelineTest, ScrubAndLoopEqualRenderFrame) {
     EXPECT_TRUE(hasOverride(status, "time.frame=3")) << status.dump();
     // 3, 1, 4 and the played frames, each without a renderer built.
     EXPECT_GE(status["frames_replaced"].get<int>(), 4) << status.dump();
+    // 1 (after the scrub) and 3 (after the loop) shown again from the frames held on the GPU.
+    EXPECT_GE(status["volume_frames_reshown"].get<int>(), 2) << status.dump();
     EXPECT_TRUE(same(d / "looped.png", r3));
     EXPECT_TRUE(status["errors"].empty()) << status.dump();
 }
