@@ -16,7 +16,8 @@
 //   frame_ms             one frame's whole time on the render thread.
 // end to end: frames / wall seconds of the whole loop. --scrub-back N then shows the N frames
 // before the range's last one again, last first (as the viewer's timeline scrubbing back),
-// reported under "scrub_back" with the same fields and the number of volume uploads. Then, on
+// reported under "scrub_back" with the same fields and the number of volume uploads (0 when
+// the frames are held on the GPU: render.sequence_gpu_cache_mib, "gpu_frames"). Then, on
 // the distinct frames alone: the upload of a frame's conversion into new textures (GpuVolume,
 // glFinish) and into the textures of the previous distinct frame (GpuVolume::replace, as a
 // range's frames upload; only frames after the first), and the CPU conversion cost per
@@ -24,6 +25,7 @@
 // no VTK), like veil-bench. bench/run.py runs it for the sequence-playback set.
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "fog/fog_pass.h"
 #include "fog/gpu_volume.h"
 #include "frame/renderer.h"
 #include "gpu/context.h"
@@ -137,7 +139,7 @@ int run(const Args& a) {
     auto start = Clock::now();
     double wallS = 0.0, scrubWallS = 0.0;
     int built = 0, reused = 0;
-    std::size_t scrubUploads = 0;
+    std::size_t scrubUploads = 0, scrubBytes = 0, heldFrames = 0, heldBytes = 0;
     {
         sequence::RangePlayer player(scene, played, context.info(), options,
                                      std::size_t(scene.timeline.time.prefetchBudgetMiB) << 20,
@@ -152,6 +154,12 @@ int run(const Args& a) {
             const bool scrubbing = i >= frames.size();
             record(f, msSince(mark), scrubbing ? back : t);
             if (scrubbing) scrubUploads += f.uploads;
+            if (scrubbing) scrubBytes += f.uploadedBytes;
+            if (i + 1 == played.size() && f.renderer->fog()) // the frames held on the GPU
+                for (const volume::GpuVolumeStats& v : f.renderer->fog()->stats()) {
+                    heldFrames += v.heldFrames;
+                    heldBytes += v.heldBytes;
+                }
             if (!scrubbing) activeVoxels.push_back(double(f.activeVoxels));
         }
         const double s = std::chrono::duration<double>(Clock::now() - start).count();
@@ -215,6 +223,9 @@ int run(const Args& a) {
     out["upload"] = a.serialUpload ? "serial: before each frame's render"
                                    : "overlapped: during the previous frame's render";
     out["renderers_built"] = built;
+    out["gpu_frames"] = {{"budget_mib", scene.scene.render.sequenceGpuCacheMiB},
+                         {"held_frames_at_end", heldFrames},
+                         {"held_mb_at_end", double(heldBytes) / 1048576.0}};
     out["frames_reusing_the_renderer"] = reused;
     out["wall_s"] = wallS;
     out["end_to_end_fps"] = double(frames.size()) / wallS;
@@ -228,7 +239,8 @@ int run(const Args& a) {
             out["per_frame"][k]["mean"].get<double>() / frameMs;
     if (!scrub.empty()) {
         out["scrub_back"]["frames"] = scrub;
-        out["scrub_back"]["volume_uploads"] = scrubUploads;
+        out["scrub_back"]["volume_uploads"] = scrubUploads; // 0: every frame held on the GPU
+        out["scrub_back"]["uploaded_mb"] = double(scrubBytes) / 1048576.0;
         out["scrub_back"]["wall_s"] = scrubWallS;
         out["scrub_back"]["fps"] = double(scrub.size()) / scrubWallS;
         for (const auto& [k, v] : back)
