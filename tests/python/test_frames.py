@@ -14,7 +14,7 @@ from conftest import ROOT
 FIRE = ROOT / "datasets" / "third_party" / "vdb-embergen-fire-seq" / "embergen_fire_a_#.vdb"
 
 
-def fire_scene(folder):
+def fire_scene(folder, gpu_cache_mib=None):
     """The fire frames 1-4 glowing (temperature emission), a shadow-casting key, a turntable;
     40x32 and few steps: cheap on llvmpipe."""
     doc = {
@@ -26,7 +26,9 @@ def fire_scene(folder):
                      "density_scale": 6.0, "temperature_grid": "temperature",
                      "temperature_scale": 1100, "temperature_offset": 900, "after": "loop"}],
     }
-    path = folder / "fire.json"
+    if gpu_cache_mib is not None:
+        doc["render"]["sequence_gpu_cache_mib"] = gpu_cache_mib
+    path = folder / f"fire{'' if gpu_cache_mib is None else gpu_cache_mib}.json"
     path.write_text(json.dumps(doc))
     return path
 
@@ -52,6 +54,19 @@ def test_frames_equal_single_frame_renders(renderer, veil_exe, tmp_path):
         seen.append(frame.rgb.copy())
     assert numbers == [1, 2, 3]
     assert not np.array_equal(seen[0], seen[1])  # the fire and the camera moved
+
+
+def test_looped_frames_held_on_the_gpu_upload_nothing(renderer, tmp_path):
+    # Frames 5 and 6 loop back to the files of 1 and 2; frame 2's upload is held on the GPU
+    # (frame 1 was uploaded by the renderer being built, without a key, so 5 uploads again).
+    for budget in (None, 0):
+        scene = fire_scene(tmp_path, budget)
+        played = list(renderer.frames(scene, 1, 6))
+        uploaded = [frame.report["uploaded_bytes"] for _, frame in played]
+        assert uploaded[4] > 0, uploaded
+        assert (uploaded[5] == 0) == (budget is None), uploaded
+        _, alone = next(iter(renderer.frames(scene, 6)))
+        assert np.array_equal(played[5][1].rgb, alone.rgb), f"budget {budget}"
 
 
 def test_frames_first_alone_and_step(renderer, tmp_path):
