@@ -300,7 +300,7 @@ def generated_scene(tool, group, tmp):
 def dataset_scene(group, tmp):
     """A group with "frames_dir" renders files that are not in the repository (too large):
     the environment variable it names holds their folder (e.g. the 60-frame EmberGen fire of
-    ../shared/datasets/third_party, bundled as an extra folder, bench/README.md). The group's
+    the team's shared datasets, bundled as an extra folder, bench/README.md). The group's
     scene is copied to the run's temporary folder with each volume's file pattern moved into
     that folder. Returns (scene path, error); the scene is None when the folder is missing."""
     var = group["frames_dir"]
