@@ -2,7 +2,7 @@
 // "Scattered-light cache"): shaders/volume/cache_bake.comp, the CPU bake's estimator
 // (integrators/path_tracer.h VolumePathTracer::scatteredLight) on the fog pass's density
 // textures (gpu_volume.h), one invocation per texel, tracked against local majorants (a grid of
-// them, majorant_grid.h) where the CPU has one for all space. The work is split into dispatches
+// them, integrators/majorant_grid.h, as the CPU tracer's). The work is split into dispatches
 // of texels x samples: step() runs dispatches for a time budget, so a bake can be spread over
 // frames (the viewer's progressive bake); the textures hold the P1 terms of the samples so far
 // after every step. Deterministic for a seed and sample count: every path's random numbers are
