@@ -90,24 +90,15 @@ public:
                 passes.push_back({{"name", p.name}, {"ms", p.milliseconds}});
                 gpu += p.milliseconds;
             }
-            report = {{"frame", f.frame},
-                      {"width", r.width()},
-                      {"height", r.height()},
-                      {"camera", r.camera().name},
-                      {"oit", r.oitName()},
-                      {"passes", passes},
-                      {"total_ms", gpu},
-                      {"renderer", context.renderer},
-                      {"wait_ms", f.waitMs},
-                      {"read_ms", f.readMs},
-                      {"convert_ms", f.convertMs},
-                      {"setup_ms", f.setupMs},
-                      {"upload_ms", f.uploadMs},
-                      {"uploaded_ahead", f.uploadedAhead},
-                      {"uploaded_bytes", f.uploadedBytes},
-                      {"render_ms", f.renderMs},
-                      {"renderers_built", player_->renderers().built()}};
-            if (!f.notes.empty()) report["notes"] = f.notes;
+            report = f.json();
+            report.update({{"width", r.width()},
+                           {"height", r.height()},
+                           {"camera", r.camera().name},
+                           {"oit", r.oitName()},
+                           {"passes", passes},
+                           {"total_ms", gpu},
+                           {"renderer", context.renderer},
+                           {"renderers_built", player_->renderers().built()}});
         });
         py::dict out;
         out["rgba"] = toArray(std::move(hdr));

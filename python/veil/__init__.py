@@ -215,7 +215,8 @@ class Renderer(_veil._Renderer):
         while the previous frame renders. Each Frame equals a frame rendered alone.
         len() gives the number of frames. frame.report holds the frame's passes and its
         times: wait_ms, read_ms, convert_ms, setup_ms, upload_ms (uploaded_ahead: during the
-        previous frame's render), render_ms, uploaded_bytes.
+        previous frame's render), uploads, uploaded_bytes, render_ms, ahead_ms, active_voxels
+        (the fields of `veil render --frames --report`).
 
             for number, frame in renderer.frames("datasets/scenes/fire-sequence.json", 1, 48):
                 veil.write_image(f"out.{number:04d}.exr", frame.rgb)

@@ -18,6 +18,23 @@ double msSince(Clock::time_point t) {
 
 } // namespace
 
+nlohmann::json FrameStages::json() const {
+    nlohmann::json j = {{"frame", frame},
+                        {"wait_ms", waitMs},
+                        {"read_ms", readMs},
+                        {"convert_ms", convertMs},
+                        {"setup_ms", setupMs},
+                        {"upload_ms", uploadMs},
+                        {"uploaded_ahead", uploadedAhead},
+                        {"uploads", uploads},
+                        {"uploaded_bytes", uploadedBytes},
+                        {"render_ms", renderMs},
+                        {"ahead_ms", aheadMs},
+                        {"active_voxels", activeVoxels}};
+    if (!notes.empty()) j["notes"] = notes;
+    return j;
+}
+
 RangePlayer::RangePlayer(const scene::AnimatedScene& scene, std::vector<int> frames,
                          const gpu::ContextInfo& context, const frame::RendererOptions& options,
                          std::size_t readAheadBytes, int threads, int max3D, bool overlap)

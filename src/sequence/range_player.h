@@ -8,6 +8,8 @@
 
 #include "sequence/prefetch.h"
 
+#include <nlohmann/json.hpp>
+
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -15,14 +17,16 @@
 
 namespace veil::sequence {
 
-struct PlayedFrame {
+// What one played frame cost, stage by stage, as `veil render --frames --report`, veil-seqbench
+// and the Python module's Renderer.frames() report it (json(): the names docs/sequences.md
+// gives).
+struct FrameStages {
     int frame = 0;
-    frame::Renderer* renderer = nullptr; // the image is complete (glFinish), not read back
-    double waitMs = 0.0;                 // waiting for the workers before the frame could start
-    double readMs = 0.0;                 // on a worker: resolving and reading the grids
-    double convertMs = 0.0;              // on a worker: converting them into the GPU's arrays
-    double uploadMs = 0.0; // this frame's volume upload calls (render thread; during the
-                           // previous frame's render when `uploadedAhead`)
+    double waitMs = 0.0;    // waiting for the workers before the frame could start
+    double readMs = 0.0;    // on a worker: resolving and reading the grids
+    double convertMs = 0.0; // on a worker: converting them into the GPU's arrays
+    double uploadMs = 0.0;  // this frame's volume upload calls (render thread; during the
+                            // previous frame's render when `uploadedAhead`)
     bool uploadedAhead = false;
     double setupMs = 0.0;  // the renderer built, or the camera and lights switched (and the
                            // upload when not ahead)
@@ -31,6 +35,12 @@ struct PlayedFrame {
     std::size_t uploads = 0, uploadedBytes = 0; // volume uploads of this frame
     std::uint64_t activeVoxels = 0;
     std::vector<std::string> notes;
+
+    nlohmann::json json() const;
+};
+
+struct PlayedFrame : FrameStages {
+    frame::Renderer* renderer = nullptr; // the image is complete (glFinish), not read back
 };
 
 class RangePlayer {

@@ -60,24 +60,14 @@ bool outputComplete(const fs::path& path, int width, int height) {
 nlohmann::json RangeResult::json() const {
     nlohmann::json frameList = nlohmann::json::array();
     for (const FrameTimes& f : frames) {
-        nlohmann::json j = {{"frame", f.frame}, {"output", f.output.string()}};
+        nlohmann::json j;
         if (f.skipped) {
-            j["skipped"] = "complete already (--resume)";
+            j = {{"frame", f.frame}, {"skipped", "complete already (--resume)"}};
         } else {
-            j.update({{"wait_ms", f.waitMs},
-                      {"read_ms", f.readMs},
-                      {"convert_ms", f.convertMs},
-                      {"setup_ms", f.setupMs},
-                      {"upload_ms", f.uploadMs},
-                      {"uploaded_ahead", f.uploadedAhead},
-                      {"uploaded_bytes", f.uploadedBytes},
-                      {"render_ms", f.renderMs},
-                      {"ahead_ms", f.aheadMs},
-                      {"gpu_ms", f.gpuMs},
-                      {"write_ms", f.writeMs},
-                      {"active_voxels", f.activeVoxels}});
-            if (!f.notes.empty()) j["notes"] = f.notes;
+            j = f.json();
+            j.update({{"gpu_ms", f.gpuMs}, {"write_ms", f.writeMs}});
         }
+        j["output"] = f.output.string();
         frameList.push_back(std::move(j));
     }
     return {{"frames", frameList},
@@ -139,18 +129,7 @@ RangeResult renderRange(const scene::AnimatedScene& scene, const RangeJob& job,
         }
         const PlayedFrame played = player.step();
         FrameTimes t;
-        t.frame = played.frame;
-        t.waitMs = played.waitMs;
-        t.readMs = played.readMs;
-        t.convertMs = played.convertMs;
-        t.setupMs = played.setupMs;
-        t.uploadMs = played.uploadMs;
-        t.uploadedAhead = played.uploadedAhead;
-        t.uploadedBytes = played.uploadedBytes;
-        t.renderMs = played.renderMs;
-        t.aheadMs = played.aheadMs;
-        t.activeVoxels = played.activeVoxels;
-        t.notes = played.notes;
+        static_cast<FrameStages&>(t) = played;
         t.output = outputFor(job.output, played.frame, single);
         const frame::Renderer* renderer = played.renderer;
         for (const auto& pass : renderer->passTimes())

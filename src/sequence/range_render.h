@@ -8,6 +8,7 @@
 #include "frame/frame_setup.h"
 #include "gpu/context.h"
 #include "scene/timeline.h"
+#include "sequence/range_player.h"
 
 #include <nlohmann/json.hpp>
 
@@ -45,24 +46,12 @@ struct RangeJob {
     const std::atomic<bool>* stop = nullptr; // set (a signal): stop after the current frame
 };
 
-struct FrameTimes {
-    int frame = 0;
+// A frame of the range: its stages (a skipped frame has only `frame`), the image written.
+struct FrameTimes : FrameStages {
     std::filesystem::path output;
-    bool skipped = false;   // --resume: complete already
-    double waitMs = 0.0;    // waiting for the workers (read not done in time)
-    double readMs = 0.0;    // resolving and reading the grids (on a worker)
-    double convertMs = 0.0; // converting them into the GPU's arrays (on a worker)
-    double setupMs = 0.0;   // renderer: programs, or the camera and lights switched
-    double uploadMs = 0.0;  // the volumes' upload calls (during the previous frame's render
-                            // when uploadedAhead; else part of setupMs)
-    bool uploadedAhead = false;
-    std::size_t uploadedBytes = 0;
-    double renderMs = 0.0; // render() to glFinish (without the next frame's upload calls)
-    double aheadMs = 0.0;  // taking and uploading the next frame while this one renders
-    double gpuMs = 0.0;    // sum of the pass timers
-    double writeMs = 0.0;  // read-back and writing the image
-    std::uint64_t activeVoxels = 0;
-    std::vector<std::string> notes;
+    bool skipped = false; // --resume: complete already
+    double gpuMs = 0.0;   // sum of the pass timers
+    double writeMs = 0.0; // read-back and writing the image
 };
 
 struct RangeResult {

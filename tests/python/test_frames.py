@@ -56,6 +56,24 @@ def test_frames_equal_single_frame_renders(renderer, veil_exe, tmp_path):
     assert not np.array_equal(seen[0], seen[1])  # the fire and the camera moved
 
 
+def test_frame_report_has_the_fields_of_the_range_report(renderer, veil_exe, tmp_path):
+    # frame.report and `veil render --frames --report` give a frame's stages under the same
+    # names (sequence/range_player.h FrameStages::json).
+    scene = fire_scene(tmp_path)
+    report = tmp_path / "range.json"
+    subprocess.run([veil_exe, "render", str(scene), "--frames", "1-2", "-o",
+                    str(tmp_path / "r.#.exr"), "--report", str(report)],
+                   check=True, capture_output=True)
+    cli = json.loads(report.read_text())["frames"]
+    played = list(renderer.frames(scene, 1, 2))
+    for entry, (number, frame) in zip(cli, played):
+        stages = set(entry) - {"output", "gpu_ms", "write_ms"}
+        assert {"ahead_ms", "uploads", "active_voxels"} <= stages
+        assert stages <= set(frame.report), stages - set(frame.report)
+        assert frame.report["active_voxels"] == entry["active_voxels"] > 0
+        assert frame.report["uploads"] == entry["uploads"], number
+
+
 def test_looped_frames_held_on_the_gpu_upload_nothing(renderer, tmp_path):
     # Frames 5 and 6 loop back to the files of 1 and 2; frame 2's upload is held on the GPU
     # (frame 1 was uploaded by the renderer being built, without a key, so 5 uploads again).
