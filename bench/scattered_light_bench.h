@@ -1,5 +1,6 @@
 // veil-bench --light-drag: the viewer's frames while a light is dragged, with the progressive
-// bake of the scattered-light cache (render.fog_scattered_light_budget_ms), and optionally
+// bake of the scattered-light cache (render.fog_scattered_light_budget_ms and _frame_ms, as
+// the viewer gives them: fog/scattered_light_cache.h progressiveBakeMs), and optionally
 // (--converge) the cache's and the frame's error against the converged ones over the time
 // after the drag stops (bench/README.md, bench/sets/scattered-light-interactive.json).
 #pragma once

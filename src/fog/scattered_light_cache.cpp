@@ -173,4 +173,9 @@ void ScatteredLightCache::bind(const gpu::Program& program) const {
     (bake_ ? bake_->flux() : flux_).bind(VEIL_TEX_SCATTERED_LIGHT + 1);
 }
 
+double progressiveBakeMs(double budgetMs, double frameMs, double passesMs) {
+    if (!(budgetMs > 0.0)) return 0.0;
+    return std::max(budgetMs, frameMs - std::max(passesMs, 0.0));
+}
+
 } // namespace veil::volume

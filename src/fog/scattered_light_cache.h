@@ -39,6 +39,13 @@ struct ScatteredLightGpu {
     int coarsened = 0; // the most times a GPU copy of a grid was coarsened (its majorants' margin)
 };
 
+// The progressive bake's milliseconds for the next frame (the viewer, veil-bench --light-drag):
+// render.fog_scattered_light_budget_ms (`budgetMs`), raised to what the previous frame's passes
+// (`passesMs`, the bake not among them) left of render.fog_scattered_light_frame_ms
+// (`frameMs`): the bake fills the frame up to that frame time and converges as fast as the
+// frame rate allows. 0 stays 0 (the whole bake before the frame).
+double progressiveBakeMs(double budgetMs, double frameMs, double passesMs);
+
 class ScatteredLightCache {
 public:
     // `grids`: every grid volume's density, in scene order (the path tracer's input).

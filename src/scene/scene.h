@@ -148,6 +148,9 @@ struct RenderSettings {
     // The viewer's progressive bake: GPU milliseconds per frame (0: the whole bake before the
     // frame). `veil render` and Python bake the whole cache before the frame whatever it says.
     float fogScatteredLightBudgetMs = 2.0f;
+    // ... and at most this frame time (ms): the bake also takes what the previous frame's
+    // passes left of it (fog/scattered_light_cache.h progressiveBakeMs). 0: the budget alone.
+    float fogScatteredLightFrameMs = 25.0f;
     float fogAmbient = 1.0f; // scale of the isotropic ambient (sky) in-scattering
     // GPU memory budget for all volumes (MiB); larger grids are coarsened or refused.
     int volumeBudgetMiB = 1024;

@@ -197,6 +197,13 @@ const std::vector<ValueDecl<RenderSettings>>& renderValueDecls() {
                   "render and Python always bake it whole)")
             .edited(ValueGroup::FogMarcher)
             .onEdit(EditEffect::Live)
+            .real("fog_scattered_light_frame_ms", &R::fogScatteredLightFrameMs, kNonNegative, 0.0,
+                  1000.0,
+                  "the viewer's progressive bake also takes what the previous frame's passes "
+                  "left of a frame of this many milliseconds (25: 40 frames a second), so that "
+                  "the cache converges as fast as that frame rate allows; 0 = the budget alone")
+            .edited(ValueGroup::FogMarcher)
+            .onEdit(EditEffect::Live)
             .real("fog_ambient", &R::fogAmbient, kNonNegative, 0.0, 4.0,
                   "scale of the fog's isotropic ambient (sky) in-scattering, render.ambient x "
                   "sigma_s x fog_ambient")

@@ -169,6 +169,35 @@ TEST_F(ScatteredLightBakeTest, PropertyChoosesTheDevice) {
     }
 }
 
+// The viewer's time for the progressive bake (progressiveBakeMs): the budget, or what the last
+// frame's passes left of render.fog_scattered_light_frame_ms. Frames of 1000 ms on this tiny
+// slab finish the bake in the first frame (the frames before have no passes); without the frame
+// time (0) each frame takes the budget alone, one dispatch, and the bake spreads over frames.
+TEST_F(ScatteredLightBakeTest, ProgressiveBakeFillsWhatThePassesLeaveOfTheFrame) {
+    EXPECT_DOUBLE_EQ(volume::progressiveBakeMs(2.0, 25.0, 10.0), 15.0);
+    EXPECT_DOUBLE_EQ(volume::progressiveBakeMs(2.0, 25.0, 24.0), 2.0);
+    EXPECT_DOUBLE_EQ(volume::progressiveBakeMs(2.0, 0.0, 10.0), 2.0);
+    EXPECT_DOUBLE_EQ(volume::progressiveBakeMs(0.0, 25.0, 10.0), 0.0); // the whole bake
+    const scene::Scene s = scene::parseScene(bakeScene("gpu", 5), sourceDir());
+    auto framesToConverge = [&](double frameMs) {
+        frame::Renderer r(s, info(), {0, 0, "", "blend"});
+        const volume::ScatteredLightCache* cache = r.fog()->scatteredLightCache();
+        int frames = 0;
+        do {
+            double passes = 0.0;
+            for (const auto& p : r.passTimes())
+                passes += p.milliseconds;
+            r.setScatteredLightBudgetMs(volume::progressiveBakeMs(1e-3, frameMs, passes));
+            r.render();
+            ++frames;
+        } while (cache->converging() && frames < 10 * kPaths);
+        EXPECT_FALSE(cache->converging());
+        return frames;
+    };
+    EXPECT_EQ(framesToConverge(1000.0), 1);
+    EXPECT_GT(framesToConverge(0.0), 4);
+}
+
 // The progressive bake (ScatteredLightCache::setBudgetMs, the viewer): a budget so small that
 // every frame runs one dispatch; the frames draw with the paths so far, come closer to the
 // full bake as they go, and end with the full bake's cache bit for bit (the same paths, each

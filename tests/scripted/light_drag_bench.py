@@ -1,13 +1,15 @@
 #!/usr/bin/env python3
 """veil-bench --light-drag / --converge (bench/scattered_light_bench.h) on a small slab whose
-scattered-light cache is baked on the GPU (1445 texels x 64 paths), against what the
+scattered-light cache is baked on the GPU (1445 texels), against what the
 progressive bake must do:
 
-  - a budget too small for more than one path per texel per frame: every drag frame restarts
-    the bake (the last frame's bake is 1/64 done), the cache is off its converged value right
+  - a budget too small for more than one path per texel per frame and no frame time to fill
+    (512 paths): every drag frame restarts
+    the bake (the last frame's bake is 1/512 done), the cache is off its converged value right
     after the drag and the error shrinks as paths come in; where the bake is done the error is
     0 exactly (the converged cache is the same bake run to its end);
-  - a budget of 100 ms and 8 paths (the whole bake fits one frame): 0 at every time;
+  - a budget of 100 ms, or frames of 1000 ms to fill, and 8 paths (the whole bake fits one
+    frame): 0 at every time;
   - a scene without the cache is refused with one line naming --light-drag.
 
 Usage: light_drag_bench.py VEIL_BENCH [REPO_ROOT]. Standard library only; a few seconds on
@@ -59,12 +61,16 @@ with tempfile.TemporaryDirectory() as tmp:
     with open(scene, "w") as f:
         json.dump(SLAB, f)
 
-    # One path per texel per frame: 0.001 ms buys one dispatch, one sample over all texels.
-    r, p = drag(scene, "--set", "render.fog_scattered_light_budget_ms=0.001")
+    # One path per texel per frame: 0.001 ms buys one dispatch, one sample over all texels
+    # (frame_ms 0: the budget alone); 512 paths, so that the bake outlasts several of the
+    # times after the drag however fast the frames are.
+    r, p = drag(scene, "--set", "render.fog_scattered_light_budget_ms=0.001",
+                "--set", "render.fog_scattered_light_frame_ms=0",
+                "--set", "render.fog_scattered_light_samples=512")
     check(r is not None, "small budget runs" + ("" if r else f": {p.stderr[-500:]}"))
     if r:
-        check(abs(r["drag_fraction_per_frame"] - 1 / 64) < 1e-9,
-              f"each drag frame restarts the bake: 1/64 done ({r['drag_fraction_per_frame']})")
+        check(abs(r["drag_fraction_per_frame"] - 1 / 512) < 1e-9,
+              f"each drag frame restarts the bake: 1/512 done ({r['drag_fraction_per_frame']})")
         rows = r["convergence"]
         first = rows[0]
         check(first["bake_fraction"] < 1 and first["cache_rel_l1"] > 0.02,
@@ -83,14 +89,17 @@ with tempfile.TemporaryDirectory() as tmp:
               "pseudo-pass cache_error_pct_1.00s = 100 x the error at 1 s")
         check(abs(r["drag_fps"] * names["frame_wall"] - 1000) < 1e-6, "drag_fps = 1000 / frame_wall")
 
-    r, p = drag(scene, "--set", "render.fog_scattered_light_budget_ms=100",
-                "--set", "render.fog_scattered_light_samples=8")
-    check(r is not None and r["drag_fraction_per_frame"] == 1 and
-          all(x["cache_rel_l1"] == 0 for x in r["convergence"]),
-          "a budget that fits the whole bake: converged every frame"
-          + (f" ({r['drag_fraction_per_frame']}, "
-             + ", ".join(f"{x['cache_rel_l1']:.3f}" for x in r["convergence"]) + ")"
-             if r else f": {p.stderr[-300:]}"))
+    for what, options in (("a budget", ["render.fog_scattered_light_budget_ms=100"]),
+                          ("a frame time", ["render.fog_scattered_light_budget_ms=0.001",
+                                            "render.fog_scattered_light_frame_ms=1000"])):
+        r, p = drag(scene, *[a for o in options for a in ("--set", o)],
+                    "--set", "render.fog_scattered_light_samples=8")
+        check(r is not None and r["drag_fraction_per_frame"] == 1 and
+              all(x["cache_rel_l1"] == 0 for x in r["convergence"]),
+              f"{what} that fits the whole bake: converged every frame"
+              + (f" ({r['drag_fraction_per_frame']}, "
+                 + ", ".join(f"{x['cache_rel_l1']:.3f}" for x in r["convergence"]) + ")"
+                 if r else f": {p.stderr[-300:]}"))
 
     plain = dict(SLAB, render=dict(SLAB["render"], fog_scattered_light=False))
     with open(scene, "w") as f:

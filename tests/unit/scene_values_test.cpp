@@ -66,6 +66,7 @@ TEST(SceneValuesTest, UnknownKeyListsTheAcceptedKeysInOrder) {
                   "fog_octave_radius, "
                   "fog_scattered_light, fog_scattered_light_samples, fog_scattered_light_cell, "
                   "fog_scattered_light_bake, fog_scattered_light_budget_ms, "
+                  "fog_scattered_light_frame_ms, "
                   "fog_ambient, volume_budget_mib, sequence_gpu_cache_mib, "
                   "volume_over_budget, geometry_budget_mib, fog_sample_limit)"),
               std::string::npos)

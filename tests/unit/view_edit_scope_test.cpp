@@ -49,8 +49,12 @@ TEST(ViewEditScopeTest, RenderValues) {
     keys.erase("width");
     keys.erase("height");
     // Per-pixel values, and the progressive bake's time per frame: copied, nothing redrawn.
-    const std::set<std::string> perPixel = {"exposure", "ambient", "background", "tonemap",
-                                            "fog_scattered_light_budget_ms"};
+    const std::set<std::string> perPixel = {"exposure",
+                                            "ambient",
+                                            "background",
+                                            "tonemap",
+                                            "fog_scattered_light_budget_ms",
+                                            "fog_scattered_light_frame_ms"};
     // Read by a technique marching the media: the shadow maps are redrawn.
     const std::set<std::string> shadowMaps = {"fog_steps", "fog_jitter"};
     std::set<std::string> rest;

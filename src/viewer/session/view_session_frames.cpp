@@ -52,8 +52,13 @@ bool ViewSession::renderFrame(bool refine) {
         // The progressive bake (setProgressiveBake): every frame runs the cache's bake for the
         // budget; while it converges frames come in one piece, and the version moves on after
         // each so that the window draws the next (nothing else would ask for it).
+        // It also fills what the last frame's passes left of render.fog_scattered_light_frame_ms.
+        const scene::RenderSettings& rs = scene_->render;
         renderer_->setScatteredLightBudgetMs(
-            progressiveBake_ ? scene_->render.fogScatteredLightBudgetMs : 0.0);
+            progressiveBake_
+                ? volume::progressiveBakeMs(rs.fogScatteredLightBudgetMs,
+                                            rs.fogScatteredLightFrameMs, passMs(*renderer_))
+                : 0.0);
         const bool converging = scatteredLightConverging();
         const int t = refineTilePx_;
         if (refine && !converging && t > 0 && (width_ > t || height_ > t)) {
