@@ -13,6 +13,7 @@
 #include "scattered_light_bench.h"
 #include "scene/scene.h"
 #include "viewer/session/view_session.h"
+#include "viewer_play_bench.h"
 
 #include <chrono>
 #include <cmath>
@@ -39,6 +40,9 @@ void usage() {
         "usage: veil-bench <scene.json> [--width W] [--height H] [--frames N] [--warmup N]\n"
         "                  [--oit NAME] [--set key=value]... [--json out.json]\n"
         "                  [--viewer]  (the frames of `veil view`, windowless)\n"
+        "                  [--viewer-play [--scrub-back M]]  the viewer's timeline played\n"
+        "                                   windowless: --frames frames after --warmup,\n"
+        "                                   then M frames stepped backwards\n"
         "                  [--cpu-fog W H]  also time the CPU fog reference (double\n"
         "                                   precision, all cores) on the same view at W x H\n"
         "                  [--error-vs NAME] also render the last frame with OIT technique\n"
@@ -345,6 +349,8 @@ int main(int argc, char** argv) try {
     bool relight = false, converge = false;
     double dragDegrees = 0.0;
     bool viewer = false;
+    bool viewerPlay = false;
+    int scrubBack = 0;
     std::vector<std::string> overrides;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -374,6 +380,10 @@ int main(int argc, char** argv) try {
             jsonPath = next();
         else if (a == "--viewer")
             viewer = true;
+        else if (a == "--viewer-play")
+            viewerPlay = true;
+        else if (a == "--scrub-back")
+            scrubBack = std::stoi(next());
         else if (a == "--error-vs")
             errorVs = next();
         else if (a == "--ppm")
@@ -410,6 +420,9 @@ int main(int argc, char** argv) try {
     if (dragDegrees != 0.0)
         return veil::bench::lightDragBench({scenePath, oit, jsonPath, overrides, width, height,
                                             frames, warmup, dragDegrees, converge});
+    if (viewerPlay)
+        return veil::bench::viewerPlayBench(
+            {scenePath, jsonPath, overrides, width, height, frames, warmup, scrubBack});
     if (viewer) return viewerBench(scenePath, overrides, width, height, frames, warmup, jsonPath);
     const veil::scene::Scene scene = veil::scene::loadScene(scenePath, overrides);
     veil::gpu::HeadlessContext context;
