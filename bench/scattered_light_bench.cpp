@@ -1,6 +1,8 @@
 // veil-bench --light-drag (scattered_light_bench.h).
 #include "scattered_light_bench.h"
 
+#include "bench_stats.h"
+
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "fog/fog_pass.h"
@@ -24,25 +26,6 @@
 namespace veil::bench {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point t) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-nlohmann::json pass(const std::string& name, const std::vector<double>& v) {
-    return {{"name", name},
-            {"median_ms", median(v)},
-            {"min_ms", *std::min_element(v.begin(), v.end())},
-            {"max_ms", *std::max_element(v.begin(), v.end())}};
-}
 
 // Relative L1 error of `values` against `reference` (sum |a - r| / sum r) and the mean of
 // |a - r| / r over the entries above 1 % of the reference's largest.
@@ -165,8 +148,8 @@ int lightDragBench(const LightDragOptions& o) {
     out["samples"] = scene.render.fogScatteredLightSamples;
     nlohmann::json passes = nlohmann::json::array();
     for (const auto& name : order)
-        passes.push_back(pass(name, samples[name]));
-    passes.push_back(pass("frame_wall", wall)); // the whole frame, the bake's step included
+        passes.push_back(passStats(name, samples[name]));
+    passes.push_back(passStats("frame_wall", wall)); // the whole frame, the bake's step included
     out["drag_fps"] = 1000.0 / median(wall);
     out["drag_fraction_per_frame"] = cache->gpuBake()->fraction(); // of the last frame's bake
 

@@ -4,6 +4,7 @@
 // driver has them. bench/run.py runs it over the benchmark sets of bench/sets/.
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "bench_stats.h"
 #include "fog/fog_pass.h"
 #include "frame/renderer.h"
 #include "gpu/context.h"
@@ -76,11 +77,7 @@ int printResult(const nlohmann::json& out, const std::string& jsonPath) {
     return 0;
 }
 
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
+using veil::bench::median;
 
 double wallMs(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -1,6 +1,8 @@
 // veil-bench --viewer-play (viewer_play_bench.h).
 #include "viewer_play_bench.h"
 
+#include "bench_stats.h"
+
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "fog/fog_pass.h"
@@ -19,26 +21,6 @@
 namespace veil::bench {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point t) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-nlohmann::json pass(const std::string& name, const std::vector<double>& v) {
-    if (v.empty()) return {{"name", name}, {"median_ms", 0.0}, {"min_ms", 0.0}, {"max_ms", 0.0}};
-    return {{"name", name},
-            {"median_ms", median(v)},
-            {"min_ms", *std::min_element(v.begin(), v.end())},
-            {"max_ms", *std::max_element(v.begin(), v.end())}};
-}
 
 struct VolumeCounts {
     std::size_t uploads = 0, reshown = 0;
@@ -149,18 +131,18 @@ int viewerPlayBench(const ViewerPlayOptions& o) {
     out["oit"] = session.renderer().oitName();
     out["frames_replaced"] = session.framesReplaced();
     out["play"] = phaseJson(forward, o.frames);
-    nlohmann::json passes = nlohmann::json::array({pass("wait", forward.wait),
-                                                   pass("show", forward.show),
-                                                   pass("render", forward.render),
-                                                   pass("frame", forward.frame),
+    nlohmann::json passes = nlohmann::json::array({passStats("wait", forward.wait),
+                                                   passStats("show", forward.show),
+                                                   passStats("render", forward.render),
+                                                   passStats("frame", forward.frame),
                                                    {{"name", "play_frame"},
                                                     {"median_ms", forward.wallMs / o.frames},
                                                     {"min_ms", forward.wallMs / o.frames},
                                                     {"max_ms", forward.wallMs / o.frames}}});
     if (back > 0) {
         out["scrub_back"] = phaseJson(scrub, back);
-        passes.push_back(pass("scrub_show", scrub.show));
-        passes.push_back(pass("scrub_frame", scrub.frame));
+        passes.push_back(passStats("scrub_show", scrub.show));
+        passes.push_back(passStats("scrub_frame", scrub.frame));
     }
     out["passes"] = passes;
     out["times"] = "per shown frame: wait = UI frames that found the frame not ready yet, show "

@@ -17,15 +17,15 @@ llvmpipe.
 """
 import json
 import os
-import subprocess
 import sys
 import tempfile
+
+from bench_run import check, failures, run_bench
 
 BENCH = os.path.abspath(sys.argv[1])
 ROOT = os.path.abspath(sys.argv[2] if len(sys.argv) > 2 else
                        os.path.join(os.path.dirname(__file__), "..", ".."))
 os.environ.setdefault("VEIL_SHADER_DIR", os.path.join(ROOT, "shaders"))
-failures = []
 
 SLAB = {
     "render": {"width": 16, "height": 16, "ambient": [0.1, 0.1, 0.1], "background": [0, 0, 0],
@@ -39,21 +39,11 @@ SLAB = {
                  "density_scale": 4, "albedo": 0.9, "anisotropy": 0.3}]}
 
 
-def check(ok, what):
-    print(("ok   " if ok else "FAIL ") + what, flush=True)
-    if not ok:
-        failures.append(what)
-
-
 def drag(scene, *extra):
     out = os.path.join(os.path.dirname(scene), "drag.json")
     cmd = [BENCH, scene, "--width", "16", "--height", "16", "--frames", "3", "--warmup", "0",
            "--light-drag", "20", "--converge", "--json", out] + list(extra)
-    p = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, timeout=120)
-    if p.returncode != 0:
-        return None, p
-    with open(out) as f:
-        return json.load(f), p
+    return run_bench(cmd, out, ROOT, 120)
 
 
 with tempfile.TemporaryDirectory() as tmp:

@@ -14,9 +14,10 @@ Usage: viewer_play_bench.py VEIL_BENCH [REPO_ROOT]. Standard library only; secon
 """
 import json
 import os
-import subprocess
 import sys
 import tempfile
+
+from bench_run import check, failures, run_bench
 
 BENCH = os.path.abspath(sys.argv[1])
 ROOT = os.path.abspath(sys.argv[2] if len(sys.argv) > 2 else
@@ -24,7 +25,6 @@ ROOT = os.path.abspath(sys.argv[2] if len(sys.argv) > 2 else
 os.environ.setdefault("VEIL_SHADER_DIR", os.path.join(ROOT, "shaders"))
 FIRE = os.path.join(ROOT, "datasets", "third_party", "vdb-embergen-fire-seq",
                     "embergen_fire_a_#.vdb")
-failures = []
 
 SCENE = {
     "render": {"width": 40, "height": 32, "fog_steps": 24},
@@ -36,23 +36,11 @@ SCENE = {
                  "temperature_offset": 900}]}
 
 
-def check(ok, what):
-    print(("ok   " if ok else "FAIL ") + what, flush=True)
-    if not ok:
-        failures.append(what)
-
-
 def play(scene, *extra):
     out = os.path.join(os.path.dirname(scene), "play.json")
-    if os.path.exists(out):
-        os.remove(out)
     cmd = [BENCH, scene, "--width", "40", "--height", "32", "--frames", "6", "--warmup", "1",
            "--viewer-play", "--scrub-back", "3", "--json", out] + list(extra)
-    p = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, timeout=240)
-    if p.returncode != 0:
-        return None, p
-    with open(out) as f:
-        return json.load(f), p
+    return run_bench(cmd, out, ROOT, 240)
 
 
 with tempfile.TemporaryDirectory() as tmp:
