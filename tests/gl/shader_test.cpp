@@ -166,9 +166,10 @@ ProjectPrograms projectPrograms(const gpu::ContextInfo& info, gpu::ProgramManage
         P.push_back(ProgramDesc::graphics("frame/mesh.vert", "frame/opaque.frag", {}, v));
         P.push_back(
             ProgramDesc::graphics("frame/mesh.vert", "frame/opaque.frag", {"VEIL_AO 1"}, v));
-        // receiver_slope geometric and none (shadows::opaqueMapDefines; derivatives is the
-        // default above).
-        for (const char* slope : {"VEIL_RECEIVER_SLOPE 1", "VEIL_RECEIVER_SLOPE 2"})
+        // receiver_slope geometric, none and plane-bias (shadows::opaqueMapDefines;
+        // derivatives is the default above).
+        for (const char* slope :
+             {"VEIL_RECEIVER_SLOPE 1", "VEIL_RECEIVER_SLOPE 2", "VEIL_RECEIVER_SLOPE 3"})
             P.push_back(ProgramDesc::graphics("frame/mesh.vert", "frame/opaque.frag", {slope}, v));
         P.push_back(ProgramDesc::compute("volume/fog_march.comp", {}, v));
         P.push_back(ProgramDesc::graphics("frame/mesh.vert", "frame/transparent.frag",

@@ -2,7 +2,8 @@
 // "opaque"): the floor of tests/gl/shadow_test_scenes.h lit at 45 degrees, seen from above,
 // with a 512^2 map (texels of 0.022, wider than bias / 2): its unshadowed radiance (the
 // lighting test's 3e-3: float32 BRDF, RGBA16F target) with the slope from the fragment's
-// screen-space derivatives (the default) and from projected tangents (`geometric`); with
+// screen-space derivatives (the default), from projected tangents (`geometric`) and as one bias
+// for every tap (`plane-bias`, the derivatives' slope times the kernel's reach); with
 // `none` the taps beside each receiver meet the floor itself and it darkens (acne), which shows
 // the switch the cost comparison of bench/sets/shadow-receiver-slope.json relies on; the same
 // for a transparent film over the floor.
@@ -52,7 +53,7 @@ class ShadowReceiverSlopeTest : public GlTest {};
 
 TEST_F(ShadowReceiverSlopeTest, DerivativesAndGeometricLightTheTiltedFloor) {
     const double want = ss::ambient() + ss::litFloor();
-    for (const char* mode : {"derivatives", "geometric"})
+    for (const char* mode : {"derivatives", "geometric", "plane-bias"})
         EXPECT_NEAR(litFloorMean(mode, info()), want, 3e-3 * want) << mode;
     EXPECT_LT(litFloorMean("none", info()), 0.95 * want) << "no slope, yet no acne";
 }
@@ -64,6 +65,7 @@ TEST_F(ShadowReceiverSlopeTest, DerivativesAndGeometricLightTheTiltedFloor) {
 TEST_F(ShadowReceiverSlopeTest, TransparentReceiversFollowTheMode) {
     const double lit = litFloorMean("derivatives", info(), true);
     EXPECT_NEAR(litFloorMean("geometric", info(), true), lit, 3e-3 * lit);
+    EXPECT_NEAR(litFloorMean("plane-bias", info(), true), lit, 3e-3 * lit);
     EXPECT_LT(litFloorMean("none", info(), true), 0.95 * lit) << "no slope, yet no acne";
 }
 

@@ -28,10 +28,11 @@ bool shadowLocate(int light, vec3 P, out int view, out vec2 uv, out float depth)
 // VEIL_RECEIVER_SLOPE, the technique's receiver_slope, is compiled into every surface
 // receiver's program (shadows::Technique::receivers, opaqueMapDefines): 0 = derivatives (the
 // default when undefined), 1 = geometric, 2 = none (a zero slope, no code; for measuring its
-// cost).
+// cost), 3 = plane-bias (the derivatives' slope sets the bias alone: every tap compares at one
+// depth, offset by the plane's largest depth change over the kernel's footprint).
 // A fragment shader that defines VEIL_RECEIVER_DERIVATIVES takes its directions from the
-// screen-space derivatives (receiver_derivatives.glsl) in mode 0 and has no geometric code;
-// the compute receivers (no derivatives) take the geometric directions in modes 0 and 1.
+// screen-space derivatives (receiver_derivatives.glsl) in modes 0 and 3 and has no geometric
+// code; the compute receivers (no derivatives) take the geometric directions in modes 0, 1, 3.
 #ifndef VEIL_RECEIVER_SLOPE
 #define VEIL_RECEIVER_SLOPE 0
 #endif
@@ -74,7 +75,7 @@ vec2 shadowPlaneSlope(int v, vec2 uv, float w, vec3 e1, vec3 e2) {
 vec2 shadowReceiverSlope(int v, vec3 N, vec2 uv, float w) {
 #if VEIL_RECEIVER_SLOPE == 2
     return vec2(0.0);
-#elif VEIL_RECEIVER_SLOPE == 0 && defined(VEIL_RECEIVER_DERIVATIVES)
+#elif (VEIL_RECEIVER_SLOPE == 0 || VEIL_RECEIVER_SLOPE == 3) && defined(VEIL_RECEIVER_DERIVATIVES)
     return shadowPlaneSlope(v, uv, w, shadowReceiverDPdx, shadowReceiverDPdy);
 #else
     vec3 t1 = cross(N, abs(N.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0));
@@ -95,6 +96,12 @@ float opaqueVisibility(int light, vec3 P, vec3 N, vec3 L) {
     // Each tap's hardware comparison filters 2x2 texels: the receiver plane one texel on.
     vec2 slope = shadowReceiverSlope(v, N, uv, w);
     bias += abs(slope.x) + abs(slope.y);
+#if VEIL_RECEIVER_SLOPE == 3
+    // Plane-bias: the taps r texels out (and their 2x2 footprints) meet the plane up to
+    // (r + 1) (|slope.x| + |slope.y|) above P's depth; all of it goes into the one bias.
+    bias += float(r) * (abs(slope.x) + abs(slope.y));
+    slope = vec2(0.0);
+#endif
     float sum = 0.0;
     for (int y = -r; y <= r; ++y)
         for (int x = -r; x <= r; ++x)

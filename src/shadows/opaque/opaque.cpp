@@ -51,14 +51,17 @@ PropertySchema& addOpaqueMapProperties(PropertySchema& schema) {
                 "surfaces; each PCF tap also follows the receiver plane)",
                 "[Isidoro06]");
     schema.integer("pcf_radius", 1, 0, 16, "opaque map PCF kernel: (2r+1)^2 taps");
-    schema.choice("receiver_slope", "derivatives", {"derivatives", "geometric", "none"},
+    schema.choice("receiver_slope", "derivatives",
+                  {"derivatives", "geometric", "none", "plane-bias"},
                   "where the receiver plane's depth slope of the opaque map comes from, "
                   "compiled into the receiving programs (an edit builds a new renderer): "
                   "derivatives = the screen-space derivatives of the shaded point in fragment "
                   "shaders (zero where degenerate; geometric in compute receivers), "
                   "geometric = two tangents of the normal's plane projected per light "
                   "everywhere, none = no slope (acne on tilted receivers; for measuring its "
-                  "cost)",
+                  "cost), plane-bias = the derivatives' slope as one bias for every tap (the "
+                  "plane's depth change over the kernel: more light leaks at contacts, fewer "
+                  "operations per tap)",
                   "[Isidoro06]");
     return schema;
 }
@@ -67,9 +70,10 @@ std::vector<std::string> opaqueMapDefines(const Properties& properties) {
     const std::string mode = properties.values().contains("receiver_slope")
                                  ? properties.getString("receiver_slope")
                                  : std::string("derivatives");
-    return {fmt::format("VEIL_RECEIVER_SLOPE {}", mode == "geometric" ? 1
-                                                  : mode == "none"    ? 2
-                                                                      : 0)};
+    return {fmt::format("VEIL_RECEIVER_SLOPE {}", mode == "geometric"    ? 1
+                                                  : mode == "none"       ? 2
+                                                  : mode == "plane-bias" ? 3
+                                                                         : 0)};
 }
 
 void registerOpaque(Registry& registry) {

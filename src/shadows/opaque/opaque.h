@@ -20,7 +20,8 @@ PropertySchema& addOpaqueMapProperties(PropertySchema& schema);
 
 // The defines that compile receiver_slope into the receiving programs
 // (shaders/shadows/common/opaque_depth.glsl): "VEIL_RECEIVER_SLOPE N", N = 0 derivatives,
-// 1 geometric, 2 none; 0 for a technique without the property (Technique::receivers).
+// 1 geometric, 2 none, 3 plane-bias; 0 for a technique without the property
+// (Technique::receivers).
 std::vector<std::string> opaqueMapDefines(const Properties& properties);
 
 } // namespace veil::shadows
