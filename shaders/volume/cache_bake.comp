@@ -12,8 +12,9 @@
 // majorant_grid.h): a DDA walks the cells of the majorant grid and the tentative collisions are
 // sampled per cell against its majorant [Novak18] (empty cells crossed at once), which leaves
 // both estimators unbiased. A dispatch adds the samples [sampleBegin, sampleEnd) of the texels
-// [cellBegin, cellBegin + cellCount) to their sums (the accumulator) and writes the P1 terms of
-// the samples so far: mean radiance (rgb, a: luminance) and G = 3 x mean(Y (-d)). Random
+// [cellBegin, cellBegin + cellCount) (or of the listed texels at those positions: the surface
+// pass, more samples where surfaces read the cache) to their sums (the accumulator) and writes
+// the P1 terms of the samples so far: mean radiance (rgb, a: luminance) and G = 3 x mean(Y (-d)). Random
 // numbers: a PCG stream per (seed, texel, sample) [ONeill14], and each texel's sums add its
 // samples in order, so the result depends on neither the dispatch split nor the device's
 // scheduling.
@@ -28,12 +29,18 @@ layout(local_size_x = VEIL_CACHE_BAKE_GROUP) in;
 layout(std430, binding = VEIL_SSBO_CACHE_BAKE) buffer Accumulator {
     vec4 accumulator[]; // 2 per texel: sum L (rgb), sum Y^2 (a); sum Y (-d) (xyz), 0
 };
+// The surface pass (texelList != 0): the texels that surfaces read with a small footprint,
+// which go on with more samples after every texel has its first ones (sorted indices).
+layout(std430, binding = VEIL_SSBO_CACHE_TEXELS) readonly buffer TexelList {
+    uint listedTexels[];
+};
 layout(binding = VEIL_IMG_CACHE_MEAN, rgba32f) uniform writeonly image3D cacheMean;
 layout(binding = VEIL_IMG_CACHE_FLUX, rgba32f) uniform writeonly image3D cacheFlux;
 
 uniform ivec3 dims;
 uniform vec3 boxLo, boxHi; // the volumes' world box: the grid's and the paths' bounds
-uniform int cellBegin, cellCount;
+uniform int cellBegin, cellCount; // texels (with texelList: positions in listedTexels)
+uniform int texelList;
 uniform int sampleBegin, sampleEnd;
 uniform uint seed;
 // The majorant grid over [boxLo, boxHi]: per cell a bound of the extinction, times
@@ -308,7 +315,7 @@ vec3 tracePath(vec3 o, vec3 d) {
 void main() {
     int k = int(gl_GlobalInvocationID.x);
     if (k >= cellCount) return;
-    int i = cellBegin + k;
+    int i = texelList != 0 ? int(listedTexels[cellBegin + k]) : cellBegin + k;
     ivec3 c = ivec3(i % dims.x, (i / dims.x) % dims.y, i / (dims.x * dims.y));
     vec3 x = boxLo + (vec3(c) + 0.5) / vec3(dims) * (boxHi - boxLo);
     const vec3 lum = vec3(0.2126, 0.7152, 0.0722);

@@ -5,6 +5,7 @@
 #define VEIL_CACHE_BAKE_H
 
 #define VEIL_SSBO_CACHE_BAKE 7    // per texel: sum of L (rgb) and of Y^2 (a); sum of Y (-d) (xyz)
+#define VEIL_SSBO_CACHE_TEXELS 8   // uint: the texels of a surface pass (texelList != 0)
 #define VEIL_IMG_CACHE_MEAN 6     // rgba32f: mean radiance (rgb), its luminance (a)
 #define VEIL_IMG_CACHE_FLUX 7     // rgba32f: P1 flux G (xyz)
 #define VEIL_CACHE_BAKE_GROUP 64  // invocations per work group (one texel each)

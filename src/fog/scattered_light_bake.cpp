@@ -82,14 +82,26 @@ void ScatteredLightBake::start(const scene::Scene& scene, const Setup& setup) {
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glTextureSubImage3D(majorants_.id(), 0, 0, 0, 0, setup.majorantDims.x, setup.majorantDims.y,
                         setup.majorantDims.z, GL_RED, GL_FLOAT, setup.majorants.data());
-    next_ = {0, 0, 0};
+    if (setup_.surfaceSamples <= setup_.samples) setup_.surfaceTexels.clear();
+    // The surface pass's texel list (a word where there is none: the program's buffer is bound).
+    const std::vector<std::uint32_t> none{0};
+    const std::vector<std::uint32_t>& list =
+        setup_.surfaceTexels.empty() ? none : setup_.surfaceTexels;
+    texels_ = gpu::Buffer();
+    texels_.setStorage(list.size() * sizeof(std::uint32_t), list.data(), 0);
+    next_ = {};
 }
 
 double ScatteredLightBake::fraction() const {
     if (setup_.samples <= 0 || cells_ == 0) return 0.0;
-    const double done = double(next_.sampleBegin) * double(cells_) +
-                        double(next_.sampleEnd - next_.sampleBegin) * double(next_.cellBegin);
-    return std::min(1.0, done / (double(setup_.samples) * double(cells_)));
+    const double listed = double(setup_.surfaceTexels.size());
+    const double all = double(setup_.samples) * double(cells_) +
+                       double(setup_.surfaceSamples - setup_.samples) * listed;
+    double done = double(next_.sampleBegin) * double(passCells()) +
+                  double(next_.sampleEnd - next_.sampleBegin) * double(next_.cellBegin);
+    if (next_.pass == 1)
+        done += double(setup_.samples) * double(cells_) - double(setup_.samples) * listed;
+    return std::min(1.0, done / all);
 }
 
 void ScatteredLightBake::dispatch(int cellBegin, int cellCount, int sampleBegin, int sampleEnd) {
@@ -101,6 +113,7 @@ void ScatteredLightBake::dispatch(int cellBegin, int cellCount, int sampleBegin,
         .set("boxHi", glm::vec3(setup_.hi))
         .set("cellBegin", cellBegin)
         .set("cellCount", cellCount)
+        .set("texelList", next_.pass)
         .set("sampleBegin", sampleBegin)
         .set("sampleEnd", sampleEnd)
         .set("seed", unsigned(setup_.seed))
@@ -127,6 +140,7 @@ void ScatteredLightBake::dispatch(int cellBegin, int cellCount, int sampleBegin,
     p.use();
     majorants_.bind(VEIL_TEX_CACHE_MAJORANT);
     accumulator_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_CACHE_BAKE);
+    texels_.bindBase(GL_SHADER_STORAGE_BUFFER, VEIL_SSBO_CACHE_TEXELS);
     glBindImageTexture(VEIL_IMG_CACHE_MEAN, mean_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(VEIL_IMG_CACHE_FLUX, flux_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glDispatchCompute(GLuint((cellCount + VEIL_CACHE_BAKE_GROUP - 1) / VEIL_CACHE_BAKE_GROUP), 1,
@@ -145,16 +159,17 @@ bool ScatteredLightBake::step(double budgetMs, int batch) {
     // watchdog), within the budget.
     const double target = std::clamp(budgetMs, 0.5, 100.0);
     batch = std::max(1, batch);
-    const std::size_t minCells = std::min(cells_, kMinDispatchCells);
     while (!done()) {
+        const std::size_t cells = passCells();
+        const std::size_t minCells = std::min(cells, kMinDispatchCells);
         // Texel-samples the target allows (0: unknown before the first dispatch).
         const double work = cellSamplesPerMs_ * target;
         if (next_.cellBegin == 0) {
-            const double k = std::clamp(std::floor(work / double(cells_)), 1.0, double(batch));
-            next_.sampleEnd = std::min(setup_.samples, next_.sampleBegin + int(k));
+            const double k = std::clamp(std::floor(work / double(cells)), 1.0, double(batch));
+            next_.sampleEnd = std::min(passSamples(), next_.sampleBegin + int(k));
         }
         const int samples = next_.sampleEnd - next_.sampleBegin;
-        const std::size_t left = cells_ - next_.cellBegin;
+        const std::size_t left = cells - next_.cellBegin;
         std::size_t count = work > 0.0 ? std::size_t(work / samples) : minCells;
         count = std::max(count, minCells);
         count = std::min(left, (count + VEIL_CACHE_BAKE_GROUP - 1) / VEIL_CACHE_BAKE_GROUP *
@@ -163,12 +178,18 @@ bool ScatteredLightBake::step(double budgetMs, int batch) {
         dispatch(int(next_.cellBegin), int(count), next_.sampleBegin, next_.sampleEnd);
         glFinish();
         const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-        // Only a dispatch that fills the GPU tells its throughput (the tail of a pass may not).
-        if (count >= minCells) cellSamplesPerMs_ = double(count) * samples / std::max(ms, 1e-3);
+        // Only a dispatch that fills the GPU tells its throughput (the tail of a pass may not,
+        // nor a surface pass over fewer texels than a full dispatch).
+        if (count >= minCells && (next_.pass == 0 || count >= kMinDispatchCells))
+            cellSamplesPerMs_ = double(count) * samples / std::max(ms, 1e-3);
         next_.cellBegin += count;
-        if (next_.cellBegin >= cells_) {
+        if (next_.cellBegin >= cells) {
             next_.cellBegin = 0;
             next_.sampleBegin = next_.sampleEnd;
+            // Every texel has its samples: the surface texels go on to theirs.
+            if (next_.pass == 0 && next_.sampleBegin >= setup_.samples &&
+                !setup_.surfaceTexels.empty())
+                next_.pass = 1;
         }
         if (std::chrono::duration<double, std::milli>(Clock::now() - begin).count() >= budgetMs)
             break;
@@ -181,7 +202,7 @@ ScatteredLight ScatteredLightBake::read() const {
     out.lo = setup_.lo;
     out.hi = setup_.hi;
     out.dims = setup_.dims;
-    out.samples = next_.sampleBegin;
+    out.samples = next_.pass == 0 ? next_.sampleBegin : setup_.samples;
     out.mean.resize(cells_);
     out.flux.resize(cells_);
     const GLsizei bytes = GLsizei(cells_ * sizeof(glm::vec4));
@@ -194,11 +215,16 @@ std::vector<double> ScatteredLightBake::luminanceVariance() const {
     std::vector<glm::vec4> acc(cells_ * 2);
     glGetNamedBufferSubData(accumulator_.id(), 0, GLsizeiptr(acc.size() * sizeof(glm::vec4)),
                             acc.data());
-    const double n = next_.sampleBegin;
+    // Samples per texel (of a pass in flight, those of its finished rounds).
+    std::vector<double> samples(cells_, next_.pass == 0 ? next_.sampleBegin : setup_.samples);
+    if (next_.pass == 1)
+        for (std::uint32_t t : setup_.surfaceTexels)
+            samples[t] = next_.sampleBegin;
     const glm::dvec3 lum(0.2126, 0.7152, 0.0722);
     std::vector<double> var(cells_, 0.0);
-    if (n < 2) return var;
     for (std::size_t i = 0; i < cells_; ++i) {
+        const double n = samples[i];
+        if (n < 2) continue;
         const double mean = glm::dot(glm::dvec3(acc[2 * i]), lum) / n;
         var[i] = std::max(0.0, (double(acc[2 * i].w) / n - mean * mean) * n / (n - 1.0));
     }

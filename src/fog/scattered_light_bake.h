@@ -5,8 +5,10 @@
 // them, integrators/majorant_grid.h, as the CPU tracer's). The work is split into dispatches
 // of texels x samples: step() runs dispatches for a time budget, so a bake can be spread over
 // frames (the viewer's progressive bake); the textures hold the P1 terms of the samples so far
-// after every step. Deterministic for a seed and sample count: every path's random numbers are
-// keyed by (seed, texel, sample) and each texel adds its samples in order, whatever the split.
+// after every step. Texels that surfaces read with a small footprint get more samples in a
+// second pass (Setup::surfaceTexels). Deterministic for a seed and sample count: every path's
+// random numbers are keyed by (seed, texel, sample) and each texel adds its samples in order,
+// whatever the split.
 #pragma once
 
 #include "gpu/objects.h"
@@ -40,6 +42,10 @@ public:
         glm::ivec3 majorantDims{0};
         std::vector<float> majorants;
         int maxBounces = 256, rouletteDepth = 8;
+        // Texels that go on to `surfaceSamples` (> samples) after every texel has `samples`
+        // (sorted; scatteredLightSurfaceTexels()): the surface pass.
+        std::vector<std::uint32_t> surfaceTexels;
+        int surfaceSamples = 0;
     };
     // Starts a bake of `scene`'s lights and ambient over `setup` (the textures are kept when
     // the grid is the same; their contents stand until the first step).
@@ -52,7 +58,7 @@ public:
     // its size, so its throughput would shrink the next one further).
     bool step(double budgetMs, int batch);
     static constexpr std::size_t kMinDispatchCells = 65536;
-    bool done() const { return next_.sampleBegin >= setup_.samples; }
+    bool done() const { return next_.sampleBegin >= passSamples(); }
     // Texel-samples done over texel-samples to do.
     double fraction() const;
 
@@ -66,6 +72,9 @@ public:
 
 private:
     void dispatch(int cellBegin, int cellCount, int sampleBegin, int sampleEnd);
+    // The pass in flight: 0 every texel to samples, 1 the surface texels to surfaceSamples.
+    std::size_t passCells() const { return next_.pass == 0 ? cells_ : setup_.surfaceTexels.size(); }
+    int passSamples() const { return next_.pass == 0 ? setup_.samples : setup_.surfaceSamples; }
 
     gpu::ProgramManager& programs_;
     gpu::ProgramHandle program_;
@@ -74,11 +83,13 @@ private:
     Setup setup_;
     std::size_t cells_ = 0;
     gpu::Texture mean_{gpu::NoCreate}, flux_{gpu::NoCreate}, majorants_{gpu::NoCreate};
-    gpu::Buffer accumulator_{gpu::NoCreate};
-    // The next dispatch: samples [sampleBegin, sampleEnd) of texels from cellBegin on.
+    gpu::Buffer accumulator_{gpu::NoCreate}, texels_{gpu::NoCreate};
+    // The next dispatch: samples [sampleBegin, sampleEnd) of texels (of the pass) from
+    // cellBegin on.
     struct Cursor {
         int sampleBegin = 0, sampleEnd = 0;
         std::size_t cellBegin = 0;
+        int pass = 0;
     } next_;
     double cellSamplesPerMs_ = 0.0; // measured throughput (0: unknown)
     int dispatches_ = 0;

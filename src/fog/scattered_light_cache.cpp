@@ -100,6 +100,11 @@ void ScatteredLightCache::startGpuBake() {
     setup.dims = dims_;
     setup.samples = scene_.render.fogScatteredLightSamples;
     setup.seed = scene_.render.seed;
+    // More paths where surfaces read the cache (the objects' bounds now: moving one later
+    // does not bake again, the next bake follows it).
+    ScatteredLightSurface surface = scatteredLightSurfaceTexels(scene_, lo_, hi_, dims_);
+    setup.surfaceTexels = std::move(surface.texels);
+    setup.surfaceSamples = surface.samples;
     // The grids' majorants times their density scales, summed over the volumes. A volume with
     // an emission grid emits where its density may be 0: there its cells keep a majorant of
     // 1/20 of its largest extinction, so that the null-collision estimator samples the emission.
@@ -120,13 +125,18 @@ void ScatteredLightCache::startGpuBake() {
 void ScatteredLightCache::bakeOnCpu() {
     const int samples = scene_.render.fogScatteredLightSamples;
     const std::size_t cells = std::size_t(dims_.x) * dims_.y * dims_.z;
-    ProgressNote note(fmt::format("baking scattered-light cache on the CPU: {} cells x {} paths",
-                                  cells, samples));
+    const ScatteredLightSurface surface = scatteredLightSurfaceTexels(scene_, lo_, hi_, dims_);
+    ProgressNote note(fmt::format(
+        "baking scattered-light cache on the CPU: {} cells x {} paths{}", cells, samples,
+        surface.texels.empty()
+            ? std::string()
+            : fmt::format(" ({} near surfaces x {})", surface.texels.size(), surface.samples)));
     PathTracerSettings settings;
     settings.seed = scene_.render.seed;
     const VolumePathTracer tracer(scene_, grids_, settings);
-    const ScatteredLight s =
-        tracer.scatteredLight(lo_, hi_, dims_, samples, [&note](double done) { note.set(done); });
+    const ScatteredLight s = tracer.scatteredLight(
+        lo_, hi_, dims_, samples, [&note](double done) { note.set(done); }, surface.texels,
+        surface.samples);
     mean_ = makeFilteredTexture3D(dims_, GL_RGBA32F, GL_RGBA, &s.mean[0].x);
     flux_ = makeFilteredTexture3D(dims_, GL_RGBA32F, GL_RGBA, &s.flux[0].x);
 }

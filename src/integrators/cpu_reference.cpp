@@ -31,8 +31,10 @@ CpuFogReference::CpuFogReference(const scene::Scene& scene,
         const VolumePathTracer tracer(scene, grids, settings);
         glm::dvec3 lo, hi;
         tracer.worldBounds(lo, hi);
-        scattered_ = tracer.scatteredLight(lo, hi, scatteredLightDims(scene, grids, lo, hi),
-                                           scene.render.fogScatteredLightSamples);
+        const glm::ivec3 dims = scatteredLightDims(scene, grids, lo, hi);
+        const ScatteredLightSurface surface = scatteredLightSurfaceTexels(scene, lo, hi, dims);
+        scattered_ = tracer.scatteredLight(lo, hi, dims, scene.render.fogScatteredLightSamples, {},
+                                           surface.texels, surface.samples);
     }
 }
 

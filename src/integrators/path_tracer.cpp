@@ -363,7 +363,9 @@ void VolumePathTracer::worldBounds(glm::dvec3& lo, glm::dvec3& hi) const {
 
 ScatteredLight VolumePathTracer::scatteredLight(const glm::dvec3& lo, const glm::dvec3& hi,
                                                 const glm::ivec3& dims, int samples,
-                                                const std::function<void(double)>& progress) const {
+                                                const std::function<void(double)>& progress,
+                                                const std::vector<std::uint32_t>& surfaceTexels,
+                                                int surfaceSamples) const {
     VEIL_CHECK(glm::all(glm::greaterThan(dims, glm::ivec3(0))) && samples > 0,
                "scattered-light cache: empty grid or no samples");
     ScatteredLight out;
@@ -383,7 +385,11 @@ ScatteredLight VolumePathTracer::scatteredLight(const glm::dvec3& lo, const glm:
         const glm::dvec3 x = lo + (glm::dvec3(c) + 0.5) / glm::dvec3(dims) * (hi - lo);
         Medium::Lookup lookup = medium_.lookup();
         glm::dvec3 sum(0.0), g(0.0);
-        for (int k = 0; k < samples; ++k) {
+        const int n =
+            std::binary_search(surfaceTexels.begin(), surfaceTexels.end(), std::uint32_t(i))
+                ? std::max(samples, surfaceSamples)
+                : samples;
+        for (int k = 0; k < n; ++k) {
             Pcg32 rng(mix64((std::uint64_t(settings_.seed) << 32) ^ std::uint64_t(k)),
                       mix64(std::uint64_t(i) + 0x5ca77e7ull));
             // Uniform direction on the sphere, the path's first direction away from x.
@@ -395,9 +401,9 @@ ScatteredLight VolumePathTracer::scatteredLight(const glm::dvec3& lo, const glm:
             sum += l;
             g += glm::dot(l, lum) * -d; // the arriving light travels along -d
         }
-        const glm::dvec3 mean = sum / double(samples);
+        const glm::dvec3 mean = sum / double(n);
         out.mean[i] = glm::vec4(glm::vec3(mean), float(glm::dot(mean, lum)));
-        out.flux[i] = glm::vec4(glm::vec3(3.0 * g / double(samples)), 0.0f);
+        out.flux[i] = glm::vec4(glm::vec3(3.0 * g / double(n)), 0.0f);
         if (const std::size_t k = ++done; progress && k % every == 0) progress(double(k) / n);
     });
     return out;
@@ -458,6 +464,68 @@ glm::ivec3 scatteredLightDims(const scene::Scene& scene,
     const glm::dvec3 extent = hi - lo;
     return glm::clamp(glm::ivec3(glm::ceil(extent / cell)), glm::ivec3(2),
                       glm::ivec3(kScatteredLightMaxTexels));
+}
+
+ScatteredLightSurface scatteredLightSurfaceTexels(const scene::Scene& scene, const glm::dvec3& lo,
+                                                  const glm::dvec3& hi, const glm::ivec3& dims) {
+    ScatteredLightSurface out;
+    const int factor = scene.render.fogScatteredLightSurfaceFactor,
+              samples = scene.render.fogScatteredLightSamples;
+    if (factor <= 1) return out;
+    const glm::dvec3 cell = (hi - lo) / glm::dvec3(dims);
+    const std::size_t cells = std::size_t(dims.x) * dims.y * dims.z;
+    std::vector<std::uint8_t> listed(cells, 0);
+    // Texel c's cell [c, c + 1] grown to [c - 1, c + 2] (in texels from lo) meets [a, b].
+    const auto mark = [&](const glm::dvec3& a, const glm::dvec3& b) {
+        const glm::dvec3 first = glm::ceil((a - lo) / cell - 2.0),
+                         last = glm::floor((b - lo) / cell + 1.0);
+        if (glm::any(glm::greaterThan(first, glm::dvec3(dims - 1))) ||
+            glm::any(glm::lessThan(last, glm::dvec3(0.0))))
+            return;
+        const glm::ivec3 c0(glm::max(first, glm::dvec3(0.0))),
+            c1(glm::min(last, glm::dvec3(dims - 1)));
+        for (int z = c0.z; z <= c1.z; ++z)
+            for (int y = c0.y; y <= c1.y; ++y)
+                for (int x = c0.x; x <= c1.x; ++x)
+                    listed[(std::size_t(z) * dims.y + y) * dims.x + x] = 1;
+    };
+    for (const scene::Object& o : scene.objects) {
+        if (o.mesh >= scene.meshes.size()) continue;
+        const scene::MeshData& m = scene.meshes[o.mesh];
+        const auto world = [&](const glm::vec3& p) {
+            return glm::dvec3(o.transform * glm::vec4(p, 1.0f));
+        };
+        if (m.billboard || m.indices.empty()) { // the whole object's bounds
+            if (m.positions.empty()) continue;
+            glm::vec3 mlo, mhi;
+            m.bounds(mlo, mhi);
+            glm::dvec3 a(1e300), b(-1e300);
+            for (int corner = 0; corner < 8; ++corner) {
+                const glm::dvec3 w =
+                    world({(corner & 1) ? mhi.x : mlo.x, (corner & 2) ? mhi.y : mlo.y,
+                           (corner & 4) ? mhi.z : mlo.z});
+                a = glm::min(a, w);
+                b = glm::max(b, w);
+            }
+            mark(a, b);
+            continue;
+        }
+        for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3) {
+            const glm::dvec3 p0 = world(m.positions[m.indices[t]]),
+                             p1 = world(m.positions[m.indices[t + 1]]),
+                             p2 = world(m.positions[m.indices[t + 2]]);
+            mark(glm::min(p0, glm::min(p1, p2)), glm::max(p0, glm::max(p1, p2)));
+        }
+    }
+    for (std::size_t i = 0; i < cells; ++i)
+        if (listed[i]) out.texels.push_back(std::uint32_t(i));
+    if (out.texels.empty()) return out;
+    // At most as many more paths as the bake's others: the factor for a few texels near a
+    // floor, less where surfaces cross much of the grid.
+    const std::size_t most = 1 + cells / out.texels.size();
+    out.samples = samples * int(std::min<std::size_t>(std::size_t(factor), most));
+    if (out.samples <= samples) out.texels.clear();
+    return out;
 }
 
 glm::dvec3 ScatteredLight::inscattered(const glm::dvec3& world, const glm::dvec3& toEye,

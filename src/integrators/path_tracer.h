@@ -123,6 +123,20 @@ glm::ivec3 scatteredLightDims(const scene::Scene& scene,
                               const std::vector<openvdb::FloatGrid::ConstPtr>& grids,
                               const glm::dvec3& lo, const glm::dvec3& hi);
 
+// The texels of the cache's grid (`dims` over [lo, hi]) that surfaces read with a small
+// footprint, where the bake's noise would show on them (docs/volumes.md "Surfaces lit by the
+// cache"): those whose cell, grown by one texel on every side, overlaps the world bounds of a
+// triangle of an object of `scene` (of the whole object for billboard meshes). Sorted indices,
+// x fastest, and the paths they trace: render.fog_scattered_light_samples times
+// render.fog_scattered_light_surface_factor, less where that would more than double the bake
+// (at most as many more paths as all texels trace). Empty where the factor is 1.
+struct ScatteredLightSurface {
+    std::vector<std::uint32_t> texels;
+    int samples = 0;
+};
+ScatteredLightSurface scatteredLightSurfaceTexels(const scene::Scene& scene, const glm::dvec3& lo,
+                                                  const glm::dvec3& hi, const glm::ivec3& dims);
+
 class VolumePathTracer {
 public:
     // `grids` holds the grid of every volume of `scene`, in scene order (as CpuFogReference;
@@ -148,9 +162,13 @@ public:
     // texels; each texel's random numbers are keyed by (settings.seed, texel, sample), so it
     // does not depend on the thread count). `progress(fraction of texels done)` is called now
     // and then, from any thread.
+    // The texels listed in `surfaceTexels` (sorted) trace `surfaceSamples` paths instead (more:
+    // their first `samples` are those of the others; scatteredLightSurfaceTexels()).
     ScatteredLight scatteredLight(const glm::dvec3& lo, const glm::dvec3& hi,
                                   const glm::ivec3& dims, int samples,
-                                  const std::function<void(double)>& progress = {}) const;
+                                  const std::function<void(double)>& progress = {},
+                                  const std::vector<std::uint32_t>& surfaceTexels = {},
+                                  int surfaceSamples = 0) const;
     // The irradiance at world point `p` of a surface with unit normal `n` from the volumes'
     // emission and scattered light and from the sky (render.ambient) seen through them, without
     // the lights' unscattered light: what the surfaces lit by the scattered-light cache receive

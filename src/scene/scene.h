@@ -142,6 +142,9 @@ struct RenderSettings {
     // fogScatteredLightCell voxels per texel, fogScatteredLightSamples paths per texel.
     bool fogScatteredLight = false;
     int fogScatteredLightSamples = 64;
+    // Texels that surfaces read with a small footprint (within a texel of an object's triangles)
+    // trace this many times fogScatteredLightSamples paths (1: as many as the others).
+    int fogScatteredLightSurfaceFactor = 8;
     float fogScatteredLightCell = 4.0f;
     // Where the cache is baked: "gpu" (compute shader), "cpu" (the path tracer) or "auto".
     std::string fogScatteredLightBake = "auto";

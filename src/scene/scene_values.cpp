@@ -182,6 +182,13 @@ const std::vector<ValueDecl<RenderSettings>>& renderValueDecls() {
             .integer("fog_scattered_light_samples", &R::fogScatteredLightSamples, 1, 1 << 16,
                      "paths traced per texel of the scattered-light cache")
             .edited(ValueGroup::FogMarcher)
+            .integer("fog_scattered_light_surface_factor", &R::fogScatteredLightSurfaceFactor, 1,
+                     64,
+                     "the scattered-light cache's texels within a texel of an object's triangles "
+                     "(which surfaces read with a small footprint) trace this many times "
+                     "fog_scattered_light_samples paths (1: as many as the others)",
+                     "docs/volumes.md")
+            .edited(ValueGroup::FogMarcher)
             .real("fog_scattered_light_cell", &R::fogScatteredLightCell, {0.25, 64.0}, 0.25, 64.0,
                   "voxels per texel of the scattered-light cache (at most 128 texels per axis)")
             .edited(ValueGroup::FogMarcher)
