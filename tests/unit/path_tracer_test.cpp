@@ -334,3 +334,49 @@ TEST(PathTracer, DenseCopyAndMajorantsOfARealGrid) {
 }
 
 } // namespace veil::test
+
+namespace veil::test {
+
+// The cache's texels that surfaces read with a small footprint (scatteredLightSurfaceTexels),
+// on a grid of 8 x 8 x 8 texels over [0, 4]^3 against a plane's two triangles and a box's
+// twelve: a plane half a texel below the grid lists the bottom layer (64 texels) at 8 x 64
+// paths, one half a texel above it the top layer, one two texels below nothing; a box a texel
+// around the grid lists its outer layer (296 texels: the inner 6 x 6 x 6 lie farther than a
+// texel from its faces), their extra paths capped at the bake's own (2 x 64, not 8 x 64); the
+// factor 1 lists nothing.
+TEST(ScatteredLightSurfaceTexels, ListsTheTexelsWithinATexelOfASurface) {
+    scene::Scene s;
+    s.render.fogScatteredLightSamples = 64;
+    s.render.fogScatteredLightSurfaceFactor = 8;
+    s.meshes.push_back(scene::makePlane({8.0f, 8.0f})); // the xz plane, normal +y
+    s.meshes.push_back(scene::makeBox({5.0f, 5.0f, 5.0f}));
+    const glm::dvec3 lo(0.0), hi(4.0);
+    const glm::ivec3 dims(8);
+    const auto at = [&](std::uint32_t mesh, float y) {
+        scene::Object o;
+        o.mesh = mesh;
+        o.transform = glm::translate(glm::mat4(1.0f), glm::vec3(2.0f, y, 2.0f));
+        s.objects = {o};
+        return volume::scatteredLightSurfaceTexels(s, lo, hi, dims);
+    };
+    const auto layers = [](const volume::ScatteredLightSurface& t) {
+        std::vector<int> y;
+        for (std::uint32_t i : t.texels)
+            y.push_back(int(i / 8 % 8));
+        return y;
+    };
+    const volume::ScatteredLightSurface below = at(0, -0.25f);
+    EXPECT_EQ(below.texels.size(), 64u);
+    EXPECT_EQ(layers(below), std::vector<int>(64, 0));
+    EXPECT_EQ(below.samples, 512);
+    const volume::ScatteredLightSurface above = at(0, 4.25f);
+    EXPECT_EQ(layers(above), std::vector<int>(64, 7));
+    EXPECT_TRUE(at(0, -1.0f).texels.empty());
+    const volume::ScatteredLightSurface around = at(1, 2.0f);
+    EXPECT_EQ(around.texels.size(), 296u);
+    EXPECT_EQ(around.samples, 128);
+    s.render.fogScatteredLightSurfaceFactor = 1;
+    EXPECT_TRUE(at(0, -0.25f).texels.empty());
+}
+
+} // namespace veil::test
