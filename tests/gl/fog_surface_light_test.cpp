@@ -270,8 +270,8 @@ TEST_F(FogSurfaceLightTest, DISABLED_EmberGenFireOnTheFloor) {
     // The scene's floor has diffuse albedo 0.5 (kAlbedo). Without the moon: its direct light on
     // the floor is the shadow technique's, not the cache's (the reference has none of it).
     s.lights.clear();
-    // Measured on llvmpipe: GPU 0.01739, path tracer 0.01759 +- 0.00070 (-1.1 %); with 64 paths
-    // for every texel (before the texels near the floor had 8 times the paths) -5.9 %.
+    // Measured on llvmpipe: GPU 0.01739, path tracer 0.01759 +- 0.00070 (-1.1 %); an earlier
+    // build with 64 paths for every texel: GPU 0.01696, path tracer 0.01802 +- 0.00074 (-5.9 %).
     const Comparison c = compareFloor(s, info(), 64, {0.0, 0.0, 1.0}, -130.0);
     EXPECT_NEAR(c.gpu / c.reference, 1.0, 0.15);
 }
