@@ -77,6 +77,9 @@ void setAfterTrialReadHookForTesting(std::function<void()> hook);
 // folder) whose read makes the reader child crash with SIGSEGV (empty: none).
 int readerStartsForTesting();
 void setReaderCrashForTesting(const std::string& fileName);
+// Tests: a file name (no folder) whose reply the reader child damages (`kind` 1: cut to half
+// its size; 2: left unsealed; empty name: none).
+void setReplyDamageForTesting(const std::string& fileName, int kind);
 
 // OpenVDB guards its type registries (grids, metadata, maps) with mutexes of its own, taken for
 // every grid and metadata item a read creates. A trial read's child forked while another thread

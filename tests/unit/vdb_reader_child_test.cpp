@@ -2,8 +2,12 @@
 // file); a crash of the child on one file is one error naming the file and the next read gets
 // a fresh child; a failed read replaces the child too; a VdbReadScope reads a file once however
 // many of its grids are taken; and a frame's emission channel is read with its density and
-// static grids are converted once per range (sequence/prefetch.h).
+// static grids are converted once per range (sequence/prefetch.h). The child's reply comes
+// through sealed shared memory (grid/vdb_reply.h): the grids it gives equal OpenVDB's own read
+// of the file voxel for voxel, and a reply cut short, left unsealed or not in shared memory at
+// all is refused with one message naming the file.
 #include "grid/vdb_file.h"
+#include "grid/vdb_reply.h"
 #include "sequence/prefetch.h"
 #include "support/test_support.h"
 
@@ -11,7 +15,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cstring>
+#include <fstream>
 #include <thread>
+
+#include <fcntl.h>
+#include <unistd.h>
 
 namespace veil::test {
 
@@ -82,6 +91,102 @@ TEST(VdbReaderChildTest, FailedReadReplacesTheChild) {
     EXPECT_NE(msg.find(cut.string()), std::string::npos) << msg;
     EXPECT_NE(msg.find("ends at byte"), std::string::npos) << msg; // found by the child
     EXPECT_EQ(volume::readerStartsForTesting() - before, 2);
+}
+
+namespace {
+
+// `a` and `b` hold the same grids (in any order): names, types, transforms, background, topology
+// and, for float grids, every leaf's values (active and inactive) and every active tile's value.
+void expectSameGrids(const openvdb::GridPtrVec& a, openvdb::GridPtrVec b) {
+    ASSERT_EQ(a.size(), b.size());
+    // In the order of `a` (io::File::getGrids() gives them in another).
+    for (std::size_t i = 0; i < a.size(); ++i)
+        for (std::size_t j = i; j < b.size(); ++j)
+            if (b[j]->getName() == a[i]->getName()) std::swap(b[i], b[j]);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        SCOPED_TRACE(a[i]->getName());
+        EXPECT_EQ(a[i]->getName(), b[i]->getName());
+        ASSERT_EQ(a[i]->type(), b[i]->type());
+        EXPECT_EQ(a[i]->transform(), b[i]->transform());
+        EXPECT_EQ(a[i]->activeVoxelCount(), b[i]->activeVoxelCount());
+        const auto fa = openvdb::gridPtrCast<openvdb::FloatGrid>(a[i]);
+        const auto fb = openvdb::gridPtrCast<openvdb::FloatGrid>(b[i]);
+        if (!fa) continue;
+        EXPECT_EQ(fa->background(), fb->background());
+        ASSERT_TRUE(fa->tree().hasSameTopology(fb->tree()));
+        std::size_t leaves = 0, differing = 0;
+        auto lb = fb->tree().cbeginLeaf();
+        for (auto la = fa->tree().cbeginLeaf(); la; ++la, ++lb, ++leaves)
+            differing += la->origin() != lb->origin() ||
+                         std::memcmp(la->buffer().data(), lb->buffer().data(),
+                                     sizeof(float) * la->size()) != 0;
+        EXPECT_EQ(differing, 0u) << "of " << leaves << " leaves";
+        EXPECT_GT(leaves, 0u);
+        for (auto v = fa->tree().cbeginValueOn(); v; ++v)
+            if (v.isTileValue()) {
+                EXPECT_EQ(*v, fb->tree().getValue(v.getCoord()));
+            }
+    }
+}
+
+} // namespace
+
+TEST(VdbReaderChildTest, SharedMemoryReplyEqualsTheFileVoxelForVoxel) {
+    for (int n : {1, 4}) {
+        const openvdb::GridPtrVecPtr got = volume::readVdbFile(fireFrame(n));
+        openvdb::io::File file(fireFrame(n).string()); // test data: OpenVDB's own read here
+        file.open();
+        const openvdb::GridPtrVecPtr want = file.getGrids();
+        file.close();
+        expectSameGrids(*got, *want);
+    }
+}
+
+TEST(VdbReaderChildTest, DamagedReplyIsRefusedNamingTheFile) {
+    const fs::path dir = outputSubdir("vdb_reader_child");
+    for (const auto& [kind, reason] :
+         {std::pair{1, "ends inside grid"}, std::pair{2, "is not sealed shared memory"}}) {
+        SCOPED_TRACE(reason);
+        const fs::path victim = dir / fmt::format("damaged-reply-{}.vdb", kind);
+        fs::copy_file(fireFrame(3), victim, fs::copy_options::overwrite_existing);
+        std::string msg;
+        onFreshThread([&] {
+            volume::setReplyDamageForTesting(victim.filename().string(), kind);
+            msg = errorOf([&] { volume::readVdbFile(victim); });
+            volume::setReplyDamageForTesting("", 0);
+            EXPECT_FALSE(volume::readVdbFile(victim)->empty()); // undamaged now
+        });
+        EXPECT_NE(msg.find(victim.string()), std::string::npos) << msg;
+        EXPECT_NE(msg.find("re-encoding could not be decoded"), std::string::npos) << msg;
+        EXPECT_NE(msg.find(reason), std::string::npos) << msg;
+        EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    }
+}
+
+TEST(VdbReaderChildTest, ReplyOutsideSealedSharedMemoryIsRefused) {
+    const openvdb::GridPtrVecPtr grids = volume::readVdbFile(fireFrame(2));
+    // The same bytes in a file on disk: no seals to check, refused.
+    const fs::path onDisk = outputSubdir("vdb_reader_child") / "reply-on-disk.bin";
+    {
+        std::ofstream out(onDisk, std::ios::binary);
+        volume::writeGridReply(out, *grids);
+    }
+    const int fd = ::open(onDisk.c_str(), O_RDONLY | O_CLOEXEC);
+    ASSERT_GE(fd, 0);
+    const std::string disk =
+        errorOf([&] { volume::readGridReplyFromMemory(fd, fs::file_size(onDisk)); });
+    ::close(fd);
+    EXPECT_NE(disk.find("not sealed shared memory"), std::string::npos) << disk;
+    // Sealed shared memory, but not of the size announced; then as announced, decoded.
+    std::uint64_t size = 0;
+    const int memory = volume::writeGridReplyToMemory(*grids, 0, size);
+    const std::string longer = errorOf([&] { volume::readGridReplyFromMemory(memory, size + 1); });
+    EXPECT_NE(longer.find(fmt::format("not of the {} bytes announced", size + 1)),
+              std::string::npos)
+        << longer;
+    const openvdb::GridPtrVecPtr again = volume::readGridReplyFromMemory(memory, size);
+    ::close(memory);
+    expectSameGrids(*again, *grids);
 }
 
 TEST(VdbReaderChildTest, ReadScopeReadsAFileOnce) {
