@@ -4,11 +4,6 @@
 #include "base/error.h"
 #include "base/log.h"
 
-#include <Imath/half.h>
-#if defined(__x86_64__)
-#include <immintrin.h>
-#endif
-
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
@@ -54,29 +49,14 @@ void ensureTexture(gpu::Texture& t, const glm::ivec3& size, GLenum internalForma
         .parameter(GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
 }
 
-// IEEE half floats of `n` floats, rounded to nearest even, as GL converts GL_FLOAT pixels for a
-// 16-bit float texture (Mesa too): with F16C where the CPU has it (8 at a time), else Imath's
-// conversion. Done here, the upload moves half the bytes and the driver converts nothing.
-#if defined(__x86_64__)
-__attribute__((target("avx,f16c"))) void toHalfF16c(const float* in, std::uint16_t* out,
-                                                    std::size_t n) {
-    std::size_t i = 0;
-    for (; i + 8 <= n; i += 8)
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i),
-                         _mm256_cvtps_ph(_mm256_loadu_ps(in + i), _MM_FROUND_TO_NEAREST_INT));
-    for (; i < n; ++i)
-        out[i] = _cvtss_sh(in[i], _MM_FROUND_TO_NEAREST_INT);
-}
-
-#endif
-
-void toHalf(const std::vector<float>& in, std::uint16_t* out) {
-#if defined(__x86_64__)
-    static const bool f16c = __builtin_cpu_supports("avx") && __builtin_cpu_supports("f16c");
-    if (f16c) return toHalfF16c(in.data(), out, in.size());
-#endif
-    for (std::size_t i = 0; i < in.size(); ++i)
-        out[i] = imath_float_to_half(in[i]);
+// `texels` as half floats into `out`: the conversion's own (packHalf()) when it made them, else
+// converted here.
+void toHalf(const std::vector<float>& texels, const std::vector<std::uint16_t>& half,
+            std::uint16_t* out) {
+    if (half.size() == texels.size())
+        std::memcpy(out, half.data(), half.size() * 2);
+    else
+        volume::toHalf(texels.data(), out, texels.size());
 }
 
 // The texels [0, size) of `t` from `pixels`: client memory, or an offset into the bound pixel
@@ -127,9 +107,10 @@ std::size_t GpuVolume::stage(const void* data, std::size_t bytes) {
     return at;
 }
 
-std::size_t GpuVolume::stageHalf(const std::vector<float>& texels) {
+std::size_t GpuVolume::stageHalf(const std::vector<float>& texels,
+                                 const std::vector<std::uint16_t>& half) {
     const std::size_t at = stagingUsed_;
-    toHalf(texels, reinterpret_cast<std::uint16_t*>(static_cast<char*>(stagingMap_) + at));
+    toHalf(texels, half, reinterpret_cast<std::uint16_t*>(static_cast<char*>(stagingMap_) + at));
     stagingUsed_ += (texels.size() * 2 + 255) / 256 * 256;
     return at;
 }
@@ -181,8 +162,8 @@ void GpuVolume::replace(const GridConversion& c, const glm::mat4& objectToWorld)
                    double(staging_.size()) / 1048576.0);
     }
     stagingUsed_ = 0;
-    const std::size_t values = stageHalf(c.values);
-    const std::size_t channel = stageHalf(c.channel);
+    const std::size_t values = stageHalf(c.values, c.halfValues);
+    const std::size_t channel = stageHalf(c.channel, c.halfChannel);
     const std::size_t table = stage(c.table.data(), c.table.size() * 4);
     Frame* f = frameFor(c);
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, staging_.id());
@@ -251,8 +232,8 @@ void GpuVolume::show(Frame* f, const glm::mat4& objectToWorld) {
 void GpuVolume::upload(const GridConversion& c, const glm::mat4& objectToWorld) {
     VEIL_CHECK(!c.values.empty(), "density grid conversion holds no data");
     std::vector<std::uint16_t> values(c.values.size()), channel(c.channel.size());
-    toHalf(c.values, values.data());
-    toHalf(c.channel, channel.data());
+    toHalf(c.values, c.halfValues, values.data());
+    toHalf(c.channel, c.halfChannel, channel.data());
     Frame* f = frameFor(c);
     upload(*f, c, values.data(), channel.data(), c.table.data());
     show(f, objectToWorld);

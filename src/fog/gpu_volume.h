@@ -127,8 +127,9 @@ private:
     // Copies `bytes` to the staging buffer (a pixel unpack buffer, persistently mapped and grown
     // when needed) at the next free offset, which it returns.
     std::size_t stage(const void* data, std::size_t bytes);
-    // The same for `texels` as half floats (the 16-bit textures' own format).
-    std::size_t stageHalf(const std::vector<float>& texels);
+    // The same for `texels` as half floats (the 16-bit textures' own format): `half` copied
+    // when the conversion made it (GridConversion::halfValues), else converted here.
+    std::size_t stageHalf(const std::vector<float>& texels, const std::vector<std::uint16_t>& half);
 
     GpuVolumeStats stats_;
     std::vector<std::unique_ptr<Frame>> frames_; // held frames and the shown one

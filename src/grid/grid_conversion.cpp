@@ -9,6 +9,11 @@
 #include <tbb/parallel_sort.h>
 #include <tbb/task_arena.h>
 
+#include <Imath/half.h>
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -395,7 +400,43 @@ GridConversion convert(const openvdb::FloatGrid& grid, const GpuVolumeOptions& o
     return out;
 }
 
+#if defined(__x86_64__)
+__attribute__((target("avx,f16c"))) void toHalfF16c(const float* in, std::uint16_t* out,
+                                                    std::size_t n) {
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8)
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i),
+                         _mm256_cvtps_ph(_mm256_loadu_ps(in + i), _MM_FROUND_TO_NEAREST_INT));
+    for (; i < n; ++i)
+        out[i] = _cvtss_sh(in[i], _MM_FROUND_TO_NEAREST_INT);
+}
+#endif
+
+// `in` as half floats into `out`, in TBB tasks of 256 K texels.
+void packHalfArray(const std::vector<float>& in, std::vector<std::uint16_t>& out) {
+    out.resize(in.size());
+    constexpr std::size_t kChunk = std::size_t(1) << 18;
+    tbb::parallel_for(std::size_t(0), (in.size() + kChunk - 1) / kChunk, [&](std::size_t k) {
+        const std::size_t first = k * kChunk, n = std::min(kChunk, in.size() - first);
+        toHalf(in.data() + first, out.data() + first, n);
+    });
+}
+
 } // namespace
+
+void toHalf(const float* in, std::uint16_t* out, std::size_t n) {
+#if defined(__x86_64__)
+    static const bool f16c = __builtin_cpu_supports("avx") && __builtin_cpu_supports("f16c");
+    if (f16c) return toHalfF16c(in, out, n);
+#endif
+    for (std::size_t i = 0; i < n; ++i)
+        out[i] = imath_float_to_half(in[i]);
+}
+
+void packHalf(GridConversion& c) {
+    packHalfArray(c.values, c.halfValues);
+    packHalfArray(c.channel, c.halfChannel);
+}
 
 GridConversion convertGrid(const openvdb::FloatGrid& grid, const GpuVolumeOptions& options,
                            int max3D, int threads) {

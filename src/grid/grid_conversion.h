@@ -37,6 +37,9 @@ struct GridConversion {
     // an unused 0) floats per texel, or empty.
     std::vector<float> channel;
     int channelComponents = 0;
+    // `values` and `channel` as the textures store them, IEEE half floats (packHalf(), on the
+    // thread that converts); empty: not made, the upload converts them itself.
+    std::vector<std::uint16_t> halfValues, halfChannel;
     // The mean density of every 8^3-voxel cell (the depth-aware octaves' texture, R32F), with
     // GpuVolumeOptions::neighbourhood only (else empty).
     NeighbourhoodMean neighbourhood;
@@ -50,7 +53,7 @@ struct GridConversion {
     // Host memory the arrays hold.
     std::size_t bytes() const {
         return (values.size() + channel.size() + neighbourhood.mean.size()) * sizeof(float) +
-               table.size() * 4;
+               (halfValues.size() + halfChannel.size()) * 2 + table.size() * 4;
     }
 };
 
@@ -70,6 +73,16 @@ GridConversion convertGrid(const openvdb::FloatGrid& grid, const GpuVolumeOption
 // half-float texels (R16F, or RGBA16F for three) to stats.gpuBytes. TBB-parallel like
 // convertGrid().
 void addChannel(GridConversion& converted, const std::vector<openvdb::FloatGrid::Ptr>& grids);
+
+// IEEE half floats of `n` floats, rounded to nearest even, as GL converts GL_FLOAT pixels for a
+// 16-bit float texture (Mesa too): with F16C where the CPU has it (8 at a time), else Imath's
+// conversion.
+void toHalf(const float* in, std::uint16_t* out, std::size_t n);
+
+// Fills `converted.halfValues` and `halfChannel` (toHalf(), TBB-parallel): the texels ready to
+// copy into the upload's staging buffer, made on the converting thread (a range's prefetch
+// workers) instead of the render thread.
+void packHalf(GridConversion& converted);
 
 // Bytes the GPU representation of `grid` would take (without building it; a lower bound for
 // grids far over the budget, whose tiles are not enumerated).

@@ -30,6 +30,7 @@ std::shared_ptr<const volume::GridConversion> convert(const openvdb::FloatGrid& 
                                                       std::size_t holdBytes) {
     auto c = std::make_shared<volume::GridConversion>(volume::convertGrid(grid, options, max3D));
     if (channel) volume::addChannel(*c, {channel});
+    volume::packHalf(*c); // here on the worker: the render thread's upload only copies them
     c->gpuKey = key;
     c->gpuHoldBytes = holdBytes;
     return c;

@@ -3,10 +3,12 @@
 // where the marcher looks for it (table -> brick -> texel, or the dense box), read straight
 // from the grid with an accessor. The emission channel (addChannel(), copied leaf by leaf when
 // the channel grid has the density's voxels) equals resampling the channel grid at every texel
-// as the conversion did before it copied.
+// as the conversion did before it copied. The half floats made for the upload (packHalf())
+// are Imath's conversion of every texel.
 #include "grid/density_grid.h"
 #include "grid/grid_conversion.h"
 
+#include <Imath/half.h>
 #include <gtest/gtest.h>
 #include <openvdb/tools/Interpolation.h>
 #include <tbb/global_control.h>
@@ -183,6 +185,32 @@ TEST(GridConversionTest, MultithreadedEqualsSingleThreadedBitForBit) {
         EXPECT_EQ(one.stats.coarsened > 0, std::string(name) == "coarse");
         if (one.stats.coarsened == 0) expectVoxelsFound(*grid, many);
     }
+}
+
+// packHalf (on the prefetch workers) makes the texels the upload used to convert itself: each
+// one Imath's IEEE half of the float, rounded to nearest even, across the TBB chunks (a
+// conversion of more than one chunk, 256 K texels) and for the emission channel too.
+TEST(GridConversionTest, PackHalfEqualsImathsConversionOfEveryTexel) {
+    const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 4);
+    const auto grid = volume::makeProceduralGrid("smoke-ball", glm::vec3(1.0f), 1.0f / 80.0f, 3);
+    volume::GpuVolumeOptions bricks;
+    bricks.denseVoxelLimit = 0;
+    volume::GridConversion c = volume::convertGrid(*grid, bricks, 2048);
+    volume::addChannel(c, {grid});
+    // Values between halves' steps too, and a few beyond the half range.
+    for (std::size_t i = 0; i < c.values.size(); i += 97)
+        c.values[i] = float(i % 1000) * 1.0009765625e-3f + (i % 3 == 0 ? 70000.0f : 0.0f);
+    ASSERT_GT(c.values.size(), std::size_t(3) << 18);
+    volume::packHalf(c);
+    ASSERT_EQ(c.halfValues.size(), c.values.size());
+    ASSERT_EQ(c.halfChannel.size(), c.channel.size());
+    std::size_t wrong = 0;
+    for (std::size_t i = 0; i < c.values.size(); ++i)
+        wrong += c.halfValues[i] != imath_float_to_half(c.values[i]);
+    for (std::size_t i = 0; i < c.channel.size(); ++i)
+        wrong += c.halfChannel[i] != imath_float_to_half(c.channel[i]);
+    EXPECT_EQ(wrong, 0u);
+    EXPECT_EQ(c.bytes(), (c.values.size() + c.channel.size()) * 6 + c.table.size() * 4);
 }
 
 } // namespace veil::test
