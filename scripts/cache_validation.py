@@ -78,7 +78,7 @@ SINGLE = ["render.fog_scattered_light=false", "render.fog_ambient=1", "render.fo
 FULL_BAKE = ["render.fog_scattered_light_budget_ms=0"]
 QUICK_CACHE = ["render.fog_scattered_light_samples=4", "render.fog_scattered_light_cell=8"]
 # The error each condition must stay within (mean relative error over 4x4 blocks); the floor's
-# is the surface target (docs/volumes.md "Surfaces lit by the cache"). The reference's noise
+# is the surface target (docs/scattered-light.md "Surfaces lit by the cache"). The reference's noise
 # per block is brought under a fifth of it (--noise scales the volumes' 0.02).
 TARGET = {"floor": 0.15, "floor-low": 0.15}
 SEED0 = 1001

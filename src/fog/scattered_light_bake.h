@@ -1,5 +1,5 @@
-// The scattered-light cache baked on the GPU (render.fog_scattered_light_bake gpu, docs/volumes.md
-// "Scattered-light cache"): shaders/volume/cache_bake.comp, the CPU bake's estimator
+// The scattered-light cache baked on the GPU (render.fog_scattered_light_bake gpu,
+// docs/scattered-light.md): shaders/volume/cache_bake.comp, the CPU bake's estimator
 // (integrators/path_tracer.h VolumePathTracer::scatteredLight) on the fog pass's density
 // textures (gpu_volume.h), one invocation per texel, tracked against local majorants (a grid of
 // them, integrators/majorant_grid.h, as the CPU tracer's). The work is split into dispatches

@@ -1,15 +1,15 @@
-// The fog's scattered-light cache on the GPU (render.fog_scattered_light, docs/volumes.md
-// "Scattered-light cache"): the path tracer's ScatteredLight (integrators/path_tracer.h) over
-// the grid volumes' bounds, as two RGBA32F 3D textures (mean radiance, P1 flux) that
-// fog_medium.glsl samples per march step. Baked by a compute shader (scattered_light_bake.h) or
-// by the CPU path tracer, per render.fog_scattered_light_bake (auto: the GPU on hardware, the
-// CPU on software renderers). The bake depends on the lights, the ambient (sky) radiance and the
-// volumes' values: ensure() bakes again when any of them changed since the last bake. The GPU
-// bake can be progressive (setBudgetMs(), the viewer: render.fog_scattered_light_budget_ms):
-// each ensure() then runs it for the budget and the frame draws with the paths so far, until
-// every texel has its samples; an edit meanwhile starts it again. Otherwise (`veil render`,
-// Python, the CPU bake) ensure() bakes to the end. A full bake names itself on the progress
-// line of a long render (base/progress.h), with an estimate.
+// The fog's scattered-light cache on the GPU (render.fog_scattered_light, docs/scattered-light.md):
+// the path tracer's ScatteredLight (integrators/path_tracer.h) over the grid volumes' bounds, as
+// two RGBA32F 3D textures (mean radiance, P1 flux) that fog_medium.glsl samples per march step.
+// Baked by a compute shader (scattered_light_bake.h) or by the CPU path tracer, per
+// render.fog_scattered_light_bake (auto: the GPU on hardware, the CPU on software renderers). The
+// bake depends on the lights, the ambient (sky) radiance and the volumes' values: ensure() bakes
+// again when any of them changed since the last bake. The GPU bake can be progressive
+// (setBudgetMs(), the viewer: render.fog_scattered_light_budget_ms): each ensure() then runs it for
+// the budget and the frame draws with the paths so far, until every texel has its samples; an edit
+// meanwhile starts it again. Otherwise (`veil render`, Python, the CPU bake) ensure() bakes to the
+// end. A full bake names itself on the progress line of a long render (base/progress.h), with an
+// estimate.
 #pragma once
 
 #include "gpu/objects.h"

@@ -93,13 +93,13 @@ SlabTally traceSlab(double tau, double albedo, double g, std::uint64_t paths, st
 
 // The light arriving at points of a grid over the volumes' bounds after at least one
 // scattering event, or from the sky (render.ambient) without one: what the fog marcher adds to
-// its single scattering with render.fog_scattered_light (docs/volumes.md "Scattered-light
-// cache"). Per texel, from `samples` paths traced from its centre in uniform random
-// directions (the path tracer's own transport: delta tracking, next-event estimation, roulette,
-// emission), the first two spherical-harmonic bands of the arriving radiance (P1): the mean
-// radiance over directions (RGB) and G = 3 x mean(L_Y w), w the light's travel direction, so
-// that L(w) ~ mean + G . w (luminance Y). Convolved with Henyey-Greenstein(g) toward direction
-// V this is mean x (1 + g G . V / mean_Y): HG's first Legendre coefficient is g.
+// its single scattering with render.fog_scattered_light (docs/scattered-light.md). Per texel, from
+// `samples` paths traced from its centre in uniform random directions (the path tracer's own
+// transport: delta tracking, next-event estimation, roulette, emission), the first two
+// spherical-harmonic bands of the arriving radiance (P1): the mean radiance over directions (RGB)
+// and G = 3 x mean(L_Y w), w the light's travel direction, so that L(w) ~ mean + G . w (luminance
+// Y). Convolved with Henyey-Greenstein(g) toward direction V this is mean x (1 + g G . V / mean_Y):
+// HG's first Legendre coefficient is g.
 struct ScatteredLight {
     glm::dvec3 lo{0.0}, hi{0.0}; // world box; texel i's centre at lo + (i + 0.5) / dims x (hi - lo)
     glm::ivec3 dims{0};
@@ -124,8 +124,8 @@ glm::ivec3 scatteredLightDims(const scene::Scene& scene,
                               const glm::dvec3& lo, const glm::dvec3& hi);
 
 // The texels of the cache's grid (`dims` over [lo, hi]) that surfaces read with a small
-// footprint, where the bake's noise would show on them (docs/volumes.md "Surfaces lit by the
-// cache"): those whose cell, grown by one texel on every side, overlaps the world bounds of a
+// footprint, where the bake's noise would show on them (docs/scattered-light.md "Surfaces lit by
+// the cache"): those whose cell, grown by one texel on every side, overlaps the world bounds of a
 // triangle of an object of `scene` (of the whole object for billboard meshes). Sorted indices,
 // x fastest, and the paths they trace: render.fog_scattered_light_samples times
 // render.fog_scattered_light_surface_factor, less where that would more than double the bake
@@ -172,7 +172,7 @@ public:
     // The irradiance at world point `p` of a surface with unit normal `n` from the volumes'
     // emission and scattered light and from the sky (render.ambient) seen through them, without
     // the lights' unscattered light: what the surfaces lit by the scattered-light cache receive
-    // from it (docs/volumes.md "Surfaces lit by the cache"), the reference they are tested
+    // from it (docs/scattered-light.md "Surfaces lit by the cache"), the reference they are tested
     // against. `samples` cosine-weighted directions about n, each traced as the cache's paths
     // are (the same transport; escaping, a path sees the sky; no surface blocks it); E = pi x
     // their mean radiance, with its standard error in `standardError` when given. The random

@@ -137,8 +137,8 @@ struct RenderSettings {
     // (1 - exp(-tau))^n, tau = radius x the extinction averaged over the point's 8^3-voxel
     // neighbourhood (grid/neighbourhood.h); 0 = off (the octaves of [Wrenninge13]).
     float fogOctaveRadius = 0.0f;
-    // Scattered-light cache (docs/volumes.md): the marcher adds to its single scattering the
-    // light that has scattered before (and the sky), baked by the path tracer on a grid of
+    // Scattered-light cache (docs/scattered-light.md): the marcher adds to its single scattering
+    // the light that has scattered before (and the sky), baked by the path tracer on a grid of
     // fogScatteredLightCell voxels per texel, fogScatteredLightSamples paths per texel.
     bool fogScatteredLight = false;
     int fogScatteredLightSamples = 64;

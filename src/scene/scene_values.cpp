@@ -177,7 +177,7 @@ const std::vector<ValueDecl<RenderSettings>>& renderValueDecls() {
                      "multiple scattering from a cache of the light scattered before (and the "
                      "sky), baked by the path tracer per light: P1 per texel (replaces "
                      "fog_octaves and fog_ambient)",
-                     "docs/volumes.md")
+                     "docs/scattered-light.md")
             .edited(ValueGroup::FogMarcher)
             .integer("fog_scattered_light_samples", &R::fogScatteredLightSamples, 1, 1 << 16,
                      "paths traced per texel of the scattered-light cache")
@@ -187,7 +187,7 @@ const std::vector<ValueDecl<RenderSettings>>& renderValueDecls() {
                      "the scattered-light cache's texels within a texel of an object's triangles "
                      "(which surfaces read with a small footprint) trace this many times "
                      "fog_scattered_light_samples paths (1: as many as the others)",
-                     "docs/volumes.md")
+                     "docs/scattered-light.md")
             .edited(ValueGroup::FogMarcher)
             .real("fog_scattered_light_cell", &R::fogScatteredLightCell, {0.25, 64.0}, 0.25, 64.0,
                   "voxels per texel of the scattered-light cache (at most 128 texels per axis)")

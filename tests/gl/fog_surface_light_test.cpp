@@ -1,4 +1,4 @@
-// Surfaces lit by the scattered-light cache (docs/volumes.md "Surfaces lit by the cache",
+// Surfaces lit by the scattered-light cache (docs/scattered-light.md "Surfaces lit by the cache",
 // shaders/volume/scattered_light.glsl): an emissive, scattering box ("a fire") above a floor,
 // the floor's radiance in the GPU frame (its diffuse albedo x the irradiance of the cache's P1
 // radiance where rays from the floor enter the box) against the path tracer's irradiance at
