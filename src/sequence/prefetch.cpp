@@ -327,6 +327,40 @@ PreparedFrame FramePrefetcher::take() {
     return p;
 }
 
+GridReleaser::GridReleaser() {
+    thread_ = std::thread([this] {
+        std::unique_lock lock(mutex_);
+        for (;;) {
+            wake_.wait(lock, [&] { return stop_ || !queue_.empty(); });
+            if (queue_.empty()) return; // stopped, everything freed
+            std::vector<volume::PreloadedGrid> grids = std::move(queue_.front());
+            queue_.pop_front();
+            lock.unlock();
+            grids.clear();
+            lock.lock();
+        }
+    });
+}
+
+GridReleaser::~GridReleaser() {
+    {
+        const std::lock_guard lock(mutex_);
+        stop_ = true;
+    }
+    wake_.notify_all();
+    thread_.join();
+}
+
+void GridReleaser::release(std::vector<volume::PreloadedGrid>&& grids) {
+    if (grids.empty()) return;
+    {
+        const std::lock_guard lock(mutex_);
+        queue_.push_back(std::move(grids));
+    }
+    grids.clear();
+    wake_.notify_one();
+}
+
 RangeRenderer::RangeRenderer(const gpu::ContextInfo& context, frame::RendererOptions options,
                              int max3D)
     : context_(context), options_(std::move(options)), max3D_(max3D) {}
@@ -350,7 +384,7 @@ bool RangeRenderer::upload(PreparedFrame& p) {
     uploadedBytes_ += after.second - before.second;
     lastUploadMs_ = msSince(start);
     p.uploaded = true;
-    p.grids.clear(); // copied into the staging buffer
+    releaser_.release(std::move(p.grids)); // copied into the staging buffer
     return true;
 }
 
@@ -374,7 +408,7 @@ frame::Renderer& RangeRenderer::next(PreparedFrame& p) {
             }
         lastUploadMs_ = msSince(start);
     }
-    p.grids.clear(); // uploaded
+    releaser_.release(std::move(p.grids)); // uploaded
     return *renderer_;
 }
 

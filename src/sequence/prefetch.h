@@ -13,6 +13,7 @@
 
 #include <condition_variable>
 #include <cstddef>
+#include <deque>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -123,6 +124,25 @@ private:
     std::vector<std::thread> workers_;
 };
 
+// Frees frames' grids and conversions on a thread of its own: a frame of 30 M voxels holds
+// hundreds of MB of trees and arrays, whose release (OpenVDB's node deletion, the pages given
+// back) would otherwise take the render thread's time once the upload copied them.
+class GridReleaser {
+public:
+    GridReleaser();
+    ~GridReleaser(); // frees what is left, then stops
+    GridReleaser(const GridReleaser&) = delete;
+    GridReleaser& operator=(const GridReleaser&) = delete;
+    void release(std::vector<volume::PreloadedGrid>&& grids); // `grids` is left empty
+
+private:
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    std::deque<std::vector<volume::PreloadedGrid>> queue_;
+    bool stop_ = false;
+    std::thread thread_;
+};
+
 // One renderer for a range's frames: the first frame builds it; a later frame with the same
 // structure (the same volumes, lights and cameras; every grid volume converted ahead for this
 // GPU, with its temperature channel) only replaces the volumes' data, the camera and the
@@ -164,6 +184,7 @@ private:
     int built_ = 0, reused_ = 0;
     std::size_t uploads_ = 0, uploadedBytes_ = 0;
     double lastUploadMs_ = 0.0;
+    GridReleaser releaser_; // last: it frees the frames' grids before the renderer goes
 };
 
 } // namespace veil::sequence

@@ -5,7 +5,8 @@
 // static grids are converted once per range (sequence/prefetch.h). The child's reply comes
 // through sealed shared memory (grid/vdb_reply.h): the grids it gives equal OpenVDB's own read
 // of the file voxel for voxel, and a reply cut short, left unsealed or not in shared memory at
-// all is refused with one message naming the file.
+// all is refused with one message naming the file. A frame's grids are freed on the releaser's
+// thread, not the render thread.
 #include "grid/vdb_file.h"
 #include "grid/vdb_reply.h"
 #include "sequence/prefetch.h"
@@ -17,6 +18,7 @@
 
 #include <cstring>
 #include <fstream>
+#include <mutex>
 #include <thread>
 
 #include <fcntl.h>
@@ -253,6 +255,32 @@ TEST(VdbReaderChildTest, FrameTakesItsEmissionChannelFromOneReadAndStaticGridsCo
                   frames[0].grids[std::size_t(torus - p.grids.begin())].converted);
     }
     EXPECT_EQ(conversions.conversions(), 1u);
+}
+
+// The render thread hands a frame's grids and conversions to the releaser (sequence/prefetch.h)
+// once uploaded: they are freed on its thread, not the caller's, and all of them by the time
+// the releaser is gone.
+TEST(VdbReaderChildTest, GridReleaserFreesOnItsOwnThread) {
+    std::mutex mutex;
+    std::vector<std::thread::id> freedOn;
+    const auto caller = std::this_thread::get_id();
+    {
+        sequence::GridReleaser releaser;
+        for (int frame = 0; frame < 3; ++frame) {
+            std::vector<volume::PreloadedGrid> grids(2);
+            for (volume::PreloadedGrid& g : grids)
+                g.value = openvdb::FloatGrid::Ptr(new openvdb::FloatGrid, [&](auto* p) {
+                    const std::lock_guard lock(mutex);
+                    freedOn.push_back(std::this_thread::get_id());
+                    delete p;
+                });
+            releaser.release(std::move(grids));
+            EXPECT_TRUE(grids.empty());
+        }
+    }
+    ASSERT_EQ(freedOn.size(), 6u);
+    for (const std::thread::id& id : freedOn)
+        EXPECT_NE(id, caller);
 }
 
 } // namespace veil::test
