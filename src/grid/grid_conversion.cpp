@@ -11,6 +11,7 @@
 
 #include <Imath/half.h>
 #if defined(__x86_64__)
+#include <cpuid.h>
 #include <immintrin.h>
 #endif
 
@@ -401,6 +402,17 @@ GridConversion convert(const openvdb::FloatGrid& grid, const GpuVolumeOptions& o
 }
 
 #if defined(__x86_64__)
+// F16C and AVX on this CPU, with the YMM state saved by the OS (XCR0 bits 1 and 2). By CPUID
+// rather than __builtin_cpu_supports, which clang does not know "f16c" for.
+bool hasF16c() {
+    unsigned a = 0, b = 0, c = 0, d = 0;
+    if (!__get_cpuid(1, &a, &b, &c, &d)) return false;
+    if (!(c & bit_OSXSAVE) || !(c & bit_AVX) || !(c & bit_F16C)) return false;
+    unsigned lo = 0, hi = 0;
+    __asm__("xgetbv" : "=a"(lo), "=d"(hi) : "c"(0));
+    return (lo & 6u) == 6u;
+}
+
 __attribute__((target("avx,f16c"))) void toHalfF16c(const float* in, std::uint16_t* out,
                                                     std::size_t n) {
     std::size_t i = 0;
@@ -426,7 +438,7 @@ void packHalfArray(const std::vector<float>& in, std::vector<std::uint16_t>& out
 
 void toHalf(const float* in, std::uint16_t* out, std::size_t n) {
 #if defined(__x86_64__)
-    static const bool f16c = __builtin_cpu_supports("avx") && __builtin_cpu_supports("f16c");
+    static const bool f16c = hasF16c();
     if (f16c) return toHalfF16c(in, out, n);
 #endif
     for (std::size_t i = 0; i < n; ++i)
